@@ -1,0 +1,43 @@
+# flexgear set-up and entry points. Every target installs what it needs first.
+# Tested on Debian 12 with Python 3.11 (root or passwordless sudo for system packages).
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+# Shared libraries the gmsh and vtk wheels load (off-screen rendering uses EGL, no X server),
+# plus SuiteSparse headers for the optional CHOLMOD speed-up (scikit-sparse).
+SYSTEM_PKGS := libglu1-mesa libgl1 libegl1 libxcursor1 libxft2 libxinerama1 libgomp1 \
+               libsuitesparse-dev build-essential
+STAMP := $(VENV)/.flexgear-installed
+
+.PHONY: setup sysdeps run test bench clean
+
+sysdeps:
+	@if ! dpkg -s $(SYSTEM_PKGS) >/dev/null 2>&1 || ! $(PYTHON) -c 'import ensurepip' >/dev/null 2>&1; then \
+	  SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  echo "installing system packages: $(SYSTEM_PKGS) python3-venv"; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(SYSTEM_PKGS) python3-venv >/dev/null; \
+	fi
+
+$(STAMP): pyproject.toml | sysdeps
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	@# Optional CHOLMOD backend: flexgear falls back to SciPy if it does not build.
+	$(PY) -m pip install -q -e '.[fast]' || echo "note: scikit-sparse not installed; using SciPy solvers"
+	touch $(STAMP)
+
+setup: sysdeps $(STAMP)
+
+run: setup
+	$(VENV)/bin/flexgear demo --out results
+
+test: setup
+	$(PY) -m pytest -q
+
+bench: setup
+	$(VENV)/bin/flexgear bench all
+
+clean:
+	rm -rf $(VENV) meshes/cache results
