@@ -1,0 +1,306 @@
+"""Craig-Bampton reductor: static constraint modes + fixed-interface normal modes.
+
+    u = [u_b; u_i] = [[I, 0], [Psi, Phi]] [q_b; q_m]
+    Psi = -K_ii^{-1} K_ib                 (all boundary columns in ONE block solve)
+    K_ii Phi = M_ii Phi diag(omega^2)     (shift-invert on the SAME factorization)
+    Phi^T M_ii Phi = I
+
+Reduced matrices (textbook closed forms, using K_ii Psi = -K_ib and the modal
+equation, so no product with the full K is needed):
+
+    K_r = [[K_bb + K_ib^T Psi, 0], [0, diag(omega^2)]]
+    M_r = [[Psi^T M_ii Psi + Psi^T M_ib + M_ib^T Psi + M_bb, (M_ib^T + Psi^T M_ii) Phi],
+           [sym,                                                Phi^T M_ii Phi]]
+
+Guyan (static) reduction is the case ``n_modes=0``.
+
+Rigid-body information (optional but recommended): either ``node_coords``
+(n/3 x 3, plain solid DOFs ordered 3*node + xyz, m) or ``rigid_body_basis``
+(n x 6, columns [tx, ty, tz, rx, ry, rz], see :mod:`cms.rigid`; use it for models
+with 6-DOF master nodes). With it the reductor names a mechanism before
+factorising, checks K R = 0, and records the reduced vs full rigid-body mass
+matrix (mass, first moments, inertia about the origin).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import rigid
+from .eigen import lowest_modes
+from .errors import MechanismError, ReductionError
+from .linsolve import factor, thread_limit
+from .superelement import Superelement
+
+log = logging.getLogger(__name__)
+
+#: Relative residual allowed for the constraint-mode solve ||K_ii Psi + K_ib|| / ||K_ib||.
+CONSTRAINT_RESIDUAL_TOL = 1e-8
+#: Relative size of ||K R|| / (||K||_1 ||R||) above which the rigid basis is rejected.
+RIGID_BASIS_TOL = 1e-8
+
+
+@dataclass
+class Timings:
+    factorize: float = 0.0
+    constraint_modes: float = 0.0
+    eigen: float = 0.0
+    assemble: float = 0.0
+    total: float = 0.0
+
+
+class CraigBamptonReductor:
+    """Reduce (K, M) to a Craig-Bampton superelement.
+
+    Parameters
+    ----------
+    K, M : sparse (n, n) symmetric stiffness and mass (SI units).
+    boundary_dofs : indices of the master DOFs (kept physical, in this order).
+    n_modes : number of fixed-interface modes (0 = Guyan).
+    cutoff_hz : alternatively keep all fixed-interface modes below this frequency (Hz).
+    dof_names : names of all n DOFs (the boundary ones are stored in the superelement).
+    node_coords / rigid_body_basis : rigid-body information (see module doc).
+    backend : linear solver backend (``"cholmod"``, ``"scipy"`` or ``None`` = best).
+    threads : BLAS/OpenMP thread limit during solves (1 is fastest on 2 cores for the
+        block eigen solve; ``None`` leaves the default).
+    tol : relative eigen-residual tolerance.
+    metadata : JSON-serialisable dict stored in the superelement.
+    """
+
+    def __init__(self, K, M, boundary_dofs, n_modes: int | None = None,
+                 cutoff_hz: float | None = None, dof_names=None, node_coords=None,
+                 rigid_body_basis=None, backend: str | None = None,
+                 threads: int | None = None, tol: float = 1e-8, ordering: str = "default",
+                 metadata: dict | None = None):
+        self.K = sp.csr_matrix(K, dtype=float)
+        self.M = sp.csr_matrix(M, dtype=float)
+        n = self.K.shape[0]
+        if self.K.shape != (n, n) or self.M.shape != (n, n):
+            raise ReductionError("K and M must be square and of equal size", "shapes",
+                                 (self.K.shape, self.M.shape))
+        b = np.asarray(boundary_dofs, dtype=np.int64).ravel()
+        if b.size and (b.min() < 0 or b.max() >= n):
+            raise ReductionError("boundary DOF index out of range 0..n-1", "boundary_dofs",
+                                 int(b.min() if b.min() < 0 else b.max()))
+        if len(np.unique(b)) != len(b):
+            vals, counts = np.unique(b, return_counts=True)
+            raise ReductionError("boundary DOFs repeated", "boundary_dofs",
+                                 vals[counts > 1].tolist())
+        if (n_modes is None) == (cutoff_hz is None):
+            raise ReductionError("give exactly one of n_modes or cutoff_hz",
+                                 "(n_modes, cutoff_hz)", (n_modes, cutoff_hz))
+        if n_modes is not None and not (0 <= n_modes <= n - len(b)):
+            raise ReductionError("n_modes must be in 0..n_interior", "n_modes", n_modes)
+        if cutoff_hz is not None and not cutoff_hz > 0:
+            raise ReductionError("cutoff frequency must be positive (Hz)", "cutoff_hz",
+                                 cutoff_hz)
+        self.boundary_dofs = b
+        mask = np.ones(n, dtype=bool)
+        mask[b] = False
+        self.interior_dofs = np.flatnonzero(mask)
+        self.n_modes = n_modes
+        self.cutoff_hz = cutoff_hz
+        self.dof_names = None if dof_names is None else list(dof_names)
+        if self.dof_names is not None and len(self.dof_names) != n:
+            raise ReductionError("dof_names must name all n DOFs", "len(dof_names)",
+                                 len(self.dof_names))
+        self.points = self.kinds = None
+        if rigid_body_basis is not None:
+            R = np.asarray(rigid_body_basis, dtype=float)
+            if R.shape != (n, 6):
+                raise ReductionError("rigid_body_basis must be (n, 6)", "rigid_body_basis.shape",
+                                     R.shape)
+        elif node_coords is not None:
+            X = np.asarray(node_coords, dtype=float).reshape(-1, 3)
+            if 3 * len(X) != n:
+                raise ReductionError("node_coords must have n/3 rows (3 DOFs per node)",
+                                     "node_coords.shape", X.shape)
+            self.points, self.kinds = rigid.solid_dof_layout(X)
+            R = rigid.rigid_body_basis(self.points, self.kinds)
+        else:
+            R = None
+        self.R = R
+        self.backend = backend
+        self.threads = threads
+        self.tol = tol
+        self.ordering = ordering
+        self.metadata = dict(metadata or {})
+        self.timings = Timings()
+        self.superelement: Superelement | None = None
+        self.factorization = None
+
+    # ------------------------------------------------------------------
+    def _length_scale(self) -> float:
+        if self.points is not None:
+            return float(np.ptp(self.points, axis=0).max()) or 1.0
+        if self.R is not None:  # rotation columns carry lever arms (m)
+            return float(np.abs(self.R[:, 3:]).max()) or 1.0
+        return 1.0
+
+    def _check_rigid_basis(self):
+        R = self.R
+        KR = self.K @ R
+        knorm = abs(self.K).sum(axis=0).max()
+        rel = np.linalg.norm(KR, axis=0) / (knorm * np.linalg.norm(R, axis=0))
+        if rel.max() > RIGID_BASIS_TOL:
+            j = int(np.argmax(rel))
+            raise ReductionError("rigid-body vector is not a zero-energy motion of K "
+                                 f"({rigid.MOTION_NAMES[j]}); wrong DOF layout or a "
+                                 "grounded model?", "||K r||/(||K|| ||r||)", float(rel.max()))
+        return rel
+
+    def _check_mechanism(self):
+        L = self._length_scale()
+        free = rigid.free_rigid_motions(self.R, self.boundary_dofs, length_scale=L)
+        if free.shape[1]:
+            names = [rigid.describe_motion(free[:, j], L) for j in range(free.shape[1])]
+            raise MechanismError(
+                "boundary DOFs do not hold the component: K_ii is singular; free motion(s): "
+                + "; ".join(names), motion="; ".join(names), components=free[:, 0])
+
+    # ------------------------------------------------------------------
+    def reduce(self) -> Superelement:
+        t_all = time.perf_counter()
+        b, i = self.boundary_dofs, self.interior_dofs
+        K, M = self.K, self.M
+        checks = {}
+        if self.R is not None:
+            checks["rigid_basis_residual"] = float(self._check_rigid_basis().max())
+            self._check_mechanism()
+        Kii = K[i][:, i].tocsc()
+        Kib = K[i][:, b]
+        Mii = M[i][:, i].tocsr()
+        Mib = M[i][:, b]
+        Kbb = K[b][:, b].toarray()
+        Mbb = M[b][:, b].toarray()
+
+        # one factorization serves constraint modes and eigen solve
+        t0 = time.perf_counter()
+        F = factor(Kii, backend=self.backend, threads=self.threads, ordering=self.ordering)
+        self.factorization = F
+        self.timings.factorize = time.perf_counter() - t0
+
+        t0 = time.perf_counter()
+        Kib_d = Kib.toarray()
+        Psi = -F.solve(Kib_d) if len(b) else np.zeros((len(i), 0))
+        if len(b):
+            r = np.linalg.norm(Kii @ Psi + Kib_d) / max(np.linalg.norm(Kib_d), 1e-300)
+            checks["constraint_mode_residual"] = float(r)
+            if not r <= CONSTRAINT_RESIDUAL_TOL:
+                raise MechanismError("constraint-mode solve inaccurate: K_ii is (nearly) "
+                                     f"singular (relative residual {r:.3e})",
+                                     motion="unidentified (ill-conditioned K_ii)", pivot=r)
+        self.timings.constraint_modes = time.perf_counter() - t0
+
+        t0 = time.perf_counter()
+        lam, Phi, res = self._modes(Kii, Mii, F)
+        self.timings.eigen = time.perf_counter() - t0
+        if len(lam):
+            checks["eigen_residual_max"] = float(res.max())
+
+        t0 = time.perf_counter()
+        with thread_limit(self.threads):
+            Kr, Mr = self._reduced_matrices(Kbb, Mbb, Kib_d, Mib, Mii, Psi, Phi, lam)
+        self.timings.assemble = time.perf_counter() - t0
+
+        if self.R is not None:
+            checks.update(self._rigid_checks(Kr, Mr))
+        self.timings.total = time.perf_counter() - t_all
+        meta = dict(self.metadata)
+        meta.setdefault("mode_selection", {"n_modes": self.n_modes, "cutoff_hz": self.cutoff_hz})
+        meta["solver"] = {"backend": F.backend, "threads": self.threads, "tol": self.tol,
+                          "ordering": self.ordering}
+        meta["timings_s"] = vars(self.timings).copy()
+        meta["self_checks"] = checks
+        names = ([self.dof_names[j] for j in b] if self.dof_names is not None
+                 else [f"dof{j}" for j in b])
+        pts = self.points[b] if self.points is not None else np.zeros((0, 3))
+        kinds = self.kinds[b] if self.kinds is not None else np.full(len(b), -1)
+        self.superelement = Superelement(
+            K=Kr, M=Mr, Phi=Phi, Psi=Psi, boundary_dofs=b.copy(), interior_dofs=i.copy(),
+            eigenvalues=lam, boundary_names=names, boundary_points=pts, boundary_kinds=kinds,
+            metadata=meta)
+        log.info("CB reduction n=%d boundary=%d modes=%d backend=%s: factor %.2f s, "
+                 "constraint %.2f s, eigen %.2f s, total %.2f s", K.shape[0], len(b),
+                 len(lam), F.backend, self.timings.factorize, self.timings.constraint_modes,
+                 self.timings.eigen, self.timings.total)
+        return self.superelement
+
+    def reconstruct(self, q: np.ndarray) -> np.ndarray:
+        """Full displacement field(s) from reduced coordinates (after ``reduce``)."""
+        if self.superelement is None:
+            raise ReductionError("call reduce() before reconstruct()", "superelement", None)
+        return self.superelement.reconstruct(q)
+
+    # ------------------------------------------------------------------
+    def _modes(self, Kii, Mii, F):
+        ni = Kii.shape[0]
+        if self.n_modes == 0 or ni == 0:
+            return np.zeros(0), np.zeros((ni, 0)), np.zeros(0)
+        if self.n_modes is not None:
+            r = lowest_modes(Kii, Mii, self.n_modes, factorization=F, tol=self.tol,
+                             threads=self.threads)
+            self._check_positive(r.eigenvalues, Kii, Mii)
+            return r.eigenvalues, r.vectors, r.residuals
+        lam_cut = (2 * math.pi * self.cutoff_hz) ** 2
+        k = min(ni, 12)
+        while True:
+            r = lowest_modes(Kii, Mii, k, factorization=F, tol=self.tol, threads=self.threads)
+            self._check_positive(r.eigenvalues, Kii, Mii)
+            if r.eigenvalues[-1] > lam_cut or k == ni:
+                keep = r.eigenvalues <= lam_cut
+                return r.eigenvalues[keep], r.vectors[:, keep], r.residuals[keep]
+            k = min(ni, 2 * k)
+
+    @staticmethod
+    def _check_positive(lam, Kii, Mii):
+        # omega^2 must be clearly positive: a near-zero one is a non-rigid mechanism
+        lam_ref = Kii.diagonal().sum() / Mii.diagonal().sum()
+        if lam[0] <= 1e-10 * lam_ref:
+            raise MechanismError("K_ii has a (near) zero-energy mode: omega^2 = "
+                                 f"{lam[0]:.3e} (rad/s)^2", motion="unidentified "
+                                 "non-rigid free motion (zero-frequency fixed-interface mode)",
+                                 pivot=float(lam[0]))
+
+    @staticmethod
+    def _reduced_matrices(Kbb, Mbb, Kib, Mib, Mii, Psi, Phi, lam):
+        nb, k = Psi.shape[1], Phi.shape[1]
+        Kr = np.zeros((nb + k, nb + k))
+        Mr = np.zeros_like(Kr)
+        Kbb_hat = Kbb + Kib.T @ Psi
+        Kr[:nb, :nb] = 0.5 * (Kbb_hat + Kbb_hat.T)
+        Kr[nb:, nb:] = np.diag(lam)
+        MiiPsi = Mii @ Psi
+        MibPsi = Mib.T @ Psi
+        Mbb_hat = Psi.T @ MiiPsi + MibPsi + MibPsi.T + Mbb
+        Mr[:nb, :nb] = 0.5 * (Mbb_hat + Mbb_hat.T)
+        if k:
+            Mbm = (Mib.T @ Phi) + MiiPsi.T @ Phi
+            Mr[:nb, nb:] = Mbm
+            Mr[nb:, :nb] = Mbm.T
+            Mmm = Phi.T @ (Mii @ Phi)
+            Mr[nb:, nb:] = 0.5 * (Mmm + Mmm.T)
+        return Kr, Mr
+
+    def _rigid_checks(self, Kr, Mr):
+        """Rigid motion in reduced coordinates is q = [R_b; 0] (Psi R_b = R_i exactly)."""
+        R = self.R
+        Rr = np.zeros((Kr.shape[0], 6))
+        Rr[:len(self.boundary_dofs)] = R[self.boundary_dofs]
+        full = R.T @ (self.M @ R)
+        red = Rr.T @ Mr @ Rr
+        rel = np.abs(red - full).max() / np.abs(full).max()
+        kr = np.linalg.norm(Kr @ Rr) / (np.abs(Kr).sum(axis=0).max() * np.linalg.norm(Rr))
+        return {"rigid_mass_matrix_full": full.tolist(),
+                "rigid_mass_matrix_rel_error": float(rel),
+                "reduced_rigid_energy_residual": float(kr)}
+
+
+def guyan(K, M, boundary_dofs, **kw) -> Superelement:
+    """Guyan (static) reduction = Craig-Bampton with no modes."""
+    return CraigBamptonReductor(K, M, boundary_dofs, n_modes=0, **kw).reduce()

@@ -1,0 +1,57 @@
+"""Domain exceptions of the Craig-Bampton package.
+
+Every exception carries the quantity that failed and its value as attributes,
+so a caller can react programmatically and a log line is self-explanatory.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+class ReductionError(ValueError):
+    """A reduction input or result is invalid.
+
+    Attributes
+    ----------
+    quantity : str
+        Name of the offending quantity (e.g. ``"boundary_dofs"``).
+    value : object
+        The value that failed the check.
+    """
+
+    def __init__(self, message: str, quantity: str, value=None):
+        super().__init__(f"{message} [{quantity}={value!r}]")
+        self.quantity = quantity
+        self.value = value
+
+
+class MechanismError(ReductionError):
+    """The interior stiffness K_ii is singular: fixing the boundary DOFs leaves a
+    free (zero-energy) motion of the interior.
+
+    Attributes
+    ----------
+    motion : str
+        Human-readable name of the free motion, e.g. ``"rotation about z"``
+        or ``"translation x + rotation about z"``.
+    components : numpy.ndarray, shape (6,)
+        Participation of the rigid-body motions [tx, ty, tz, rx, ry, rz] in the
+        free motion (unit length), NaN if the motion is not a rigid-body one.
+    pivot : float
+        The pivot / Rayleigh quotient that revealed the singularity (N/m scale).
+    """
+
+    def __init__(self, message: str, motion: str, components=None, pivot=None):
+        super().__init__(message, quantity="K_ii free motion", value=motion)
+        self.motion = motion
+        self.components = (np.full(6, np.nan) if components is None
+                           else np.asarray(components, dtype=float))
+        self.pivot = pivot
+
+
+class EigenSolveError(ReductionError):
+    """The eigen solver did not reach the requested residual."""
+
+
+class CacheError(ReductionError):
+    """A persisted superelement is unreadable or of an unknown version."""
