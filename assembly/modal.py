@@ -1,0 +1,103 @@
+"""Modal solve of an assembled model: frequencies (Hz), mass-normalised shapes, checks.
+
+``K phi = lambda M phi`` on the independent coordinates; frequencies ``f = sqrt(lambda)/2pi``.
+Each solve reports its largest relative eigen-residual (norm-wise backward error
+``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``) and groups repeated frequencies.
+"""
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+
+from .errors import SolverError
+
+log = logging.getLogger(__name__)
+
+#: Relative frequency tolerance under which modes count as one repeated frequency.
+REPEAT_RTOL = 1e-6
+#: Modes with f below this fraction of the highest frequency are rigid-body (0 Hz) modes.
+ZERO_RTOL = 1e-6
+
+
+@dataclass
+class ModalResult:
+    """Modes of one model. ``shapes`` are columns on the independent DOFs (mass-normalised);
+    ``abs_shapes`` the same modes on the absolute body DOFs (``z = T q``)."""
+
+    model: object
+    eigenvalues: np.ndarray
+    frequencies_hz: np.ndarray
+    shapes: np.ndarray
+    abs_shapes: np.ndarray
+    groups: list
+    max_residual: float
+    solve_time_s: float
+    n_rigid: int
+    info: dict = field(default_factory=dict)
+
+    def multiplicity(self) -> np.ndarray:
+        m = np.zeros(len(self.frequencies_hz), int)
+        for g in self.groups:
+            m[g] = len(g)
+        return m
+
+    def body_motion(self, mode: int, body: str) -> np.ndarray:
+        """Absolute motion [ux, uy, uz, rx, ry, rz] of ``body`` in mode ``mode`` (global axes)."""
+        return self.abs_shapes[self.model.body_slice(body), mode]
+
+
+def group_repeated(freqs: np.ndarray, rtol: float = REPEAT_RTOL) -> list:
+    """Indices of (sorted) frequencies grouped where neighbours agree within ``rtol``."""
+    fmax = max(float(np.max(np.abs(freqs))), 1e-300) if len(freqs) else 1.0
+    groups, cur = [], [0] if len(freqs) else []
+    for i in range(1, len(freqs)):
+        a, b = freqs[i - 1], freqs[i]
+        zero = abs(a) < ZERO_RTOL * fmax and abs(b) < ZERO_RTOL * fmax
+        if zero or abs(b - a) <= rtol * max(abs(a), abs(b)):
+            cur.append(i)
+        else:
+            groups.append(cur)
+            cur = [i]
+    if cur:
+        groups.append(cur)
+    return groups
+
+
+def residuals(K, M, lam, Phi) -> np.ndarray:
+    """Norm-wise relative backward error of each eigenpair (dense or sparse K, M)."""
+    nK = sla.norm(K.toarray() if hasattr(K, "toarray") else K, 2) if K.shape[0] < 3000 else _norm1(K)
+    nM = sla.norm(M.toarray() if hasattr(M, "toarray") else M, 2) if M.shape[0] < 3000 else _norm1(M)
+    R = K @ Phi - (M @ Phi) * lam
+    return np.linalg.norm(R, axis=0) / ((nK + np.abs(lam) * nM) * np.linalg.norm(Phi, axis=0))
+
+
+def _norm1(A) -> float:
+    return float(abs(A).sum(axis=0).max())
+
+
+def solve_modes(model, n_modes: int | None = None) -> ModalResult:
+    """All (or the lowest ``n_modes``) modes of ``model`` by a dense symmetric solve."""
+    t0 = time.perf_counter()
+    K, M = model.K, model.M
+    if not np.all(np.isfinite(K)) or not np.all(np.isfinite(M)):
+        raise SolverError("K, M", "non-finite", "assembled matrices contain inf or NaN")
+    try:
+        subset = None if n_modes is None else (0, min(n_modes, K.shape[0]) - 1)
+        lam, Phi = sla.eigh(K, M, subset_by_index=subset)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError("M", "not positive definite", f"mass matrix is singular ({exc})") from exc
+    res = residuals(K, M, lam, Phi)
+    fmax_guess = np.sqrt(max(lam.max(), 0.0)) / (2 * np.pi) if len(lam) else 0.0
+    if np.any(lam < -1e-8 * max(abs(lam).max(), 1e-300)):
+        log.warning("negative eigenvalues down to %.3e (stiffness not positive semi-definite?)", lam.min())
+    f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+    n_rigid = int(np.sum(f < ZERO_RTOL * max(fmax_guess, 1e-300)))
+    dt = time.perf_counter() - t0
+    out = ModalResult(model, lam, f, Phi, model.T @ Phi, group_repeated(f), float(res.max(initial=0)),
+                      dt, n_rigid)
+    log.info("%d modes in %.3f s, max residual %.2e, %d rigid-body", len(f), dt, out.max_residual, n_rigid)
+    return out

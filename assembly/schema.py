@@ -1,0 +1,134 @@
+"""Typed construction of frozen dataclasses from plain dicts (TOML tables).
+
+One generic converter instead of a hand-written parser per table: every dataclass field is
+read with its annotated type, unknown keys and missing fields are refused, and every error
+names the full scene path (``stages[0].planets.count``) and the offending value.
+
+Angle fields (``metadata={"angle": True}``) are SI radians; a TOML file may instead give the
+same quantity in degrees under the key ``<field>_deg`` (converted once, here).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import types
+import typing
+from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
+
+from .errors import SceneError
+
+
+def _join(path: str, key: str) -> str:
+    return f"{path}.{key}" if path else key
+
+
+def _type_name(tp) -> str:
+    if dataclasses.is_dataclass(tp):
+        return "table"
+    origin = get_origin(tp)
+    if origin is tuple:
+        return "array"
+    if origin is Literal:
+        return " | ".join(repr(a) for a in get_args(tp))
+    return getattr(tp, "__name__", str(tp))
+
+
+def convert(tp, value: Any, path: str):
+    """Convert ``value`` to the annotated type ``tp`` or raise SceneError at ``path``."""
+    origin = get_origin(tp)
+    if origin in (Union, types.UnionType):
+        args = [a for a in get_args(tp) if a is not type(None)]
+        if value is None:
+            return None
+        errors = []
+        for a in args:
+            try:
+                return convert(a, value, path)
+            except SceneError as exc:
+                errors.append(exc)
+        raise errors[0]
+    if origin is Literal:
+        if value not in get_args(tp):
+            raise SceneError(path, value, f"must be one of {list(get_args(tp))}")
+        return value
+    if tp is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SceneError(path, value, "must be a number")
+        value = float(value)
+        if math.isnan(value):
+            raise SceneError(path, value, "must not be NaN")
+        return value
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SceneError(path, value, "must be an integer")
+        return value
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise SceneError(path, value, "must be true or false")
+        return value
+    if tp is str:
+        if not isinstance(value, str):
+            raise SceneError(path, value, "must be a string")
+        return value
+    if origin is tuple:
+        args = get_args(tp)
+        if not isinstance(value, (list, tuple)):
+            raise SceneError(path, value, f"must be an array")
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(convert(args[0], v, f"{path}[{i}]") for i, v in enumerate(value))
+        if len(value) != len(args):
+            raise SceneError(path, value, f"must have exactly {len(args)} entries")
+        return tuple(convert(a, v, f"{path}[{i}]") for i, (a, v) in enumerate(zip(args, value)))
+    if dataclasses.is_dataclass(tp):
+        return from_dict(tp, value, path)
+    if tp is typing.Any:
+        return value
+    raise TypeError(f"schema: unsupported annotation {tp!r} at {path}")
+
+
+def from_dict(cls, data: Any, path: str = ""):
+    """Build dataclass ``cls`` from ``data`` (a dict), refusing unknown and missing keys."""
+    if isinstance(data, cls):
+        return data
+    if not isinstance(data, dict):
+        raise SceneError(path or cls.__name__, data, f"must be a table of {cls.__name__} fields")
+    hints = get_type_hints(cls)
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    kwargs = {}
+    for key, value in data.items():
+        p = _join(path, key)
+        if key in fields:
+            name = key
+            val = convert(hints[name], value, p)
+        elif key.endswith("_deg") and key[:-4] in fields and fields[key[:-4]].metadata.get("angle"):
+            name = key[:-4]
+            if name in data:
+                raise SceneError(p, value, f"give either {name} (rad) or {key} (deg), not both")
+            deg = convert(float, value, p) if not isinstance(value, list) else convert(
+                tuple[float, ...], value, p)
+            val = tuple(math.radians(d) for d in deg) if isinstance(deg, tuple) else math.radians(deg)
+        else:
+            allowed = sorted(fields)
+            raise SceneError(p, value, f"unknown key; allowed keys: {', '.join(allowed)}")
+        kwargs[name] = val
+    for name, f in fields.items():
+        if name not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            raise SceneError(_join(path, name), None, f"missing required field ({_type_name(hints[name])})")
+    return cls(**kwargs)
+
+
+def to_dict(obj) -> dict:
+    """Plain-dict view of a dataclass tree (radians kept; None fields dropped)."""
+    out = {}
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        if v is None:
+            continue
+        if dataclasses.is_dataclass(v):
+            v = to_dict(v)
+        elif isinstance(v, tuple) and v and dataclasses.is_dataclass(v[0]):
+            v = [to_dict(x) for x in v]
+        elif isinstance(v, tuple):
+            v = list(v)
+        out[f.name] = v
+    return out
