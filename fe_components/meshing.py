@@ -1,0 +1,208 @@
+"""gmsh meshing of the component solids, with a content-addressed mesh cache.
+
+A mesh file is named ``<kind>-<hash>.msh`` where the hash covers every
+geometry parameter, every mesh option, this module's ``MESHER_VERSION`` and
+the gmsh version.  If the file exists it is reused and gmsh is not imported.
+Files are written to a temporary name in the same folder and moved into
+place with :func:`os.replace` (no half-written cache entries).
+
+gmsh is imported lazily inside :func:`generate_mesh` only.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import time
+from dataclasses import dataclass
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from .errors import GeometryError, MeshingError
+from .geometry import build_solid, characteristic_length, interface_defs
+from .params import component_kind, params_as_flat_dict, params_digest
+
+log = logging.getLogger(__name__)
+
+#: Bump when the geometry or meshing code changes the produced mesh.
+MESHER_VERSION = "1"
+
+DEFAULT_CACHE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "cache"
+
+
+@dataclass(frozen=True)
+class MeshOptions:
+    """gmsh mesh controls.
+
+    size : target (maximum) element edge length [m].
+    order : 1 (linear tets) or 2 (quadratic, curved-boundary tets; default).
+    min_size : minimum element size [m] (0 = none).
+    curvature_elements : if > 0, gmsh ``Mesh.MeshSizeFromCurvature`` (elements per 2*pi).
+    algorithm_3d : gmsh ``Mesh.Algorithm3D`` (10 = HXT, 1 = Delaunay).
+    flank_points : interpolation points per involute flank (geometry).
+    helix_sections : transverse sections lofted for a helical gear (geometry).
+    """
+
+    size: float
+    order: int = 2
+    min_size: float = 0.0
+    curvature_elements: int = 0
+    algorithm_3d: int = 10
+    flank_points: int = 7
+    helix_sections: int = 5
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.size, (int, float)) and np.isfinite(self.size) and self.size > 0):
+            raise GeometryError("mesh_size", self.size, "must be a finite number > 0 m")
+        if self.order not in (1, 2):
+            raise GeometryError("order", self.order, "must be 1 or 2")
+        if not (0 <= self.min_size <= self.size):
+            raise GeometryError("min_size", self.min_size, "must satisfy 0 <= min_size <= size")
+        if self.helix_sections < 2:
+            raise GeometryError("helix_sections", self.helix_sections, "must be >= 2")
+        if self.flank_points < 3:
+            raise GeometryError("flank_points", self.flank_points, "must be >= 3")
+
+
+def _gmsh_version() -> str:
+    try:
+        return metadata.version("gmsh")
+    except metadata.PackageNotFoundError:  # pragma: no cover
+        return "unknown"
+
+
+def mesh_path(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None) -> Path:
+    """Cache file of the mesh of ``params`` meshed with ``options``."""
+    cache = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE_DIR
+    digest = params_digest(params, options, MESHER_VERSION, _gmsh_version())
+    return cache / f"{component_kind(params)}-{digest}.msh"
+
+
+def ensure_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None) -> Path:
+    """Return the cached mesh file, generating it with gmsh only if it does not exist."""
+    path = mesh_path(params, options, cache_dir)
+    if path.exists():
+        log.info("mesh cache hit: %s", path)
+        return path
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.msh")
+    try:
+        t0 = time.perf_counter()
+        generate_mesh(params, options, tmp)
+        os.replace(tmp, path)
+        log.info("meshed %s in %.2f s -> %s", component_kind(params), time.perf_counter() - t0, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def _surface_samples(gmsh, tag: int, n: int = 7) -> np.ndarray:
+    lo, hi = gmsh.model.getParametrizationBounds(2, tag)
+    u = np.linspace(lo[0], hi[0], n)
+    v = np.linspace(lo[1], hi[1], n)
+    uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1)
+    return np.asarray(gmsh.model.getValue(2, tag, uv.tolist())).reshape(-1, 3)
+
+
+def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None:
+    """Build the solid, tag interface surfaces as physical groups, mesh and write ``path`` (.msh)."""
+    import gmsh  # lazy: loading a cached mesh must not import gmsh
+
+    kind = component_kind(params)
+    report = {**params_as_flat_dict(params), **{f"mesh.{k}": v for k, v in params_as_flat_dict(options).items()}}
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(f"{kind}-{os.getpid()}")
+        gmsh.option.setNumber("Geometry.OCCUnionUnify", 0)  # keep shaft-segment faces distinct
+        occ = gmsh.model.occ
+        vols = build_solid(occ, params, options.flank_points, options.helix_sections)
+        occ.synchronize()
+        # free construction points (arc centres) are not part of the solid
+        in_solid = {abs(t) for d, t in gmsh.model.getBoundary(vols, combined=False, oriented=False, recursive=True)
+                    if d == 0}
+        free_pts = [(0, t) for _, t in gmsh.model.getEntities(0) if t not in in_solid]
+        if free_pts:
+            gmsh.model.removeEntities(free_pts)
+        vol_tags = [t for d, t in gmsh.model.getEntities(3)]
+        if not vol_tags:
+            raise RuntimeError("boolean operations produced no volume")
+        tol = 1e-6 * characteristic_length(params)
+        surfaces = {}
+        for _, tag in gmsh.model.getEntities(2):
+            pts = _surface_samples(gmsh, tag)
+            surfaces[tag] = (pts, float(pts[:, 2].min()), float(pts[:, 2].max()))
+        gmsh.model.addPhysicalGroup(3, vol_tags, name="solid")
+        taken: dict[int, str] = {}
+        for idef in interface_defs(params):
+            tags = [t for t, (pts, zlo, zhi) in surfaces.items()
+                    if any(sel.matches(pts, zlo, zhi, tol) for sel in idef.selectors)]
+            if not tags:
+                raise RuntimeError(f"no CAD surface found for interface {idef.name!r}")
+            for t in tags:
+                if t in taken:
+                    raise RuntimeError(f"surface {t} belongs to interfaces {taken[t]!r} and {idef.name!r}")
+                taken[t] = idef.name
+            gmsh.model.addPhysicalGroup(2, tags, name=idef.name)
+            log.debug("interface %s: surfaces %s", idef.name, tags)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
+        gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
+        gmsh.option.setNumber("Mesh.ElementOrder", options.order)
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
+        gmsh.option.setNumber("Mesh.Binary", 1)
+        gmsh.model.mesh.generate(3)
+        types, _, _ = gmsh.model.mesh.getElements(3)
+        if len(types) == 0:
+            raise RuntimeError("gmsh produced no volume elements")
+        gmsh.write(os.fspath(path))
+    except GeometryError:
+        raise
+    except Exception as err:  # gmsh raises plain Exception
+        raise MeshingError(kind, report, err) from err
+    finally:
+        if own:
+            gmsh.finalize()
+        else:
+            gmsh.model.remove()
+
+
+@dataclass(frozen=True)
+class RawMesh:
+    """Mesh read back from a cache file: points (n, 3) [m], volume cells, interface node sets."""
+
+    points: np.ndarray
+    cell_type: str  # "tetra" or "tetra10" (meshio names)
+    cells: np.ndarray
+    interface_nodes: dict[str, np.ndarray]  # indices into points
+
+
+def read_mesh(path: str | os.PathLike) -> RawMesh:
+    """Read a cached .msh with meshio; drop orphan nodes; collect physical surface node sets."""
+    import meshio
+
+    m = meshio.read(os.fspath(path))
+    vol = [(c.type, c.data) for c in m.cells if c.type in ("tetra", "tetra10")]
+    if not vol:
+        raise MeshingError("mesh", {"path": os.fspath(path)}, "file holds no tetrahedra")
+    cell_type = vol[0][0]
+    cells = np.concatenate([d for t, d in vol if t == cell_type])
+    used = np.unique(cells)
+    remap = np.full(len(m.points), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    nodes: dict[str, np.ndarray] = {}
+    for name, per_block in m.cell_sets.items():
+        if name.startswith("gmsh:"):
+            continue
+        ids = []
+        for block, idx in zip(m.cells, per_block):
+            if block.type in ("triangle", "triangle6") and idx is not None and len(idx):
+                ids.append(block.data[idx].ravel())
+        if ids:
+            nodes[name] = np.unique(remap[np.concatenate(ids)])
+    return RawMesh(m.points[used].copy(), cell_type, remap[cells], nodes)

@@ -1,0 +1,525 @@
+"""Parameter objects of the flexible components (SI units: m, rad).
+
+Every dataclass validates itself in ``__post_init__`` and raises
+:class:`~fe_components.errors.GeometryError` naming the parameter (dotted path
+relative to the object) and the offending value, *before* any meshing.
+``from_dict(d, path)`` builds the objects from TOML-like tables, accepts
+``<name>_deg`` keys for angles and prefixes errors with ``path``.
+
+Axis conventions (all components rotate about the global z axis through the
+origin):
+
+* pinion: shaft from z = 0 to z = sum(segment lengths); gear mid-face at
+  ``gear_center``;
+* wheel: gear mid-face at z = 0 (web and hub placed relative to it);
+* carrier: mid-plane between the cheeks at z = 0, planet pins parallel to z.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping, Sequence
+
+from .errors import GeometryError
+from .involute import check_tooth_shape
+
+FIDELITIES = ("smooth", "involute")
+
+
+# ---------------------------------------------------------------- helpers
+def _positive(name: str, value: float) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        raise GeometryError(name, value, "must be a finite number > 0")
+
+
+def _non_negative(name: str, value: float) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+        raise GeometryError(name, value, "must be a finite number >= 0")
+
+
+def _take(d: Mapping[str, Any], path: str, allowed: Sequence[str], angles: Sequence[str] = ()) -> dict:
+    """Copy ``d`` into a dict of known keys, converting ``<angle>_deg`` keys to rad."""
+    if not isinstance(d, Mapping):
+        raise GeometryError(path, d, "expected a table")
+    out: dict[str, Any] = {}
+    for key, value in d.items():
+        base = key[:-4] if key.endswith("_deg") else None
+        if base is not None and base in angles:
+            if base in d:
+                raise GeometryError(f"{path}.{key}", value, f"give either {base} (rad) or {key}, not both")
+            try:
+                out[base] = _deg_to_rad(value)
+            except (TypeError, ValueError):
+                raise GeometryError(f"{path}.{key}", value, "must be a number (degrees)") from None
+        elif key in allowed:
+            out[key] = value
+        else:
+            raise GeometryError(f"{path}.{key}", value, f"unknown parameter (known: {', '.join(allowed)})")
+    return out
+
+
+def _deg_to_rad(value: Any) -> Any:
+    if isinstance(value, (list, tuple)):
+        return tuple(math.radians(float(v)) for v in value)
+    return math.radians(float(value))
+
+
+def _build(cls, kwargs: dict, path: str):
+    try:
+        return cls(**kwargs)
+    except GeometryError as err:
+        raise err.with_prefix(path) from None
+    except TypeError as err:  # missing required argument
+        raise GeometryError(path, sorted(kwargs), f"incomplete parameter table: {err}") from None
+
+
+# ---------------------------------------------------------------- teeth
+@dataclass(frozen=True)
+class GearTeeth:
+    """Gear tooth data (ISO 21771 nomenclature, standard basic rack h_a* = 1, h_f* = 1.25).
+
+    n_teeth : number of teeth z.
+    normal_module : m_n [m].
+    pressure_angle : normal pressure angle alpha_n [rad].
+    face_width : b [m].
+    helix_angle : beta [rad] (0 = spur; sign gives the hand).
+    fidelity : "smooth" (solid annulus of radius ``smooth_radius``) or "involute".
+    smooth_radius : outer radius of the smooth annulus [m]; default pitch radius.
+    profile_shift : profile shift coefficient x [-].
+    """
+
+    n_teeth: int
+    normal_module: float
+    pressure_angle: float
+    face_width: float
+    helix_angle: float = 0.0
+    fidelity: str = "smooth"
+    smooth_radius: float | None = None
+    profile_shift: float = 0.0
+
+    def __post_init__(self) -> None:
+        if isinstance(self.n_teeth, bool) or not isinstance(self.n_teeth, int) or self.n_teeth < 3:
+            raise GeometryError("n_teeth", self.n_teeth, "must be an integer >= 3")
+        _positive("normal_module", self.normal_module)
+        _positive("face_width", self.face_width)
+        if not (isinstance(self.pressure_angle, (int, float)) and 0 < self.pressure_angle < math.radians(45)):
+            raise GeometryError("pressure_angle", self.pressure_angle, "must be in (0, 45 deg) [rad]")
+        if not (isinstance(self.helix_angle, (int, float)) and abs(self.helix_angle) < math.radians(60)):
+            raise GeometryError("helix_angle", self.helix_angle, "must satisfy |beta| < 60 deg [rad]")
+        if self.fidelity not in FIDELITIES:
+            raise GeometryError("fidelity", self.fidelity, f"must be one of {FIDELITIES}")
+        if not (isinstance(self.profile_shift, (int, float)) and -1.0 < self.profile_shift < 1.0):
+            raise GeometryError("profile_shift", self.profile_shift, "must be in (-1, 1)")
+        # Undercut limit of a gear cut by the standard rack (h_a* = 1), ISO 21771 / Niemann:
+        # z_min = 2 (1 - x) cos(beta) / sin^2(alpha_t); the practical limit is its integer part
+        # (17 teeth for alpha_n = 20 deg, beta = 0, x = 0).
+        z_min = 2.0 * (1.0 - self.profile_shift) * math.cos(self.helix_angle) / math.sin(self.transverse_pressure_angle) ** 2
+        if self.n_teeth < math.floor(z_min):
+            raise GeometryError(
+                "n_teeth", self.n_teeth,
+                f"undercuts at pressure angle {math.degrees(self.pressure_angle):.3g} deg "
+                f"(helix {math.degrees(self.helix_angle):.3g} deg, x = {self.profile_shift}): "
+                f"needs at least {math.floor(z_min)} teeth or a larger profile shift")
+        if self.root_radius <= 0:
+            raise GeometryError("n_teeth", self.n_teeth, "root circle radius is not positive")
+        if self.smooth_radius is not None:
+            _positive("smooth_radius", self.smooth_radius)
+            if self.smooth_radius > self.tip_radius * (1 + 1e-12):
+                raise GeometryError("smooth_radius", self.smooth_radius,
+                                    f"exceeds the tip radius {self.tip_radius:.6g} m")
+        if self.fidelity == "involute":
+            check_tooth_shape(self)
+
+    # derived geometry (m, rad)
+    @property
+    def transverse_module(self) -> float:
+        return self.normal_module / math.cos(self.helix_angle)
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def pitch_radius(self) -> float:
+        return 0.5 * self.n_teeth * self.transverse_module
+
+    @property
+    def base_radius(self) -> float:
+        return self.pitch_radius * math.cos(self.transverse_pressure_angle)
+
+    @property
+    def tip_radius(self) -> float:
+        return self.pitch_radius + self.normal_module * (1.0 + self.profile_shift)
+
+    @property
+    def root_radius(self) -> float:
+        return self.pitch_radius - self.normal_module * (1.25 - self.profile_shift)
+
+    @property
+    def outer_radius(self) -> float:
+        """Outer radius of the modelled gear body [m] (tip, or the smooth radius)."""
+        if self.fidelity == "smooth":
+            return self.smooth_radius if self.smooth_radius is not None else self.pitch_radius
+        return self.tip_radius
+
+    @property
+    def inner_limit_radius(self) -> float:
+        """Radius below which the gear body is solid (root circle, or smooth radius if smaller)."""
+        return min(self.root_radius, self.outer_radius)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], path: str = "teeth") -> "GearTeeth":
+        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)], angles=("pressure_angle", "helix_angle"))
+        return _build(cls, kw, path)
+
+
+# ---------------------------------------------------------------- pinion
+@dataclass(frozen=True)
+class ShaftSegment:
+    """One cylindrical shaft step: ``length`` and ``diameter`` [m]."""
+
+    length: float
+    diameter: float
+
+    def __post_init__(self) -> None:
+        _positive("length", self.length)
+        _positive("diameter", self.diameter)
+
+
+@dataclass(frozen=True)
+class PinionParams:
+    """Pinion integral with a stepped shaft along +z from z = 0.
+
+    shaft : segments in order from z = 0; the first and last segments are the
+        bearing seats "bearing_a" and "bearing_b".
+    gear_center : z of the gear's mid-face [m].
+    bore_diameter : optional central bore through the whole shaft [m] (0 = solid).
+    """
+
+    teeth: GearTeeth
+    shaft: tuple[ShaftSegment, ...]
+    gear_center: float
+    bore_diameter: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.teeth, GearTeeth):
+            raise GeometryError("teeth", self.teeth, "must be a GearTeeth")
+        object.__setattr__(self, "shaft", tuple(self.shaft))
+        if len(self.shaft) < 2:
+            raise GeometryError("shaft", len(self.shaft), "needs at least two segments (two bearing seats)")
+        _non_negative("bore_diameter", self.bore_diameter)
+        length = self.length
+        b = self.teeth.face_width
+        z0, z1 = self.gear_center - b / 2, self.gear_center + b / 2
+        if z0 < self.shaft[0].length or z1 > length - self.shaft[-1].length:
+            raise GeometryError("gear_center", self.gear_center,
+                                f"gear face [{z0:.6g}, {z1:.6g}] m must lie between the bearing seats "
+                                f"[{self.shaft[0].length:.6g}, {length - self.shaft[-1].length:.6g}] m")
+        if self.bore_diameter / 2 >= self.teeth.inner_limit_radius:
+            raise GeometryError("bore_diameter", self.bore_diameter,
+                                f"bore radius at or beyond the root circle radius {self.teeth.inner_limit_radius:.6g} m")
+        for i, seg in enumerate(self.shaft):
+            if self.bore_diameter >= seg.diameter:
+                raise GeometryError(f"shaft[{i}].diameter", seg.diameter,
+                                    f"not larger than the bore diameter {self.bore_diameter} m")
+
+    @property
+    def length(self) -> float:
+        return sum(s.length for s in self.shaft)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], path: str = "pinion") -> "PinionParams":
+        kw = _take(d, path, ["teeth", "shaft", "gear_center", "bore_diameter", "kind"])
+        kw.pop("kind", None)
+        if "teeth" in kw:
+            kw["teeth"] = GearTeeth.from_dict(kw["teeth"], f"{path}.teeth")
+        if "shaft" in kw:
+            segs = []
+            if not isinstance(kw["shaft"], (list, tuple)):
+                raise GeometryError(f"{path}.shaft", kw["shaft"], "expected a list of segments")
+            for i, s in enumerate(kw["shaft"]):
+                p = f"{path}.shaft[{i}]"
+                if isinstance(s, Mapping):
+                    segs.append(_build(ShaftSegment, _take(s, p, ["length", "diameter"]), p))
+                elif isinstance(s, (list, tuple)) and len(s) == 2:
+                    segs.append(_build(ShaftSegment, {"length": s[0], "diameter": s[1]}, p))
+                else:
+                    raise GeometryError(p, s, "expected {length, diameter} or [length, diameter]")
+            kw["shaft"] = tuple(segs)
+        return _build(cls, kw, path)
+
+
+# ---------------------------------------------------------------- wheel
+@dataclass(frozen=True)
+class WheelParams:
+    """Gear wheel: toothed rim + web (+ optional lightening holes) + hub with bore.
+
+    The gear mid-face is at z = 0; the web mid-plane at ``web_offset`` and the
+    hub centred at ``hub_offset`` (both axial, [m]).  Lightening holes are
+    ``n_holes`` axial through-holes of ``hole_diameter`` on the circle of
+    diameter ``hole_pitch_diameter`` (default: midway between hub and rim).
+    """
+
+    teeth: GearTeeth
+    rim_inner_diameter: float
+    web_thickness: float
+    hub_outer_diameter: float
+    hub_length: float
+    bore_diameter: float
+    web_offset: float = 0.0
+    hub_offset: float = 0.0
+    n_holes: int = 0
+    hole_diameter: float = 0.0
+    hole_pitch_diameter: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.teeth, GearTeeth):
+            raise GeometryError("teeth", self.teeth, "must be a GearTeeth")
+        for name in ("rim_inner_diameter", "web_thickness", "hub_outer_diameter", "hub_length", "bore_diameter"):
+            _positive(name, getattr(self, name))
+        t = self.teeth
+        if self.bore_diameter / 2 >= t.inner_limit_radius:
+            raise GeometryError("bore_diameter", self.bore_diameter,
+                                f"bore radius at or beyond the root circle radius {t.inner_limit_radius:.6g} m")
+        if self.rim_inner_diameter / 2 >= t.inner_limit_radius:
+            raise GeometryError("rim_inner_diameter", self.rim_inner_diameter,
+                                f"rim inner radius at or beyond the root circle radius {t.inner_limit_radius:.6g} m")
+        if self.hub_outer_diameter >= self.rim_inner_diameter:
+            raise GeometryError("hub_outer_diameter", self.hub_outer_diameter,
+                                f"must be smaller than rim_inner_diameter {self.rim_inner_diameter} m")
+        if self.bore_diameter >= self.hub_outer_diameter:
+            raise GeometryError("bore_diameter", self.bore_diameter,
+                                f"must be smaller than hub_outer_diameter {self.hub_outer_diameter} m")
+        b = t.face_width
+        if abs(self.web_offset) + self.web_thickness / 2 > b / 2 * (1 + 1e-12):
+            raise GeometryError("web_thickness", self.web_thickness,
+                                f"web (offset {self.web_offset} m) does not fit in the face width {b} m")
+        if abs(self.hub_offset - self.web_offset) + self.web_thickness / 2 > self.hub_length / 2 * (1 + 1e-12):
+            raise GeometryError("hub_length", self.hub_length, "hub must span the web thickness")
+        if isinstance(self.n_holes, bool) or not isinstance(self.n_holes, int) or self.n_holes < 0:
+            raise GeometryError("n_holes", self.n_holes, "must be an integer >= 0")
+        if self.n_holes:
+            _positive("hole_diameter", self.hole_diameter)
+            rh = self.hole_pitch_radius
+            if rh - self.hole_diameter / 2 <= self.hub_outer_diameter / 2 or rh + self.hole_diameter / 2 >= self.rim_inner_diameter / 2:
+                raise GeometryError("hole_diameter", self.hole_diameter,
+                                    f"holes on pitch radius {rh:.6g} m do not fit between hub and rim")
+            if self.n_holes > 1 and 2 * rh * math.sin(math.pi / self.n_holes) <= self.hole_diameter:
+                raise GeometryError("hole_diameter", self.hole_diameter,
+                                    f"{self.n_holes} holes on pitch radius {rh:.6g} m overlap")
+
+    @property
+    def hole_pitch_radius(self) -> float:
+        if self.hole_pitch_diameter is not None:
+            return self.hole_pitch_diameter / 2
+        return (self.hub_outer_diameter + self.rim_inner_diameter) / 4
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], path: str = "wheel") -> "WheelParams":
+        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)] + ["kind"])
+        kw.pop("kind", None)
+        if "teeth" in kw:
+            kw["teeth"] = GearTeeth.from_dict(kw["teeth"], f"{path}.teeth")
+        return _build(cls, kw, path)
+
+
+# ---------------------------------------------------------------- carrier
+@dataclass(frozen=True)
+class CarrierParams:
+    """Planet carrier: two cheeks joined by posts, planet-pin bores, central hub.
+
+    Cheek A occupies z in [-s/2 - t, -s/2], cheek B z in [s/2, s/2 + t]
+    (s = ``cheek_spacing``, t = ``cheek_thickness``).  Hub A (bearing seat A,
+    diameter ``seat_a_diameter``, length ``seat_a_length``) extends from
+    cheek A towards -z; hub B (bearing seat B) from cheek B towards +z and
+    holds the output bore (diameter ``output_bore_diameter``, depth = hub B
+    length).  Posts (cylinders of ``post_diameter``) join the cheeks midway
+    (in angle) between consecutive planets at radius ``post_radius``
+    (default: pin pitch radius).  ``center_hole_diameter`` > 0 adds a central
+    through-hole (e.g. for the sun shaft).  Angles in rad.
+    """
+
+    planet_angles: tuple[float, ...]
+    pin_pitch_radius: float
+    pin_bore_diameter: float
+    cheek_diameter: float
+    cheek_thickness: float
+    cheek_spacing: float
+    post_diameter: float
+    seat_a_diameter: float
+    seat_a_length: float
+    seat_b_diameter: float
+    seat_b_length: float
+    output_bore_diameter: float
+    center_hole_diameter: float = 0.0
+    post_radius: float | None = None
+
+    def __post_init__(self) -> None:
+        try:
+            angles = tuple(float(a) for a in self.planet_angles)
+        except (TypeError, ValueError):
+            raise GeometryError("planet_angles", self.planet_angles, "must be a list of angles [rad]") from None
+        object.__setattr__(self, "planet_angles", angles)
+        if len(angles) < 2:
+            raise GeometryError("planet_angles", angles, "need at least 2 planets")
+        for name in ("pin_pitch_radius", "pin_bore_diameter", "cheek_diameter", "cheek_thickness",
+                     "cheek_spacing", "post_diameter", "seat_a_diameter", "seat_a_length",
+                     "seat_b_diameter", "seat_b_length", "output_bore_diameter"):
+            _positive(name, getattr(self, name))
+        _non_negative("center_hole_diameter", self.center_hole_diameter)
+        if self.post_radius is not None:
+            _positive("post_radius", self.post_radius)
+        r_p, d_p, R_c = self.pin_pitch_radius, self.pin_bore_diameter, self.cheek_diameter / 2
+        if r_p + d_p / 2 >= R_c:
+            raise GeometryError("pin_bore_diameter", d_p,
+                                f"pin bores on radius {r_p} m reach the cheek rim (radius {R_c} m)")
+        srt = sorted(a % (2 * math.pi) for a in angles)
+        for i in range(len(srt)):
+            for j in range(i + 1, len(srt)):
+                dist = 2 * r_p * abs(math.sin((srt[j] - srt[i]) / 2))
+                if dist <= d_p:
+                    raise GeometryError("pin_bore_diameter", d_p,
+                                        f"pin bores at {math.degrees(srt[i]):.4g} and {math.degrees(srt[j]):.4g} deg "
+                                        f"overlap (centre distance {dist:.6g} m)")
+        hub_r = max(self.seat_a_diameter, self.seat_b_diameter) / 2
+        if hub_r >= R_c:
+            raise GeometryError("seat_a_diameter" if self.seat_a_diameter >= self.seat_b_diameter else "seat_b_diameter",
+                                2 * hub_r, f"hub larger than the cheek diameter {self.cheek_diameter} m")
+        if r_p - d_p / 2 <= hub_r:
+            raise GeometryError("pin_pitch_radius", r_p,
+                                f"pin bores (diameter {d_p} m) cut into the hub (radius {hub_r} m)")
+        if self.output_bore_diameter >= self.seat_b_diameter:
+            raise GeometryError("output_bore_diameter", self.output_bore_diameter,
+                                f"must be smaller than seat_b_diameter {self.seat_b_diameter} m")
+        if self.center_hole_diameter > 0:
+            if self.center_hole_diameter >= min(self.seat_a_diameter, self.output_bore_diameter):
+                raise GeometryError("center_hole_diameter", self.center_hole_diameter,
+                                    "must be smaller than seat_a_diameter and output_bore_diameter")
+        r_post, d_post = self.post_radius_value, self.post_diameter
+        if r_post + d_post / 2 >= R_c:
+            raise GeometryError("post_diameter", d_post, f"posts reach the cheek rim (radius {R_c} m)")
+        if r_post - d_post / 2 <= self.center_hole_diameter / 2:
+            raise GeometryError("post_diameter", d_post, "posts cut into the central hole")
+        for a_post in self.post_angles:
+            for a_pin in angles:
+                dx = r_post * math.cos(a_post) - r_p * math.cos(a_pin)
+                dy = r_post * math.sin(a_post) - r_p * math.sin(a_pin)
+                if math.hypot(dx, dy) <= (d_p + d_post) / 2:
+                    raise GeometryError("post_diameter", d_post,
+                                        f"post at {math.degrees(a_post):.4g} deg overlaps the pin bore at "
+                                        f"{math.degrees(a_pin):.4g} deg")
+
+    @property
+    def n_planets(self) -> int:
+        return len(self.planet_angles)
+
+    @property
+    def post_radius_value(self) -> float:
+        return self.pin_pitch_radius if self.post_radius is None else self.post_radius
+
+    @property
+    def post_angles(self) -> tuple[float, ...]:
+        """Post angles [rad]: midway between consecutive planets (sorted by angle)."""
+        srt = sorted(a % (2 * math.pi) for a in self.planet_angles)
+        nxt = srt[1:] + [srt[0] + 2 * math.pi]
+        return tuple((a + b) / 2 for a, b in zip(srt, nxt))
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], path: str = "carrier") -> "CarrierParams":
+        allowed = [f.name for f in dataclasses.fields(cls)] + ["n_planets", "first_planet_angle", "kind"]
+        kw = _take(d, path, allowed, angles=("planet_angles", "first_planet_angle"))
+        kw.pop("kind", None)
+        n = kw.pop("n_planets", None)
+        first = kw.pop("first_planet_angle", 0.0)
+        if n is not None:
+            if "planet_angles" in kw:
+                raise GeometryError(f"{path}.n_planets", n, "give either n_planets or planet_angles, not both")
+            if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+                raise GeometryError(f"{path}.n_planets", n, "must be an integer >= 2")
+            kw["planet_angles"] = tuple(first + 2 * math.pi * i / n for i in range(n))
+        return _build(cls, kw, path)
+
+
+# ---------------------------------------------------------------- cylinder
+@dataclass(frozen=True)
+class CylinderParams:
+    """Plain cylinder (or annulus if ``bore_diameter`` > 0) along z from 0 to ``length`` [m].
+
+    Validation geometry with analytic mass, inertia and frequencies; interfaces
+    "end_a" (face z = 0) and "end_b" (face z = length).
+    """
+
+    length: float
+    diameter: float
+    bore_diameter: float = 0.0
+
+    def __post_init__(self) -> None:
+        _positive("length", self.length)
+        _positive("diameter", self.diameter)
+        _non_negative("bore_diameter", self.bore_diameter)
+        if self.bore_diameter >= self.diameter:
+            raise GeometryError("bore_diameter", self.bore_diameter,
+                                f"must be smaller than the diameter {self.diameter} m")
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], path: str = "cylinder") -> "CylinderParams":
+        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)] + ["kind"])
+        kw.pop("kind", None)
+        return _build(cls, kw, path)
+
+
+ComponentParams = PinionParams | WheelParams | CarrierParams | CylinderParams
+
+_KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams, "cylinder": CylinderParams}
+
+
+def component_from_dict(d: Mapping[str, Any], path: str = "component") -> ComponentParams:
+    """Build component parameters from a table with ``kind = "pinion"|"wheel"|"carrier"|"cylinder"``."""
+    kind = d.get("kind") if isinstance(d, Mapping) else None
+    if kind not in _KINDS:
+        raise GeometryError(f"{path}.kind", kind, f"must be one of {sorted(_KINDS)}")
+    return _KINDS[kind].from_dict(d, path)
+
+
+def component_kind(params: ComponentParams) -> str:
+    for k, cls in _KINDS.items():
+        if isinstance(params, cls):
+            return k
+    raise TypeError(f"not a component parameter object: {type(params).__name__}")
+
+
+def params_digest(*objs: Any) -> str:
+    """Stable SHA-256 (hex, 16 chars) over every field of the given dataclasses / values."""
+
+    def enc(o: Any) -> Any:
+        if dataclasses.is_dataclass(o):
+            return {"__type__": type(o).__name__, **{f.name: enc(getattr(o, f.name)) for f in dataclasses.fields(o)}}
+        if isinstance(o, (list, tuple)):
+            return [enc(v) for v in o]
+        if isinstance(o, dict):
+            return {str(k): enc(v) for k, v in sorted(o.items())}
+        if isinstance(o, float):
+            return repr(o)
+        return o
+
+    text = json.dumps([enc(o) for o in objs], sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def params_as_flat_dict(params: Any, prefix: str = "") -> dict[str, Any]:
+    """Flatten a parameter dataclass into ``{"teeth.n_teeth": 20, ...}`` (for error reports)."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(params):
+        v = getattr(params, f.name)
+        key = f"{prefix}{f.name}"
+        if dataclasses.is_dataclass(v):
+            out.update(params_as_flat_dict(v, key + "."))
+        elif isinstance(v, tuple) and v and dataclasses.is_dataclass(v[0]):
+            for i, item in enumerate(v):
+                out.update(params_as_flat_dict(item, f"{key}[{i}]."))
+        else:
+            out[key] = v
+    return out
