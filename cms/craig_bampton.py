@@ -5,12 +5,9 @@
     K_ii Phi = M_ii Phi diag(omega^2)     (shift-invert on the SAME factorization)
     Phi^T M_ii Phi = I
 
-Reduced matrices (textbook closed forms, using K_ii Psi = -K_ib and the modal
-equation, so no product with the full K is needed):
-
-    K_r = [[K_bb + K_ib^T Psi, 0], [0, diag(omega^2)]]
-    M_r = [[Psi^T M_ii Psi + Psi^T M_ib + M_ib^T Psi + M_bb, (M_ib^T + Psi^T M_ii) Phi],
-           [sym,                                                Phi^T M_ii Phi]]
+Reduced matrices are the Galerkin projection K_r = T^T K T, M_r = T^T M T of the
+basis T above, formed with explicit sparse products; in exact arithmetic
+K_r = [[K_bb + K_ib^T Psi, 0], [0, diag(omega^2)]] and the modal mass block is I.
 
 Guyan (static) reduction is the case ``n_modes=0``.
 
@@ -161,7 +158,8 @@ class CraigBamptonReductor:
             names = [rigid.describe_motion(free[:, j], L) for j in range(free.shape[1])]
             raise MechanismError(
                 "boundary DOFs do not hold the component: K_ii is singular; free motion(s): "
-                + "; ".join(names), motion="; ".join(names), components=free[:, 0])
+                + "; ".join(names), motion="; ".join(names),
+                components=free[:, 0] / np.linalg.norm(free[:, 0]))
 
     # ------------------------------------------------------------------
     def reduce(self) -> Superelement:
@@ -205,7 +203,7 @@ class CraigBamptonReductor:
 
         t0 = time.perf_counter()
         with thread_limit(self.threads):
-            Kr, Mr = self._reduced_matrices(Kbb, Mbb, Kib_d, Mib, Mii, Psi, Phi, lam)
+            Kr, Mr = self._reduced_matrices(Kbb, Mbb, Kib_d, Mib, Kii, Mii, Psi, Phi)
         self.timings.assemble = time.perf_counter() - t0
 
         if self.R is not None:
@@ -268,24 +266,28 @@ class CraigBamptonReductor:
                                  pivot=float(lam[0]))
 
     @staticmethod
-    def _reduced_matrices(Kbb, Mbb, Kib, Mib, Mii, Psi, Phi, lam):
+    def _reduced_matrices(Kbb, Mbb, Kib, Mib, Kii, Mii, Psi, Phi):
+        """Galerkin projection T^T K T, T^T M T of the CB basis T = [[I, 0], [Psi, Phi]].
+
+        Computed with explicit products (not the closed forms diag(omega^2) and
+        zero coupling) so the reduced pencil is an exact Rayleigh-Ritz projection
+        even though Phi and Psi carry solver round-off.
+        """
         nb, k = Psi.shape[1], Phi.shape[1]
-        Kr = np.zeros((nb + k, nb + k))
-        Mr = np.zeros_like(Kr)
-        Kbb_hat = Kbb + Kib.T @ Psi
-        Kr[:nb, :nb] = 0.5 * (Kbb_hat + Kbb_hat.T)
-        Kr[nb:, nb:] = np.diag(lam)
-        MiiPsi = Mii @ Psi
-        MibPsi = Mib.T @ Psi
-        Mbb_hat = Psi.T @ MiiPsi + MibPsi + MibPsi.T + Mbb
-        Mr[:nb, :nb] = 0.5 * (Mbb_hat + Mbb_hat.T)
-        if k:
-            Mbm = (Mib.T @ Phi) + MiiPsi.T @ Phi
-            Mr[:nb, nb:] = Mbm
-            Mr[nb:, :nb] = Mbm.T
-            Mmm = Phi.T @ (Mii @ Phi)
-            Mr[nb:, nb:] = 0.5 * (Mmm + Mmm.T)
-        return Kr, Mr
+        T_i = np.hstack([Psi, Phi])
+        KT = Kii @ T_i
+        MT = Mii @ T_i
+        Kr = T_i.T @ KT
+        Mr = T_i.T @ MT
+        KibT = Kib.T @ T_i        # (nb, m)
+        MibT = Mib.T @ T_i
+        Kr[:nb, :] += KibT
+        Kr[:, :nb] += KibT.T
+        Mr[:nb, :] += MibT
+        Mr[:, :nb] += MibT.T
+        Kr[:nb, :nb] += Kbb
+        Mr[:nb, :nb] += Mbb
+        return 0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T)
 
     def _rigid_checks(self, Kr, Mr):
         """Rigid motion in reduced coordinates is q = [R_b; 0] (Psi R_b = R_i exactly)."""

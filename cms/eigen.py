@@ -53,17 +53,31 @@ class EigenResult:
 def _m_orth(W, V, MV, M, drop=1e-10):
     """M-orthonormalise block W against the columns V (with MV = M V) and itself.
 
-    Returns (W, MW) with W^T M W = I, V^T M W = 0; rank-deficient directions dropped.
+    Columns are normalised first, so a correction that is small in norm but new in
+    direction is kept; a column whose part outside span(V) is below ``drop`` (relative)
+    is numerically in the span and dropped, as are rank-deficient combinations.
+    Returns (W, MW) with W^T M W = I and V^T M W = 0.
     """
-    for _ in range(2):  # classical Gram-Schmidt, twice ("twice is enough")
-        if V is not None and V.shape[1]:
+    def colnorm(A):
+        return np.sqrt(np.maximum(np.einsum("ij,ij->j", A, M @ A), 0.0))
+
+    nrm = colnorm(W)
+    W = W[:, nrm > 0] / nrm[nrm > 0]
+    if V is not None and V.shape[1]:
+        for _ in range(2):  # classical Gram-Schmidt, twice ("twice is enough")
             W = W - V @ (MV.T @ W)
-        MW = M @ W
-        G = W.T @ MW
-        G = 0.5 * (G + G.T)
-        s, Q = np.linalg.eigh(G)
-        keep = s > drop * max(s.max(), np.finfo(float).tiny)
-        W = (W @ Q[:, keep]) / np.sqrt(s[keep])
+        nrm = colnorm(W)
+        keep = nrm > drop
+        W = W[:, keep] / nrm[keep]
+    if W.shape[1] == 0:
+        return W, W.copy()
+    MW = M @ W
+    G = W.T @ MW
+    s, Q = np.linalg.eigh(0.5 * (G + G.T))
+    keep = s > drop * s.max()
+    W = (W @ Q[:, keep]) / np.sqrt(s[keep])
+    if V is not None and V.shape[1]:
+        W = W - V @ (MV.T @ W)   # one more pass: rotation can reintroduce round-off
     MW = M @ W
     return W, MW
 
@@ -117,13 +131,20 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     p = depth or max(3, math.ceil(3 * k / b) + 1)
     rng = np.random.default_rng(seed)
     X0 = rng.standard_normal((n, b))
+    R0 = None   # residual block of the restart vectors (None on the first cycle)
     for cycle in range(max_restarts + 1):
         V, MV = _m_orth(X0, None, None, M)
         MW = MV
-        for _ in range(p - 1):
+        for j in range(p - 1):
             if V.shape[1] >= n - 1:
                 break
-            W = factorization.solve(MW)          # one block solve: S applied to the last block
+            if j == 0 and R0 is not None:
+                # Davidson/LOBPCG-style correction (K - sigma M)^{-1} r: same span as S X
+                # in exact arithmetic, but free of the cancellation that stalls
+                # plain Krylov restarts once the Ritz vectors have converged.
+                W = factorization.solve(R0)
+            else:
+                W = factorization.solve(MW)      # one block solve: S applied to the last block
             W, MW = _m_orth(W, V, MV, M)
             if W.shape[1] == 0:
                 break
@@ -145,7 +166,9 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
                                factorization.n_rhs - rhs0, dt)
         # thick restart from the best Ritz vectors (wanted ones + guard)
         nkeep = min(V.shape[1], k + max(4, k // 2))
-        X0 = V @ Y[:, :nkeep]
+        Yk = Y[:, :nkeep]
+        X0 = V @ Yk
+        R0 = KV @ Yk - (MV @ Yk) * (theta[:nkeep] - sigma)
         p = 3
     raise EigenSolveError(f"eigen solve did not converge in {max_restarts} restarts",
                           "max relative residual", float(res.max()))
