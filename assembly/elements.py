@@ -34,8 +34,12 @@ class Element:
     k: np.ndarray
 
     def stiffness(self) -> np.ndarray:
-        """Element stiffness on the stacked attachment motions (global axes)."""
-        return self.B.T @ (self.k[:, None] * self.B)
+        """Element stiffness on the stacked attachment motions (global axes), exactly
+        symmetric: a sum of rank-one springs ``k_j * outer(b_j, b_j)``."""
+        if self.B.shape[0] == 1:
+            return self.k[0] * np.outer(self.B[0], self.B[0])
+        K = (self.B.T * self.k) @ self.B
+        return 0.5 * (K + K.T)
 
 
 def relative_spring(name: str, kind: str, body_a, body_b, point, axes: np.ndarray,

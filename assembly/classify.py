@@ -1,0 +1,145 @@
+"""Mode classification and cross-model pairing.
+
+Classes (Lin & Parker for planetary stages, extended to helical stages as in Eritenel &
+Parker): ``rotational`` (central members only spin, and move axially if helical),
+``translational`` (central members only translate in-plane, and tilt if helical),
+``planet`` (central members at rest), ``out-of-plane`` (a rotational or translational
+mode whose energy is mostly axial/tilt), ``global`` (energy spread over several stages),
+``mixed`` (none of these), ``rigid-body`` (0 Hz). Scenes without planetary stages are
+classified by the dominant motion type (spin -> rotational, in-plane -> translational,
+axial/tilt -> out-of-plane).
+
+Every test is made on energies summed over a group of repeated frequencies, which do not
+depend on the (arbitrary) basis the solver returns for that eigenspace.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from .energy import kinetic_by_body, kinetic_by_category
+
+#: Relative energy below which a class condition counts as exactly zero.
+CLASS_TOL = 1e-6
+CENTRAL = ("sun", "ring", "carrier")
+
+
+@dataclass(frozen=True)
+class ModeInfo:
+    index: int
+    frequency_hz: float
+    multiplicity: int
+    mode_class: str
+    stage: str | None
+    dominant_bodies: tuple
+
+
+def _stage_of(model):
+    return [model.scene.body(b).stage or f"body:{b}" for b in model.bodies]
+
+
+def classify_modes(result) -> list[ModeInfo]:
+    model = result.model
+    names = list(model.bodies)
+    sc_bodies = {b.name: b for b in model.scene.bodies}
+    stage = _stage_of(model)
+    groups_of = sorted(set(stage))
+    has_planetary = any(b.role == "planet" for b in sc_bodies.values())
+    E = kinetic_by_category(result)
+    share = kinetic_by_body(result)
+    mult = result.multiplicity()
+    out = [None] * len(result.frequencies_hz)
+    for g in result.groups:
+        Eg = E[g].sum(axis=0)  # (n_bodies, 4)
+        total = Eg.sum()
+        f0 = float(result.frequencies_hz[g[0]])
+        if g[0] < result.n_rigid or total <= 0:
+            cls, st = "rigid-body", None
+        else:
+            per_stage = {s: Eg[[i for i, x in enumerate(stage) if x == s]].sum() / total for s in groups_of}
+            st = max(per_stage, key=per_stage.get)
+            if len(groups_of) > 1 and per_stage[st] < 0.8 and (has_planetary or len(
+                    {s for s in groups_of if not s.startswith("body:")}) > 1):
+                cls = "global"
+            elif has_planetary and not st.startswith("body:"):
+                cls = _planetary_class(Eg, names, sc_bodies, stage, st)
+            else:
+                cls = _motion_class(Eg.sum(axis=0))
+            st = None if st.startswith("body:") else st
+        for i in g:
+            order = np.argsort(-share[i])
+            dom, cum = [], 0.0
+            for j in order[:3]:
+                if share[i, j] <= 0:
+                    break
+                dom.append((names[j], float(share[i, j])))
+                cum += share[i, j]
+                if cum >= 0.8:
+                    break
+            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st, tuple(dom))
+        del f0
+    return out
+
+
+def _motion_class(cat: np.ndarray) -> str:
+    inplane, axial, tilt, spin = cat
+    if axial + tilt >= max(inplane, spin):
+        return "out-of-plane"
+    return "rotational" if spin >= inplane else "translational"
+
+
+def _planetary_class(Eg, names, sc_bodies, stage, st) -> str:
+    idx = [i for i, s in enumerate(stage) if s == st]
+    Es = Eg[idx].sum()
+    central = [i for i in idx if sc_bodies[names[i]].role in CENTRAL]
+    Ec = Eg[central].sum(axis=0)  # inplane, axial, tilt, spin
+    tol = CLASS_TOL * Es
+    oop = Eg[idx][:, 1:3].sum() / Es
+    if Ec.sum() < tol:
+        return "planet"
+    if Ec[0] + Ec[2] < tol:
+        return "out-of-plane" if oop > 0.5 else "rotational"
+    if Ec[1] + Ec[3] < tol:
+        return "out-of-plane" if oop > 0.5 else "translational"
+    return "mixed"
+
+
+def mac_matrix(A: np.ndarray, B: np.ndarray, W=None) -> np.ndarray:
+    """Modal assurance criterion between columns of A and B, weighted by W (e.g. mass)."""
+    WA = A if W is None else W @ A
+    WB = B if W is None else W @ B
+    num = np.abs(A.T @ WB) ** 2
+    den = np.outer(np.einsum("im,im->m", A, WA), np.einsum("im,im->m", B, WB))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+
+
+def subspace_mac(A: np.ndarray, B: np.ndarray, groups_b, W) -> np.ndarray:
+    """MAC of each column of A with the span of each repeated-frequency group of B:
+    the W-weighted fraction of a_i lying in that eigenspace (basis independent)."""
+    out = np.zeros((A.shape[1], B.shape[1]))
+    WA = W @ A
+    na = np.einsum("im,im->m", A, WA)
+    for g in groups_b:
+        Bg = B[:, g]
+        G = Bg.T @ (W @ Bg)
+        C = Bg.T @ WA  # (len(g), n_a)
+        proj = np.einsum("gm,gm->m", C, np.linalg.solve(G, C))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            val = np.where(na > 0, proj / np.where(na > 0, na, 1.0), 0.0)
+        out[:, g] = val[:, None]
+    return out
+
+
+def pair_modes(res_a, res_b, W=None):
+    """Pair modes of two models of the same scene by (subspace) MAC on the absolute body
+    motions. Returns a list of (i_a, i_b, mac). ``W`` defaults to res_b's mass matrix."""
+    A, B = res_a.abs_shapes, res_b.abs_shapes
+    if A.shape[0] != B.shape[0]:
+        raise ValueError("models do not share absolute coordinates")
+    W = res_b.model.M_abs if W is None else W
+    mac = subspace_mac(A, B, res_b.groups, W)
+    ia, ib = linear_sum_assignment(-mac)
+    return [(int(i), int(j), float(mac[i, j])) for i, j in zip(ia, ib)]

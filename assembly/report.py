@@ -1,0 +1,58 @@
+"""Plain-text and JSON views of modal results (no plotting here)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .classify import classify_modes
+from .energy import kinetic_by_body, strain_by_element
+
+
+def modes_table(result, title: str = "") -> str:
+    """Mode table: index, frequency (Hz), multiplicity, class, dominant bodies (% KE)."""
+    infos = classify_modes(result)
+    lines = []
+    if title:
+        lines.append(title)
+    lines.append(f"{'mode':>4}  {'frequency [Hz]':>14}  {'mult':>4}  {'class':<13}  dominant bodies (kinetic energy)")
+    for mi in infos:
+        dom = ", ".join(f"{b} {100 * s:.0f}%" for b, s in mi.dominant_bodies)
+        lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}  {mi.multiplicity:>4}  {mi.mode_class:<13}  {dom}")
+    lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
+                 f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
+    return "\n".join(lines)
+
+
+def modes_json(result) -> dict:
+    """JSON-ready dict; ``frequencies_hz`` lists every frequency ascending (0 Hz included)."""
+    infos = classify_modes(result)
+    m = result.model
+    ke = kinetic_by_body(result)
+    se = strain_by_element(result)
+    bodies = list(m.bodies)
+    elems = [e.name for e in m.elements]
+    modes = []
+    for mi in infos:
+        i = mi.index
+        modes.append({
+            "index": i + 1,
+            "frequency_hz": mi.frequency_hz,
+            "multiplicity": mi.multiplicity,
+            "class": mi.mode_class,
+            "stage": mi.stage,
+            "dominant_bodies": [b for b, _ in mi.dominant_bodies],
+            "kinetic_energy_share": {b: float(ke[i, j]) for j, b in enumerate(bodies) if ke[i, j] > 1e-12},
+            "strain_energy_share": {e: float(se[i, j]) for j, e in enumerate(elems) if se[i, j] > 1e-12},
+            "shape": {b: {d: float(v) for d, v in zip(("ux", "uy", "uz", "rx", "ry", "rz"),
+                                                      result.body_motion(i, b))} for b in bodies},
+        })
+    return {
+        "scene": m.scene.name,
+        "units": {"frequency": "Hz", "translation": "m", "rotation": "rad", "mass_normalised": "kg^-1/2"},
+        "n_dofs": int(m.K.shape[0]),
+        "dof_names": m.dof_names,
+        "frequencies_hz": [float(f) for f in np.sort(result.frequencies_hz)],
+        "n_rigid_body_modes": result.n_rigid,
+        "max_relative_residual": result.max_residual,
+        "solve_time_s": result.solve_time_s,
+        "modes": modes,
+    }
