@@ -82,7 +82,7 @@ def default_mesh_size(params) -> float:
     """A mesh size [m] resolving the thinnest wall of the part with about two P2 elements."""
     if isinstance(params, CylinderParams):
         wall = (params.diameter - params.bore_diameter) / 2
-        return min(wall, params.length / 10)
+        return min(wall / 2, params.length / 10)
     if isinstance(params, PinionParams):
         t = params.teeth
         feats = [s.diameter / 2 for s in params.shaft] + [t.face_width / 2]
