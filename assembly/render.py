@@ -1,0 +1,693 @@
+"""Mode-shape images of an assembled drivetrain (PNG, pyvista off-screen).
+
+Every body is drawn where it is, as a solid of its geometry moved by its mode shape:
+
+* a gear (a body taking part in gear meshes) is a toothed disc of its pitch radius
+  ``|base_radius| / cos(pressure_angle)``; an internal gear (ring) is a toothed annulus;
+* any other body is the equivalent solid cylinder of its mass properties,
+  ``r = sqrt(2 J_polar / m)``; a body that carries others in its frame (a planet carrier)
+  is drawn as a plate just behind the bodies it carries, so it does not hide them;
+* the face width follows from the transverse inertia of a solid cylinder,
+  ``J_t = m (3 r^2 + L^2) / 12``, where that gives a real length, else a fixed fraction of
+  the radius;
+* bearings, shafts and gear meshes are zig-zag springs between their attachment points
+  (a bearing to the housing ends on a fixed ground point; a mesh spring lies along the
+  line of action at the contact point, on the front face so it stays visible).
+
+Torsional bodies need nothing special: their mode shape only holds the spin, so the same
+rigid-motion drawing rotates them. A faint grey ghost shows the undeformed assembly.
+
+Deformation scale: each mode is drawn with the scale that makes its largest displacement
+:data:`DEFORMATION_FRACTION` of the assembly's size (bounding-box diagonal); the colour is
+the displacement magnitude (m) of the mass-normalised shape (modal mass 1 kg). The camera
+(parallel projection), window size and colours depend only on the undeformed assembly, so
+images are identical from run to run.
+
+Hook for flexible bodies
+------------------------
+:func:`body_actor` dispatches on the body model. A body model that defines
+``render_mesh(shape, scale) -> pyvista.DataSet`` (its own FE surface, points already moved
+by ``scale * displacement``, with point array ``"displacement_m"`` = unscaled displacement
+magnitude in m, and optionally stress arrays such as ``"von_mises_Pa"``) is drawn with that
+mesh; ``shape`` is the body's slice of ``ModalResult.abs_shapes`` for the mode. It should
+also define ``render_reference() -> pyvista.DataSet`` (undeformed surface, for the ghost
+and the camera). Springs attach through ``motion_at(point)`` which every body model of the
+assembly already provides. Stress images (:func:`render_stress`) will colour by such an
+array; they need flexible bodies and are not available yet.
+
+pyvista/VTK are imported lazily inside the functions (never at import of this module).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .geometry import axis_frame
+
+log = logging.getLogger(__name__)
+
+#: Largest drawn displacement as a fraction of the assembly size (bounding-box diagonal).
+DEFORMATION_FRACTION = 0.10
+#: Default image size (pixels).
+WINDOW_SIZE = (1200, 900)
+#: Face width (fraction of the radius) when the inertia gives no real length.
+WIDTH_FRACTION = 0.35
+PLATE_WIDTH_FRACTION = 0.12
+#: Smallest gear of the scene gets this many teeth (drawing only).
+MIN_TEETH = 18
+
+GHOST_COLOR = "#6a6a6a"
+BEARING_COLOR = "#303030"
+MESH_COLOR = "#c03000"
+SHAFT_COLOR = "#1f4e99"
+CMAP = "viridis"
+
+
+def _pyvista():
+    """Import pyvista for off-screen rendering (EGL when no X server)."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    return pv
+
+
+# --------------------------------------------------------------------------------------
+# Geometry of the bodies (pure numpy; no pyvista)
+# --------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class BodyShape:
+    """Drawn solid of one body: an annulus between ``r_inner`` and ``r_outer`` (m) of
+    axial ``width`` (m), centred ``axial_offset`` (m) along the axis from ``position``.
+    ``teeth`` > 0 puts that many teeth on the outer (external gear) or inner (internal
+    gear) rim. ``kind``: 'gear', 'ring', 'plate' or 'cylinder'."""
+
+    name: str
+    kind: str
+    position: np.ndarray
+    axes: np.ndarray
+    r_inner: float
+    r_outer: float
+    width: float
+    axial_offset: float = 0.0
+    teeth: int = 0
+    tooth_height: float = 0.0
+
+    @property
+    def face_center_front(self) -> np.ndarray:
+        return self.position + self.axes[:, 2] * (self.axial_offset + self.width / 2)
+
+    @property
+    def face_center_back(self) -> np.ndarray:
+        return self.position + self.axes[:, 2] * (self.axial_offset - self.width / 2)
+
+
+def pitch_radii(scene) -> dict:
+    """Signed pitch radius (m) of every gear from the meshes it takes part in
+    (``|base_radius| / cos(pressure_angle)``; negative = internal gear)."""
+    out = {}
+    for m in scene.meshes:
+        for g, rb in ((m.gear1, m.base_radius1), (m.gear2, m.base_radius2)):
+            r = rb / math.cos(m.pressure_angle)
+            if g not in out or abs(r) > abs(out[g]):
+                out[g] = r
+    return out
+
+
+def _width_from_inertia(body, radius: float, fraction: float) -> float:
+    """Face width L from the body's inertia, ``fraction * radius`` when that gives no real
+    length. Any axisymmetric body whose mass is spread evenly along its axis has
+    ``J_t = J_p / 2 + m L^2 / 12`` (a solid cylinder: ``m (3 r^2 + L^2) / 12``; a thin
+    ring likewise), so ``L = sqrt(12 (J_t - J_p / 2) / m)``."""
+    J = body.inertia_local()
+    jt = 0.5 * (J[0, 0] + J[1, 1])
+    L2 = 12.0 * (jt - 0.5 * J[2, 2]) / body.mass
+    if L2 > (0.02 * radius) ** 2:
+        return float(math.sqrt(L2))
+    return fraction * radius
+
+
+def body_shapes(model) -> dict:
+    """:class:`BodyShape` of every body of an assembled model (name -> shape)."""
+    sc = model.scene
+    by_name = {b.name: b for b in sc.bodies}
+    rp = pitch_radii(sc)
+    gear_r = [abs(r) for r in rp.values()]
+    module = 2.0 * min(gear_r) / MIN_TEETH if gear_r else 0.0
+    children = {}
+    for b in sc.bodies:
+        if b.frame in by_name:
+            children.setdefault(b.frame, []).append(b.name)
+    shapes = {}
+    # Gears and plain bodies first; plates (bodies carrying others) need their children.
+    for b in sc.bodies:
+        bm = model.bodies[b.name]
+        if b.name in children and b.name not in rp:
+            continue
+        if b.name in rp:
+            r = rp[b.name]
+            n_teeth = max(6, int(round(2 * abs(r) / module)))
+            h = 1.1 * module
+            if r < 0 or b.role == "ring":
+                r = abs(r)
+                width = _width_from_inertia(b, r, WIDTH_FRACTION * 0.6)
+                shapes[b.name] = BodyShape(b.name, "ring", bm.position, bm.axes, r, r * 1.18 + h,
+                                           width, 0.0, n_teeth, h)
+            else:
+                width = _width_from_inertia(b, r, WIDTH_FRACTION)
+                shapes[b.name] = BodyShape(b.name, "gear", bm.position, bm.axes, 0.22 * r, r,
+                                           width, 0.0, n_teeth, h)
+        else:
+            r = math.sqrt(2.0 * b.inertia_local()[2, 2] / b.mass)
+            width = _width_from_inertia(b, r, WIDTH_FRACTION)
+            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, r, width)
+    for name, kids in children.items():
+        if name in shapes:
+            continue
+        b = by_name[name]
+        bm = model.bodies[name]
+        r = math.sqrt(2.0 * b.inertia_local()[2, 2] / b.mass)
+        width = _width_from_inertia(b, r, PLATE_WIDTH_FRACTION)
+        width = min(width, PLATE_WIDTH_FRACTION * r * 2)
+        # Behind the carried bodies: their rearmost face, a small gap, then the plate.
+        ax = bm.axes[:, 2]
+        back = min(((shapes[k].face_center_back - bm.position) @ ax) for k in kids if k in shapes)
+        offset = back - 0.15 * width - width / 2
+        shapes[name] = BodyShape(name, "plate", bm.position, bm.axes, 0.12 * r, r, width, offset)
+    return shapes
+
+
+def _profile(shape: BodyShape, n_theta: int):
+    """Angles and (inner, outer) radii around the body (teeth on one rim)."""
+    th = np.linspace(0.0, 2 * np.pi, n_theta, endpoint=False)
+    r_in = np.full(n_theta, shape.r_inner)
+    r_out = np.full(n_theta, shape.r_outer)
+    if shape.teeth:
+        # Trapezoidal teeth: tanh-flattened cosine, tooth height h centred on the pitch circle.
+        t = np.tanh(2.5 * np.cos(shape.teeth * th)) / np.tanh(2.5)
+        if shape.kind == "ring":
+            r_in = shape.r_inner - 0.5 * shape.tooth_height * t
+        else:
+            r_out = shape.r_outer + 0.5 * shape.tooth_height * t
+    return th, r_in, r_out
+
+
+def solid_surface(shape: BodyShape, n_radial: int = 3):
+    """Triangulated closed surface of ``shape`` in global coordinates: (points, faces)
+    with faces as an (n, 3) index array."""
+    n_theta = max(96, 10 * shape.teeth) if shape.teeth else 96
+    th, r_in, r_out = _profile(shape, n_theta)
+    c, s = np.cos(th), np.sin(th)
+    ring_r = [r_in + (r_out - r_in) * k / n_radial for k in range(n_radial + 1)]
+    zs = (shape.axial_offset - shape.width / 2, shape.axial_offset + shape.width / 2)
+    pts, faces = [], []
+
+    def add_ring(r, z):
+        start = len(pts)
+        for j in range(n_theta):
+            pts.append((r[j] * c[j], r[j] * s[j], z))
+        return start
+
+    def strip(a, b, flip):
+        for j in range(n_theta):
+            j1 = (j + 1) % n_theta
+            q = (a + j, a + j1, b + j1, b + j)
+            if flip:
+                q = q[::-1]
+            faces.append((q[0], q[1], q[2]))
+            faces.append((q[0], q[2], q[3]))
+
+    # End faces: concentric rings from inner to outer rim at each z.
+    for zi, z in enumerate(zs):
+        idx = [add_ring(r, z) for r in ring_r]
+        for k in range(n_radial):
+            strip(idx[k], idx[k + 1], flip=(zi == 0))
+        if zi == 0:
+            in0, out0 = idx[0], idx[-1]
+        else:
+            in1, out1 = idx[0], idx[-1]
+    strip(out0, out1, flip=True)   # outer wall
+    if shape.r_inner > 0 or shape.teeth and shape.kind == "ring":
+        strip(in0, in1, flip=False)  # inner wall (bore)
+    P = np.asarray(pts, float)
+    P = shape.position + P @ shape.axes.T
+    return P, np.asarray(faces, int)
+
+
+def rigid_displacement(shape6: np.ndarray, origin: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Displacement of ``points`` (n, 3) under the small rigid motion [u, theta] at ``origin``."""
+    u, th = shape6[:3], shape6[3:6]
+    return u[None, :] + np.cross(th[None, :], points - origin[None, :])
+
+
+def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, coils: int = 6,
+           lead: float = 0.15) -> np.ndarray:
+    """Points of a zig-zag spring from ``a`` to ``b`` (straight leads at both ends)."""
+    d = b - a
+    ts = [0.0, lead]
+    ts += list(lead + (1 - 2 * lead) * (np.arange(1, 2 * coils) / (2 * coils)))
+    ts += [1 - lead, 1.0]
+    offs = [0.0, 0.0] + [amplitude * (1 if k % 2 == 0 else -1) for k in range(2 * coils - 1)] + [0.0, 0.0]
+    return np.array([a + t * d + o * lateral for t, o in zip(ts, offs)])
+
+
+# --------------------------------------------------------------------------------------
+# Springs: where each element is drawn and which body each end moves with
+# --------------------------------------------------------------------------------------
+
+@dataclass
+class SpringGlyph:
+    """A spring drawn from ``a`` (moves with body ``body_a``) to ``b`` (``body_b``; None =
+    housing, fixed). ``attach_a/attach_b`` are the element points whose motion (plus the
+    rigid offset) moves each end."""
+
+    name: str
+    kind: str
+    a: np.ndarray
+    b: np.ndarray
+    body_a: str | None
+    body_b: str | None
+    ground: bool = False
+
+
+def spring_glyphs(model, shapes: dict) -> list:
+    """Where to draw each bearing, shaft and mesh of ``model``."""
+    from .elements import line_of_action
+
+    sc = model.scene
+    meshes = {m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}": m for i, m in enumerate(sc.meshes)}
+    size = assembly_size(shapes)
+    out = []
+    used_starts: list = []
+
+    def free_start(p, axis, shape):
+        # Spread springs that would start at the same point (coaxial sun/ring/carrier).
+        e1 = shape.axes[:, 1]
+        k = 0
+        q = p.copy()
+        while any(np.linalg.norm(q - u) < 1e-3 * size for u in used_starts):
+            k += 1
+            q = p - e1 * (0.35 * k * shape.r_outer)
+        used_starts.append(q)
+        return q
+
+    for el in model.elements:
+        if el.kind == "mesh":
+            m = meshes.get(el.name)
+            s1, s2 = shapes[el.bodies[0]], shapes[el.bodies[1]]
+            ax = s1.axes[:, 2]
+            if m is not None:
+                b1, b2 = sc.body(m.gear1), sc.body(m.gear2)
+                c1 = np.asarray(m.center1 if m.center1 is not None else b1.position, float)
+                c2 = np.asarray(m.center2 if m.center2 is not None else b2.position, float)
+                n, p = line_of_action(b1.axis, c1, c2, m.base_radius1, m.base_radius2,
+                                      m.pressure_angle, m.helix_angle, m.drive_sign)
+            else:  # pragma: no cover - every mesh element comes from a scene mesh
+                p, n = el.point, el.B[0, :3]
+            half = 0.5 * min(abs(s1.r_outer) if s1.kind != "ring" else s1.r_inner,
+                              abs(s2.r_outer) if s2.kind != "ring" else s2.r_inner)
+            front = max(s1.axial_offset + s1.width / 2, s2.axial_offset + s2.width / 2)
+            # Mesh spring in the front-face plane, along the line of action (in-plane part).
+            nt = n - (n @ ax) * ax
+            nt = nt / np.linalg.norm(nt)
+            zc = (p - s1.position) @ ax
+            p_front = p + ax * (front - zc + 0.02 * size)
+            out.append(SpringGlyph(el.name, "mesh", p_front - half * nt, p_front + half * nt,
+                                   el.bodies[0], el.bodies[1]))
+        else:
+            ba, bb = el.bodies
+            sa = shapes[ba]
+            ax = sa.axes[:, 2]
+            L = 0.12 * size
+            if bb is None:
+                # Bearing to the housing: axial spring out of the free face to a ground point.
+                if sa.kind == "plate":
+                    start = sa.face_center_back
+                    direction = -ax
+                else:
+                    start = sa.face_center_front
+                    direction = ax
+                    if sa.kind == "ring":
+                        start = start - sa.axes[:, 1] * 0.5 * (sa.r_inner + sa.r_outer)
+                start = free_start(start, ax, sa)
+                out.append(SpringGlyph(el.name, el.kind, start, start + L * direction, ba, None, True))
+            else:
+                sb = shapes[bb]
+                if sb.kind == "plate" or sa.kind == "plate":
+                    body, plate = (sa, sb) if sb.kind == "plate" else (sb, sa)
+                    a = body.face_center_back
+                    b = a + plate.axes[:, 2] * ((plate.face_center_front - a) @ plate.axes[:, 2])
+                    if sa.kind == "plate":
+                        a, b = b, a
+                    out.append(SpringGlyph(el.name, el.kind, a, b, ba, bb))
+                elif np.linalg.norm(sa.position - sb.position) > 1e-3 * size:
+                    out.append(SpringGlyph(el.name, el.kind, sa.position.copy(), sb.position.copy(), ba, bb))
+                else:
+                    a = free_start(sa.face_center_front, ax, sa)
+                    out.append(SpringGlyph(el.name, el.kind, a, a + 0.6 * L * ax, ba, bb))
+    return out
+
+
+def assembly_bounds(shapes: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned bounding box (m) of the undeformed bodies."""
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for s in shapes.values():
+        ax = s.axes
+        r = s.r_outer + (0.5 * s.tooth_height if s.kind == "gear" else 0.0)
+        for z in (s.axial_offset - s.width / 2, s.axial_offset + s.width / 2):
+            c = s.position + ax[:, 2] * z
+            for e in (ax[:, 0], ax[:, 1]):
+                lo = np.minimum(lo, np.minimum(c - r * e, c + r * e))
+                hi = np.maximum(hi, np.maximum(c - r * e, c + r * e))
+    return lo, hi
+
+
+def assembly_size(shapes: dict) -> float:
+    """Bounding-box diagonal (m) of the undeformed bodies."""
+    lo, hi = assembly_bounds(shapes)
+    return float(np.linalg.norm(hi - lo))
+
+
+def _nice_length(x: float) -> float:
+    """Largest 1-2-5 x 10^k not above ``x``."""
+    e = math.floor(math.log10(x))
+    for m in (5, 2, 1):
+        if m * 10 ** e <= x:
+            return m * 10 ** e
+    return 10 ** e
+
+
+def _format_length(L: float) -> str:
+    if L >= 1:
+        return f"{L:g} m"
+    if L >= 1e-3:
+        return f"{L * 1e3:g} mm"
+    return f"{L * 1e6:g} um"
+
+
+# --------------------------------------------------------------------------------------
+# Rendering
+# --------------------------------------------------------------------------------------
+
+def body_actor(model, name: str, shape, scale: float = 1.0, shapes: dict | None = None,
+               _cache: dict | None = None):
+    """Warped surface (pyvista PolyData) of body ``name`` for mode shape ``shape`` (the body's
+    slice of ``ModalResult.abs_shapes``), points moved by ``scale * displacement``, with point
+    array ``"displacement_m"`` = unscaled displacement magnitude (m).
+
+    Dispatch: a body model with ``render_mesh(shape, scale)`` (flexible bodies) draws itself;
+    rigid and torsional bodies are solids of their geometry moved rigidly.
+    """
+    pv = _pyvista()
+    bm = model.bodies[name]
+    hook = getattr(bm, "render_mesh", None)
+    if hook is not None:
+        return hook(np.asarray(shape), scale)
+    ref = reference_surface(model, name, shapes, _cache)
+    d = rigid_displacement(np.asarray(shape, float)[:6], bm.position, np.asarray(ref.points))
+    out = pv.PolyData(np.asarray(ref.points) + scale * d, ref.faces)
+    out.point_data["displacement_m"] = np.linalg.norm(d, axis=1)
+    return out
+
+
+def reference_surface(model, name: str, shapes: dict | None = None, _cache: dict | None = None):
+    """Undeformed surface (pyvista PolyData) of body ``name``."""
+    pv = _pyvista()
+    if _cache is not None and name in _cache:
+        return _cache[name]
+    bm = model.bodies[name]
+    hook = getattr(bm, "render_reference", None)
+    if hook is not None:
+        surf = hook()
+    else:
+        shapes = shapes if shapes is not None else body_shapes(model)
+        P, F = solid_surface(shapes[name])
+        surf = pv.PolyData(P, np.hstack([np.full((len(F), 1), 3), F]).ravel())
+    if _cache is not None:
+        _cache[name] = surf
+    return surf
+
+
+@dataclass
+class View:
+    """Fixed camera of an assembly: parallel projection from its bounding box."""
+
+    focal: np.ndarray
+    direction: np.ndarray  # from focal point towards the camera
+    up: np.ndarray
+    parallel_scale: float
+    size: float
+
+
+def assembly_view(shapes: dict, window_size=WINDOW_SIZE, extra_points=None) -> View:
+    """Oblique front view along the (first) gear axis, fitted to the undeformed bodies (and
+    ``extra_points``, e.g. spring ends) plus the largest drawn displacement, leaving room
+    for the title (top) and the colour bar (bottom)."""
+    first = next(iter(shapes.values()))
+    R = axis_frame(first.axes[:, 2])
+    ax, e1, e2 = R[:, 2], R[:, 0], R[:, 1]
+    direction = ax * 1.0 + e1 * 0.35 - e2 * 0.45
+    direction /= np.linalg.norm(direction)
+    up = e2 - (e2 @ direction) * direction
+    up /= np.linalg.norm(up)
+    right = np.cross(up, direction)
+    size = assembly_size(shapes)
+    pts = [solid_surface(s, n_radial=1)[0] for s in shapes.values()]
+    if extra_points is not None and len(extra_points):
+        pts.append(np.asarray(extra_points, float).reshape(-1, 3))
+    P = np.vstack(pts)
+    x, y = P @ right, P @ up
+    m = (DEFORMATION_FRACTION + 0.02) * size  # room for the largest drawn displacement
+    xc, yc = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
+    half_w = 0.5 * (x.max() - x.min()) + m
+    half_h = 0.5 * (y.max() - y.min()) + m
+    aspect = window_size[0] / window_size[1]
+    scale = max(half_h / 0.76, half_w / aspect / 0.97)
+    # Shift so the drawing sits between the title band (top) and the colour bar (bottom).
+    focal = P.mean(axis=0)
+    focal = focal + right * (xc - focal @ right) + up * (yc - focal @ up) + up * 0.04 * scale
+    return View(focal, direction, up, float(scale), size)
+
+
+def _camera(plotter, view: View):
+    cam = plotter.camera
+    cam.parallel_projection = True
+    cam.focal_point = tuple(view.focal)
+    cam.position = tuple(view.focal + view.direction * 10 * view.size)
+    cam.up = tuple(view.up)
+    cam.parallel_scale = view.parallel_scale
+    cam.clipping_range = (0.01 * view.size, 30 * view.size)
+
+
+def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View):
+    def moved(p, body):
+        if body is None:
+            return p, 0.0
+        bm = model.bodies[body]
+        z = res_shape_of(body)
+        hook_pt = getattr(bm, "motion_at", None)
+        if z is None:
+            return p, 0.0
+        if hook_pt is not None and not hasattr(bm, "render_mesh"):
+            d = rigid_displacement(np.asarray(z, float)[:6], bm.position, p[None, :])[0]
+        else:  # flexible body: motion of its attachment, rigidly carried to the glyph end
+            w = bm.motion_at(p) @ np.asarray(z, float)
+            d = w[:3]
+        return p + scale * d, float(np.linalg.norm(d))
+
+    a, da = moved(g.a, g.body_a)
+    b, db = moved(g.b, g.body_b)
+    L0 = float(np.linalg.norm(g.b - g.a))
+    d = b - a
+    lat = np.cross(d, view.direction)
+    if np.linalg.norm(lat) < 1e-12 * max(L0, 1e-30):
+        lat = view.up
+    lat = lat / np.linalg.norm(lat)
+    return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
+
+
+class AssemblyRenderer:
+    """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
+
+    Build once per model; :meth:`render_mode` writes one PNG per call.
+    """
+
+    def __init__(self, model, window_size=WINDOW_SIZE):
+        self.model = model
+        self.window_size = tuple(int(v) for v in window_size)
+        self.shapes = body_shapes(model)
+        self.glyphs = spring_glyphs(model, self.shapes)
+        ends = [p for g in self.glyphs for p in (g.a, g.b)]
+        self.view = assembly_view(self.shapes, self.window_size, ends)
+        self._cache: dict = {}
+
+    # -- helpers -------------------------------------------------------------------
+    def _plotter(self):
+        pv = _pyvista()
+        pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
+        pl.set_background("white")
+        pl.enable_anti_aliasing("ssaa") if hasattr(pl, "enable_anti_aliasing") else None
+        return pl
+
+    def _ghost(self, pl):
+        """Undeformed outline (feature edges) of every body, thin grey lines."""
+        for name in self.model.bodies:
+            key = ("ghost", name)
+            if key not in self._cache:
+                ref = reference_surface(self.model, name, self.shapes, self._cache)
+                self._cache[key] = ref.extract_feature_edges(feature_angle=40, boundary_edges=True,
+                                                             non_manifold_edges=False, manifold_edges=False)
+            pl.add_mesh(self._cache[key], color=GHOST_COLOR, line_width=1, lighting=False)
+
+    def _scale_bar(self, pl):
+        pv = _pyvista()
+        v = self.view
+        right = np.cross(v.up, v.direction)
+        aspect = self.window_size[0] / self.window_size[1]
+        L = _nice_length(0.2 * v.size)
+        W, H = self.window_size
+        # Pixel (x, y from bottom-left) -> point in the focal plane (parallel projection).
+        px = lambda x, y: (v.focal + right * ((x - W / 2) / (H / 2) * v.parallel_scale)
+                           + v.up * ((y - H / 2) / (H / 2) * v.parallel_scale))
+        p0 = px(40, 45)
+        p1 = p0 + right * L
+        del aspect
+        pl.add_mesh(pv.Line(p0, p1), color="black", line_width=4)
+        for q in (p0, p1):
+            pl.add_mesh(pv.Line(q - v.up * 0.012 * v.parallel_scale, q + v.up * 0.012 * v.parallel_scale),
+                        color="black", line_width=4)
+        pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black")
+
+    def _springs(self, pl, shape_of, scale):
+        pv = _pyvista()
+        colors = {"bearing": BEARING_COLOR, "mesh": MESH_COLOR, "shaft": SHAFT_COLOR}
+        ground_pts = []
+        for g in self.glyphs:
+            pts, _, _ = _spring_points(self.model, g, shape_of, scale, self.view)
+            pl.add_mesh(pv.lines_from_points(pts), color=colors.get(g.kind, BEARING_COLOR), line_width=4,
+                        render_lines_as_tubes=True)
+            if g.ground:
+                ground_pts.append(g.b)
+        if ground_pts:
+            # Ground: a small flat square at each fixed end.
+            v = self.view
+            for q in ground_pts:
+                pl.add_mesh(pv.Cube(center=q, x_length=0.025 * v.size, y_length=0.025 * v.size,
+                                    z_length=0.025 * v.size), color="#606060")
+
+    # -- public ----------------------------------------------------------------------
+    def render_overview(self, path, title: str = "") -> Path:
+        """Undeformed assembly with body names (PNG)."""
+        pl = self._plotter()
+        try:
+            palette = ["#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860",
+                       "#da8bc3", "#8c8c8c", "#ccb974", "#64b5cd"]
+            for k, name in enumerate(self.model.bodies):
+                ref = reference_surface(self.model, name, self.shapes, self._cache)
+                pl.add_mesh(ref, color=palette[k % len(palette)], smooth_shading=False)
+            self._springs(pl, lambda b: None, 0.0)
+            labels, pts = [], []
+            for name, s in self.shapes.items():
+                labels.append(name)
+                pts.append(s.face_center_front if s.kind != "ring" else
+                           s.face_center_front - s.axes[:, 1] * 0.5 * (s.r_inner + s.r_outer)
+                           + s.axes[:, 0] * 0.0)
+            pl.add_point_labels(np.array(pts), labels, font_size=16, point_size=1, shape_opacity=0.6,
+                                always_visible=True)
+            pl.add_text(title or "assembly", position="upper_left", font_size=14, color="black")
+            pl.add_text("springs: bearings (dark grey), gear meshes (red, along the line of action), "
+                        "shafts (blue); grey cubes = housing", position="lower_right", font_size=9,
+                        color="black")
+            self._scale_bar(pl)
+            _camera(pl, self.view)
+            pl.screenshot(str(path))
+        finally:
+            pl.close()
+        return Path(path)
+
+    def mode_scale(self, result, mode: int) -> tuple[float, float]:
+        """(deformation scale, largest unscaled displacement in m) of ``mode``."""
+        dmax = 0.0
+        for name in self.model.bodies:
+            z = result.abs_shapes[self.model.body_slice(name), mode]
+            ref = reference_surface(self.model, name, self.shapes, self._cache)
+            if hasattr(self.model.bodies[name], "render_mesh"):
+                d = np.asarray(body_actor(self.model, name, z, 0.0).point_data["displacement_m"])
+            else:
+                d = np.linalg.norm(rigid_displacement(z[:6], self.model.bodies[name].position,
+                                                      np.asarray(ref.points)), axis=1)
+            dmax = max(dmax, float(d.max(initial=0.0)))
+        if dmax <= 0:
+            return 0.0, 0.0
+        return DEFORMATION_FRACTION * self.view.size / dmax, dmax
+
+    def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "") -> Path:
+        """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG)."""
+        pv = _pyvista()
+        sign = _sign(result.abs_shapes[:, mode])
+        scale, dmax = self.mode_scale(result, mode)
+
+        def shape_of(b):
+            return sign * result.abs_shapes[self.model.body_slice(b), mode]
+
+        pl = self._plotter()
+        try:
+            self._ghost(pl)
+            meshes = [body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
+                      for n in self.model.bodies]
+            clim = (0.0, dmax if dmax > 0 else 1.0)
+            for k, m in enumerate(meshes):
+                pl.add_mesh(m, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=(k == 0),
+                            scalar_bar_args=dict(title="", vertical=False,
+                                                 position_x=0.55, position_y=0.04, width=0.4, height=0.07,
+                                                 fmt="%.2e", n_labels=3, color="black",
+                                                 title_font_size=16, label_font_size=14))
+            if pl.scalar_bar is not None:
+                pl.scalar_bar.SetTextPositionToPrecedeScalarBar()  # labels below the bar
+            pl.add_text("displacement magnitude [m] (modal mass 1 kg)",
+                        position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
+                        font_size=11, color="black")
+            self._springs(pl, shape_of, scale)
+            pl.add_text(title, position="upper_left", font_size=15, color="black")
+            text = (f"deformation drawn x {scale:.3g} (largest displacement = "
+                    f"{100 * DEFORMATION_FRACTION:.0f} % of assembly size {self.view.size:.3g} m)")
+            if subtitle:
+                text = subtitle + "\n" + text
+            pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
+            self._scale_bar(pl)
+            _camera(pl, self.view)
+            pl.screenshot(str(path))
+        finally:
+            pl.close()
+        del pv
+        return Path(path)
+
+
+def _sign(v: np.ndarray) -> float:
+    """+1/-1 making the largest-magnitude entry of ``v`` positive (deterministic sign)."""
+    if v.size == 0:
+        return 1.0
+    i = int(np.argmax(np.abs(v)))
+    return -1.0 if v[i] < 0 else 1.0
+
+
+def render_stress(*args, **kwargs):
+    """Stress images (von Mises, Pa) of flexible bodies: not available yet.
+
+    Will colour the ``render_mesh`` output of flexible bodies by a stress point array.
+    """
+    raise NotImplementedError("stress images need flexible bodies (not available in this version)")
+
+
+def mode_title(scene_name: str, info) -> str:
+    """Image title: mode number, frequency (Hz), class (and multiplicity)."""
+    mult = f", x{info.multiplicity} repeated" if info.multiplicity > 1 else ""
+    stage = f", stage '{info.stage}'" if info.stage else ""
+    return (f"{scene_name}\nmode {info.index + 1}: {info.frequency_hz:.2f} Hz, "
+            f"{info.mode_class}{stage}{mult}")
