@@ -53,6 +53,7 @@ class CoupledModel:
     masters : list of (name, position (3,) [m], 6 indices into q_c ordered
         [ux, uy, uz, rx, ry, rz], global axes).
     kinds : coupling kind used per interface.
+    retained : full-model DOF represented by each non-master coordinate q_c[:len(retained)].
     """
 
     K_c: sp.csr_matrix
@@ -62,6 +63,7 @@ class CoupledModel:
     masters: list[tuple[str, np.ndarray, np.ndarray]]
     kinds: dict[str, str]
     model: FEModel
+    retained: np.ndarray
 
     def master_index(self, name: str) -> np.ndarray:
         for n, _, idx in self.masters:
@@ -176,4 +178,4 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
     boundary = np.arange(n_ret, n_c)
     log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{used[n]}" for n in names),
              n_full, n_c, len(boundary))
-    return CoupledModel(K_c, M_c, T, boundary, masters, used, model)
+    return CoupledModel(K_c, M_c, T, boundary, masters, used, model, retained)

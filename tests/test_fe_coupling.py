@@ -1,0 +1,103 @@
+"""RBE2 / RBE3 couplings: exactness, rigid-body modes, master conventions."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fe_components.coupling import couple, rbe3_operator, rigid_kinematics
+from fe_components.errors import CouplingError
+from fe_components.fe_model import build_component
+from fe_components.material import STEEL
+from fe_components.modal import lowest_frequencies
+from fe_components.reference import CASES, REF_DIR
+
+
+def _model(name):
+    params, options = CASES[name]
+    return build_component(params, STEEL, options=options, cache_dir=REF_DIR)
+
+
+@pytest.fixture(scope="module")
+def cyl():
+    return _model("cylinder")
+
+
+@pytest.fixture(scope="module")
+def carrier():
+    return _model("carrier")
+
+
+def _rigid_field(nodes, u0, th):
+    return (u0[None, :] + np.cross(th[None, :], nodes)).ravel()
+
+
+def test_rigid_kinematics_is_small_rotation():
+    # u = u0 + theta x r for a point r from the master
+    G = rigid_kinematics(np.array([[1.0, 2.0, 3.0]]), np.zeros(3))
+    q = np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03])
+    np.testing.assert_allclose(G @ q, q[:3] + np.cross(q[3:], [1.0, 2.0, 3.0]))
+
+
+def test_rbe3_reproduces_rigid_motion_and_resultant():
+    rng = np.random.default_rng(0)
+    pts = rng.normal(size=(30, 3))
+    xm = np.array([0.1, -0.2, 0.3])
+    A = rbe3_operator(pts, xm)
+    np.testing.assert_allclose(A @ rigid_kinematics(pts, xm), np.eye(6), atol=1e-12)
+    # a master load f_m is carried by slave forces A^T f_m with the same force and moment about x_m
+    fm = np.array([1.0, -2.0, 3.0, 0.4, 0.5, -0.6])
+    fs = (A.T @ fm).reshape(-1, 3)
+    np.testing.assert_allclose(fs.sum(axis=0), fm[:3], atol=1e-12)
+    np.testing.assert_allclose(np.cross(pts - xm, fs).sum(axis=0), fm[3:], atol=1e-12)
+
+
+def test_rbe3_only_is_exact_change_of_variables(cyl):
+    c = couple(cyl, {"end_a": "rbe3", "end_b": "rbe3"})
+    assert c.T.shape[0] == c.T.shape[1] == cyl.n_dofs  # square: no DOF removed
+    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
+    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
+    np.testing.assert_allclose(f1[6:], f0[6:], rtol=1e-8)  # RBE3 adds no stiffness
+
+
+def test_rbe2_keeps_six_rigid_modes_and_stiffens(cyl):
+    c = couple(cyl, {"end_a": "rbe2", "end_b": "rbe2"})
+    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
+    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
+    # constraints can only raise eigenvalues (Courant-Fischer / Rayleigh's theorem)
+    assert np.all(f1[6:] >= f0[6:] * (1 - 1e-9))
+
+
+@pytest.mark.parametrize("kind", ["rbe2", "rbe3"])
+def test_masters_carry_rigid_motion(cyl, kind):
+    c = couple(cyl, {"end_a": kind, "end_b": kind})
+    u0, th = np.array([1e-3, -2e-3, 3e-4]), np.array([2e-3, 1e-3, -4e-3])
+    u = _rigid_field(cyl.nodes, u0, th)
+    # q_c of a rigid motion: retained coordinates = u at their DOFs, masters = (u at master, theta)
+    q = np.zeros(c.T.shape[1])
+    q[: len(c.retained)] = u[c.retained]
+    for name, pos, idx in c.masters:
+        q[idx] = np.r_[u0 + np.cross(th, pos), th]
+    np.testing.assert_allclose(c.T @ q, u, atol=1e-12)
+
+
+def test_carrier_default_coupling_conventions(carrier):
+    c = couple(carrier)
+    names = [n for n, _, _ in c.masters]
+    assert names == ["pin_0", "pin_1", "pin_2", "bearing_a", "bearing_b", "output_bore"]
+    assert c.kinds["pin_0"] == "rbe2"
+    idx = np.concatenate([i for _, _, i in c.masters])
+    np.testing.assert_array_equal(idx, c.boundary_dofs)
+    assert c.boundary_dofs.size == 6 * 6 and c.boundary_dofs[-1] == c.K_c.shape[0] - 1
+    assert sp.isspmatrix_csr(c.K_c) and sp.isspmatrix_csr(c.M_c)
+    f = lowest_frequencies(c.K_c, c.M_c, 8)
+    assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
+
+
+def test_overlapping_or_unknown_interfaces_refused(carrier):
+    with pytest.raises(CouplingError):
+        couple(carrier, {"no_such": "rbe2"})
+    with pytest.raises(CouplingError):
+        couple(carrier, {"pin_0": "glue"})

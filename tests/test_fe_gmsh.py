@@ -1,0 +1,82 @@
+"""Tests that run gmsh on coarse meshes (marker ``gmsh``)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import fe_components.meshing as meshing
+from fe_components.errors import MeshingError
+from fe_components.fe_model import build_component
+from fe_components.meshing import MeshOptions, ensure_mesh
+from fe_components.modal import lowest_frequencies
+from fe_components.params import CylinderParams, GearTeeth, PinionParams, ShaftSegment, WheelParams
+
+pytestmark = pytest.mark.gmsh
+
+
+def test_cache_reuses_file_without_gmsh(tmp_path, monkeypatch):
+    params, opts = CylinderParams(0.2, 0.04), MeshOptions(size=0.02)
+    path = ensure_mesh(params, opts, tmp_path)
+    assert path.exists() and path.parent == tmp_path
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]  # no temporary left behind
+
+    def fail(*a, **k):
+        raise AssertionError("gmsh called for a cached mesh")
+
+    monkeypatch.setattr(meshing, "generate_mesh", fail)
+    assert ensure_mesh(params, opts, tmp_path) == path
+    # any changed input is a different file
+    assert meshing.mesh_path(params, MeshOptions(size=0.021), tmp_path) != path
+
+
+def test_gmsh_failure_reports_parameter_set(tmp_path, monkeypatch):
+    def broken_solid(occ, params, *a):
+        return [(3, occ.addCylinder(0, 0, 0, 0, 0, params.length, 0.0))]  # zero radius: OCC refuses
+
+    monkeypatch.setattr(meshing, "build_solid", broken_solid)
+    params = CylinderParams(0.2, 0.04)
+    with pytest.raises(MeshingError) as e:
+        ensure_mesh(params, MeshOptions(size=0.02), tmp_path)
+    assert e.value.params["length"] == 0.2 and e.value.params["mesh.size"] == 0.02
+    assert "length" in str(e.value)
+    assert not list(tmp_path.iterdir())  # nothing half-written
+
+
+def test_helical_involute_pinion_coarse(tmp_path):
+    teeth = GearTeeth(18, 0.005, math.radians(20), 0.03, helix_angle=math.radians(12), fidelity="involute")
+    shaft = (ShaftSegment(0.025, 0.03), ShaftSegment(0.05, 0.04), ShaftSegment(0.025, 0.03))
+    p = PinionParams(teeth, shaft, gear_center=0.05)
+    m = build_component(p, options=MeshOptions(size=0.012, flank_points=5, helix_sections=3), cache_dir=tmp_path)
+    x = m.nodes[m.interfaces["gear_mesh"].nodes]
+    r = np.hypot(x[:, 0], x[:, 1])
+    assert r.max() == pytest.approx(teeth.tip_radius, rel=1e-3)
+    f = lowest_frequencies(m.K, m.M, 7)
+    assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
+
+
+def test_long_slender_high_speed_pinion(tmp_path):
+    # L / d = 20 shaft with a smooth 25-tooth gear: expressible and meshable
+    teeth = GearTeeth(25, 0.003, math.radians(20), 0.05)
+    shaft = (ShaftSegment(0.05, 0.04), ShaftSegment(0.35, 0.045), ShaftSegment(0.35, 0.045), ShaftSegment(0.05, 0.04))
+    p = PinionParams(teeth, shaft, gear_center=0.4)
+    m = build_component(p, options=MeshOptions(size=0.015), cache_dir=tmp_path)
+    assert set(m.interfaces) == {"bearing_a", "bearing_b", "gear_mesh"}
+    # mass = rho * (two seats + two shaft steps + gear annulus at the pitch radius 37.5 mm)
+    m_ref = 7850 * math.pi * (0.02**2 * 0.1 + 0.0225**2 * 0.7 + (0.0375**2 - 0.0225**2) * 0.05)
+    assert m.mass == pytest.approx(m_ref, rel=1e-3)
+    m1 = build_component(p, options=MeshOptions(size=0.015, order=1), cache_dir=tmp_path)
+    assert m1.order == 1 and m1.n_dofs < m.n_dofs
+    assert m1.mass < m_ref  # P1 facets lie inside the convex cylinders
+    f = lowest_frequencies(m1.K, m1.M, 7)
+    assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
+
+
+def test_helical_wheel_coarse(tmp_path):
+    teeth = GearTeeth(40, 0.005, math.radians(20), 0.03, helix_angle=math.radians(-10), fidelity="involute")
+    w = WheelParams(teeth, rim_inner_diameter=0.16, web_thickness=0.01, hub_outer_diameter=0.07,
+                    hub_length=0.04, bore_diameter=0.04, n_holes=4, hole_diameter=0.03)
+    m = build_component(w, options=MeshOptions(size=0.012, flank_points=4, helix_sections=3), cache_dir=tmp_path)
+    assert set(m.interfaces) == {"bore", "gear_mesh"}
+    np.testing.assert_allclose(m.center_of_mass[:2], 0, atol=1e-5)
