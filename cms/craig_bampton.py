@@ -11,10 +11,12 @@ K_r = [[K_bb + K_ib^T Psi, 0], [0, diag(omega^2)]] and the modal mass block is I
 
 Guyan (static) reduction is the case ``n_modes=0``.
 
-Rigid-body information (optional but recommended): either ``node_coords``
-(n/3 x 3, plain solid DOFs ordered 3*node + xyz, m) or ``rigid_body_basis``
-(n x 6, columns [tx, ty, tz, rx, ry, rz], see :mod:`cms.rigid`; use it for models
-with 6-DOF master nodes). With it the reductor names a mechanism before
+Rigid-body information (optional but recommended), one of:
+``node_coords`` (n/3 x 3, plain solid DOFs ordered 3*node + xyz, m);
+``dof_layout = (points (n, 3), kinds (n,))`` for models with 6-DOF master nodes
+(kinds 0..5 = ux, uy, uz, rx, ry, rz; see :mod:`cms.rigid`, :mod:`cms.rbe2`);
+or an explicit ``rigid_body_basis`` (n x 6, columns [tx, ty, tz, rx, ry, rz]).
+The first two also give the interface geometry stored in the superelement. With it the reductor names a mechanism before
 factorising, checks K R = 0, and records the reduced vs full rigid-body mass
 matrix (mass, first moments, inertia about the origin).
 """
@@ -60,8 +62,9 @@ class CraigBamptonReductor:
     boundary_dofs : indices of the master DOFs (kept physical, in this order).
     n_modes : number of fixed-interface modes (0 = Guyan).
     cutoff_hz : alternatively keep all fixed-interface modes below this frequency (Hz).
-    dof_names : names of all n DOFs (the boundary ones are stored in the superelement).
-    node_coords / rigid_body_basis : rigid-body information (see module doc).
+    dof_names : names of all n DOFs, or of the boundary DOFs only (stored in the
+        superelement as ``boundary_names``).
+    node_coords / dof_layout / rigid_body_basis : rigid-body information (module doc).
     backend : linear solver backend (``"cholmod"``, ``"scipy"`` or ``None`` = best).
     threads : BLAS/OpenMP thread limit during solves (1 is fastest on 2 cores for the
         block eigen solve; ``None`` leaves the default).
@@ -71,7 +74,7 @@ class CraigBamptonReductor:
 
     def __init__(self, K, M, boundary_dofs, n_modes: int | None = None,
                  cutoff_hz: float | None = None, dof_names=None, node_coords=None,
-                 rigid_body_basis=None, backend: str | None = None,
+                 dof_layout=None, rigid_body_basis=None, backend: str | None = None,
                  threads: int | None = None, tol: float = 1e-8, ordering: str = "default",
                  metadata: dict | None = None):
         self.K = sp.csr_matrix(K, dtype=float)
@@ -103,11 +106,23 @@ class CraigBamptonReductor:
         self.n_modes = n_modes
         self.cutoff_hz = cutoff_hz
         self.dof_names = None if dof_names is None else list(dof_names)
-        if self.dof_names is not None and len(self.dof_names) != n:
-            raise ReductionError("dof_names must name all n DOFs", "len(dof_names)",
-                                 len(self.dof_names))
+        if self.dof_names is not None and len(self.dof_names) not in (n, len(b)):
+            raise ReductionError("dof_names must name all n DOFs or the boundary DOFs",
+                                 "len(dof_names)", len(self.dof_names))
+        if self.dof_names is not None and len(self.dof_names) == len(b) != n:
+            full = [f"dof{j}" for j in range(n)]
+            for j, name in zip(b, self.dof_names):
+                full[j] = name
+            self.dof_names = full
         self.points = self.kinds = None
-        if rigid_body_basis is not None:
+        if dof_layout is not None:
+            pts, kinds = (np.asarray(a) for a in dof_layout)
+            if pts.shape != (n, 3) or kinds.shape != (n,):
+                raise ReductionError("dof_layout must be (points (n, 3), kinds (n,))",
+                                     "dof_layout shapes", (pts.shape, kinds.shape))
+            self.points, self.kinds = pts.astype(float), kinds.astype(int)
+            R = rigid.rigid_body_basis(self.points, self.kinds)
+        elif rigid_body_basis is not None:
             R = np.asarray(rigid_body_basis, dtype=float)
             if R.shape != (n, 6):
                 raise ReductionError("rigid_body_basis must be (n, 6)", "rigid_body_basis.shape",
@@ -269,24 +284,31 @@ class CraigBamptonReductor:
     def _reduced_matrices(Kbb, Mbb, Kib, Mib, Kii, Mii, Psi, Phi):
         """Galerkin projection T^T K T, T^T M T of the CB basis T = [[I, 0], [Psi, Phi]].
 
-        Computed with explicit products (not the closed forms diag(omega^2) and
-        zero coupling) so the reduced pencil is an exact Rayleigh-Ritz projection
-        even though Phi and Psi carry solver round-off.
+        The modal blocks use explicit products (not the closed forms diag(omega^2)
+        and zero coupling), so the reduced pencil is a Rayleigh-Ritz projection up
+        to round-off even though Phi carries the eigen solver's residual.
         """
         nb, k = Psi.shape[1], Phi.shape[1]
-        T_i = np.hstack([Psi, Phi])
-        KT = Kii @ T_i
-        MT = Mii @ T_i
-        Kr = T_i.T @ KT
-        Mr = T_i.T @ MT
-        KibT = Kib.T @ T_i        # (nb, m)
-        MibT = Mib.T @ T_i
-        Kr[:nb, :] += KibT
-        Kr[:, :nb] += KibT.T
-        Mr[:nb, :] += MibT
-        Mr[:, :nb] += MibT.T
-        Kr[:nb, :nb] += Kbb
-        Mr[:nb, :nb] += Mbb
+        m = nb + k
+        Kr = np.zeros((m, m))
+        Mr = np.zeros((m, m))
+        # stiffness: Psi^T (K_ib + K_ii Psi) is the constraint-mode residual (checked
+        # <= CONSTRAINT_RESIDUAL_TOL), so the n_i * n_b^2 product Psi^T K_ii Psi is not formed
+        Rc = Kib + Kii @ Psi
+        Kbb_hat = Kbb + Kib.T @ Psi
+        Kr[:nb, :nb] = Kbb_hat
+        MPsi = Mii @ Psi
+        MibPsi = Mib.T @ Psi
+        Mr[:nb, :nb] = Psi.T @ MPsi + MibPsi + MibPsi.T + Mbb
+        if k:
+            Kbm = Rc.T @ Phi
+            Kr[:nb, nb:] = Kbm
+            Kr[nb:, :nb] = Kbm.T
+            Kr[nb:, nb:] = Phi.T @ (Kii @ Phi)
+            Mbm = Mib.T @ Phi + MPsi.T @ Phi
+            Mr[:nb, nb:] = Mbm
+            Mr[nb:, :nb] = Mbm.T
+            Mr[nb:, nb:] = Phi.T @ (Mii @ Phi)
         return 0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T)
 
     def _rigid_checks(self, Kr, Mr):

@@ -1,0 +1,109 @@
+"""Stress recovery from a displacement field on a scikit-fem vector basis.
+
+Linear isotropic elasticity (small strain):
+    eps = (grad u + grad u^T) / 2,   sigma = lambda tr(eps) I + 2 mu eps,
+    lambda = E nu / ((1 + nu)(1 - 2 nu)),  mu = E / (2 (1 + nu))     (Pa).
+
+Stresses are evaluated at the quadrature points and L2-projected onto the scalar
+Lagrange space of the same order (P2 for a P2 displacement basis): the six
+tensor components solve M_s s = b with one factorization of the scalar mass
+matrix M_s and one block solve of 6 right-hand sides. Von Mises and principal
+stresses are then evaluated from the projected nodal tensor.
+
+Use with reduced models: ``u = superelement.reconstruct(q)`` (or
+``reductor.reconstruct(q)``) then ``recover_stress(basis, u, E, nu)``.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+from skfem import BilinearForm, LinearForm, asm
+
+from .errors import ReductionError
+from .linsolve import factor
+
+log = logging.getLogger(__name__)
+
+#: Voigt order of the six stress components.
+VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+
+
+@dataclass
+class NodalStress:
+    """Stress at the nodes of the scalar basis (for P2: vertices + edge midpoints).
+
+    sigma : (n_nodes, 3, 3) Cauchy stress, Pa.
+    von_mises : (n_nodes,) equivalent stress sqrt(3/2 s:s), s = deviator, Pa.
+    principal : (n_nodes, 3) principal stresses, descending (sigma_1 >= sigma_2 >= sigma_3), Pa.
+    points : (n_nodes, 3) node coordinates, m.
+    """
+
+    sigma: np.ndarray
+    von_mises: np.ndarray
+    principal: np.ndarray
+    points: np.ndarray
+
+
+def lame(E: float, nu: float) -> tuple[float, float]:
+    if not (E > 0 and -1 < nu < 0.5):
+        raise ReductionError("material must have E > 0 and -1 < nu < 0.5", "(E, nu)", (E, nu))
+    return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+
+
+def quadrature_stress(basis, u: np.ndarray, E: float, nu: float) -> np.ndarray:
+    """Cauchy stress at the quadrature points, shape (3, 3, n_elements, n_qp), Pa."""
+    if u.shape != (basis.N,):
+        raise ReductionError("displacement does not match the basis", "u.shape", u.shape)
+    lam, mu = lame(E, nu)
+    G = basis.interpolate(u).grad            # G[i, j] = d u_i / d x_j
+    eps = 0.5 * (G + G.transpose(1, 0, 2, 3))
+    tr = eps[0, 0] + eps[1, 1] + eps[2, 2]
+    sig = 2 * mu * eps
+    for k in range(3):
+        sig[k, k] += lam * tr
+    return sig
+
+
+def von_mises(sigma: np.ndarray) -> np.ndarray:
+    """Von Mises stress of tensors (..., 3, 3)."""
+    p = np.trace(sigma, axis1=-2, axis2=-1) / 3
+    s = sigma - p[..., None, None] * np.eye(3)
+    return np.sqrt(1.5 * np.einsum("...ij,...ij->...", s, s))
+
+
+def principal(sigma: np.ndarray) -> np.ndarray:
+    """Principal stresses of tensors (..., 3, 3), descending."""
+    return np.linalg.eigvalsh(sigma)[..., ::-1]
+
+
+def recover_stress(basis, u: np.ndarray, E: float, nu: float,
+                   backend: str | None = None) -> NodalStress:
+    """L2-projected nodal stresses of the displacement ``u`` (DOF vector of ``basis``).
+
+    ``basis`` is a scikit-fem vector basis (``ElementVector`` of a Lagrange element);
+    the projection space is the scalar element of the same order on the same mesh
+    with the same quadrature.
+    """
+    sig = quadrature_stress(basis, u, E, nu)
+    sbasis = basis.with_element(basis.elem.elem)
+
+    @BilinearForm
+    def mass(p, q, w):
+        return p * q
+
+    @LinearForm
+    def load(q, w):
+        return w["s"] * q
+
+    Ms = asm(mass, sbasis)
+    B = np.column_stack([asm(load, sbasis, s=sig[i, j]) for i, j in VOIGT])
+    S = factor(Ms, backend=backend).solve(B)       # one block solve, 6 RHS
+    n = sbasis.N
+    sigma = np.empty((n, 3, 3))
+    for c, (i, j) in enumerate(VOIGT):
+        sigma[:, i, j] = S[:, c]
+        sigma[:, j, i] = S[:, c]
+    return NodalStress(sigma=sigma, von_mises=von_mises(sigma), principal=principal(sigma),
+                       points=sbasis.doflocs.T.copy())

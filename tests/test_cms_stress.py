@@ -1,0 +1,127 @@
+"""Stress recovery from reduced coordinates against beam theory.
+
+Both cases: reduce the clamped component with Craig-Bampton (boundary = loaded end
+face), solve the static problem in reduced coordinates, back-expand, recover P2
+nodal stresses and compare with the closed-form solution away from the ends
+(Saint-Venant: end effects decay within about one cross-section size).
+"""
+import os
+
+import meshio
+import numpy as np
+import scipy.linalg as sla
+from skfem import ElementTetP2, ElementVector, FacetBasis, LinearForm, asm
+from skfem.io.meshio import from_meshio
+
+from cms.craig_bampton import CraigBamptonReductor
+from cms.models import assemble, box
+from cms.rbe2 import couple_rigid
+from cms.stress import principal, recover_stress, von_mises
+
+E, NU, RHO = 210e9, 0.3, 7850.0   # steel: Pa, -, kg/m^3
+MESHES = os.path.join(os.path.dirname(__file__), "..", "meshes")
+
+
+def _solve_reduced(m, clamp_dofs, face_dofs, f_face):
+    """Clamp ``clamp_dofs``, reduce with the face as boundary, solve K_r q = f_r,
+    return the full displacement (zeros on the clamp)."""
+    free = np.setdiff1d(np.arange(m.n), clamp_dofs)
+    pos = -np.ones(m.n, dtype=int)
+    pos[free] = np.arange(len(free))
+    b = pos[face_dofs]
+    red = CraigBamptonReductor(m.K[free][:, free], m.M[free][:, free], b, n_modes=4)
+    se = red.reduce()
+    fr = np.r_[f_face, np.zeros(se.n_modes)]   # modal load Phi^T f_i = 0: f acts on boundary only
+    q = sla.solve(se.K, fr, assume_a="pos")
+    u = np.zeros(m.n)
+    u[free] = red.reconstruct(q)
+    return u
+
+
+def test_shaft_in_pure_torsion_tau_equals_T_r_over_J():
+    # gmsh cylinder R = 0.025 m, L = 0.1 m, axis z, 10-node (curved) tetrahedra, so
+    # the section's J is that of the circle up to O(h^4) geometry error
+    mesh = from_meshio(meshio.read(os.path.join(MESHES, "cms_shaft.msh")))
+    R, L = 0.025, 0.1                                     # m
+    m = assemble(mesh, E, NU, RHO, order=2)
+    T = 1.0e3                     # torque, N m
+    J = np.pi * R**4 / 2          # polar second moment of area, m^4
+    # end face z = L tied rigidly to a master on the axis: pure torsion of a circular
+    # shaft keeps cross-sections plane and rigid, so the tie adds no constraint.
+    face_nodes = np.flatnonzero(np.isclose(m.node_coords[:, 2], L))
+    c = couple_rigid(m.K, m.M, m.node_coords, [face_nodes], master_points=[[0, 0, L]],
+                     names=["flange"])
+    clamped_full = m.dofs_where(lambda x: np.isclose(x[2], 0.0))
+    nc = c.K.shape[0]
+    # coupled index of each clamped solid DOF: identity columns of T
+    Tcoo = c.T.tocoo()
+    ident = Tcoo.col < nc - 6
+    col_of = dict(zip(Tcoo.row[ident], Tcoo.col[ident]))
+    clamp_c = np.array([col_of[j] for j in clamped_full])
+    free = np.setdiff1d(np.arange(nc), clamp_c)
+    where = -np.ones(nc, dtype=int)
+    where[free] = np.arange(len(free))
+    red = CraigBamptonReductor(c.K[free][:, free], c.M[free][:, free], where[c.boundary_dofs],
+                               n_modes=4, dof_names=c.boundary_names)
+    se = red.reduce()
+    assert se.boundary_names[5] == "flange:rz"
+    fr = np.zeros(se.K.shape[0])
+    fr[5] = T                     # moment about z on the master, N m
+    q = sla.solve(se.K, fr, assume_a="pos")
+    # the shaft twists by phi = T L / (G J) (Saint-Venant), G = E / (2 (1 + nu))
+    G = E / (2 * (1 + NU))
+    assert abs(q[5] / (T * L / (G * J)) - 1) <= 0.02
+    uc = np.zeros(nc)
+    uc[free] = red.reconstruct(q)
+    u = c.T @ uc
+    s = recover_stress(m.basis, u, E, NU)
+    x = s.points
+    r = np.hypot(x[:, 0], x[:, 1])
+    mid = (x[:, 2] > 0.25 * L) & (x[:, 2] < 0.75 * L)
+    tau = T * r / J               # shear stress, Pa (Timoshenko & Goodier, torsion of a circular bar)
+    tau_max = T * R / J
+    # von Mises of pure shear is sqrt(3) tau; principal stresses (tau, 0, -tau)
+    assert np.all(np.abs(s.von_mises[mid] - np.sqrt(3) * tau[mid]) <= 0.02 * np.sqrt(3) * tau_max)
+    outer = mid & (r > 0.5 * R)
+    assert np.all(np.abs(s.von_mises[outer] / (np.sqrt(3) * tau[outer]) - 1) <= 0.02)
+    expected = np.c_[tau, np.zeros_like(tau), -tau][mid]
+    assert np.all(np.abs(s.principal[mid] - expected) <= 0.02 * tau_max)
+
+
+def test_cantilever_in_bending_sigma_equals_M_c_over_I():
+    L, b, h = 1.0, 0.1, 0.1       # m
+    m = box(lengths=(L, b, h), divisions=(20, 3, 4))
+    P = 1.0e4                     # tip load in -z, N
+    I = b * h**3 / 12             # second moment of area, m^4
+    clamp = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
+    face = m.dofs_where(lambda x: np.isclose(x[0], L))
+    fb = FacetBasis(m.basis.mesh, ElementVector(ElementTetP2()), intorder=4,
+                    facets=m.basis.mesh.facets_satisfying(lambda x: np.isclose(x[0], L)))
+
+    @LinearForm
+    def shear(v, w):
+        return -P / (b * h) * v[2]    # uniform shear traction on the tip face, Pa
+
+    f = asm(shear, fb)
+    u = _solve_reduced(m, clamp, face, f[face])
+    s = recover_stress(m.basis, u, E, NU)
+    x = s.points
+    mid = (x[:, 0] > 0.25 * L) & (x[:, 0] < 0.75 * L)
+    fibre = mid & (np.isclose(x[:, 2], 0.0) | np.isclose(x[:, 2], h))
+    Mb = P * (L - x[:, 0])        # bending moment, N m
+    z = x[:, 2] - h / 2           # distance from the neutral axis, m
+    sxx = Mb * z / I              # Euler-Bernoulli: sigma = M c / I (tension on top)
+    assert np.all(np.abs(s.sigma[fibre, 0, 0] / sxx[fibre] - 1) <= 0.02)
+    # at the outer fibres shear vanishes: von Mises = |sigma_xx|, sigma_1 = max(sigma_xx, 0)
+    assert np.all(np.abs(s.von_mises[fibre] / np.abs(sxx[fibre]) - 1) <= 0.02)
+    top = fibre & (z > 0)
+    assert np.all(np.abs(s.principal[top, 0] / sxx[top] - 1) <= 0.02)
+
+
+def test_invariants_of_known_tensors():
+    # uniaxial sigma: von Mises = |sigma|; pure shear tau: von Mises = sqrt(3) tau
+    S = np.zeros((2, 3, 3))
+    S[0, 0, 0] = 5.0
+    S[1, 0, 1] = S[1, 1, 0] = 2.0
+    assert np.allclose(von_mises(S), [5.0, 2.0 * np.sqrt(3)], rtol=1e-14)
+    assert np.allclose(principal(S), [[5, 0, 0], [2, 0, -2]], atol=1e-14)
