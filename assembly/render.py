@@ -246,6 +246,20 @@ def rigid_displacement(shape6: np.ndarray, origin: np.ndarray, points: np.ndarra
     return u[None, :] + np.cross(th[None, :], points - origin[None, :])
 
 
+def rigid_part(body_model, shape) -> np.ndarray:
+    """6-vector [u, theta] (global axes, at the body's position) of a body's mode shape:
+    the shape itself for a rigid/torsional body, the rigid-equivalent motion
+    (``rigid_motion``) for a flexible body without its own drawing."""
+    z = np.asarray(shape, float)
+    if z.shape[0] == 6:
+        return z
+    rm = getattr(body_model, "rigid_motion", None)
+    if rm is None:
+        raise TypeError(f"cannot draw body {getattr(body_model, 'name', '?')!r}: "
+                        f"{z.shape[0]} DOFs and neither render_mesh nor rigid_motion")
+    return np.asarray(rm(z), float)
+
+
 def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, coils: int = 6,
            lead: float = 0.15) -> np.ndarray:
     """Points of a zig-zag spring from ``a`` to ``b`` (straight leads at both ends)."""
@@ -410,7 +424,7 @@ def body_actor(model, name: str, shape, scale: float = 1.0, shapes: dict | None 
     if hook is not None:
         return hook(np.asarray(shape), scale)
     ref = reference_surface(model, name, shapes, _cache)
-    d = rigid_displacement(np.asarray(shape, float)[:6], bm.position, np.asarray(ref.points))
+    d = rigid_displacement(rigid_part(bm, shape), bm.position, np.asarray(ref.points))
     out = pv.PolyData(np.asarray(ref.points) + scale * d, ref.faces)
     out.point_data["displacement_m"] = np.linalg.norm(d, axis=1)
     return out
@@ -491,14 +505,15 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
             return p, 0.0
         bm = model.bodies[body]
         z = res_shape_of(body)
-        hook_pt = getattr(bm, "motion_at", None)
         if z is None:
             return p, 0.0
-        if hook_pt is not None and not hasattr(bm, "render_mesh"):
-            d = rigid_displacement(np.asarray(z, float)[:6], bm.position, p[None, :])[0]
-        else:  # flexible body: motion of its attachment, rigidly carried to the glyph end
-            w = bm.motion_at(p) @ np.asarray(z, float)
-            d = w[:3]
+        if hasattr(bm, "render_mesh"):  # flexible body drawn with its own mesh
+            try:
+                d = (bm.motion_at(p) @ np.asarray(z, float))[:3]
+            except (ValueError, KeyError):  # glyph end is not an interface point
+                d = rigid_displacement(rigid_part(bm, z), bm.position, p[None, :])[0]
+        else:
+            d = rigid_displacement(rigid_part(bm, z), bm.position, p[None, :])[0]
         return p + scale * d, float(np.linalg.norm(d))
 
     a, da = moved(g.a, g.body_a)
@@ -620,7 +635,8 @@ class AssemblyRenderer:
             if hasattr(self.model.bodies[name], "render_mesh"):
                 d = np.asarray(body_actor(self.model, name, z, 0.0).point_data["displacement_m"])
             else:
-                d = np.linalg.norm(rigid_displacement(z[:6], self.model.bodies[name].position,
+                bm = self.model.bodies[name]
+                d = np.linalg.norm(rigid_displacement(rigid_part(bm, z), bm.position,
                                                       np.asarray(ref.points)), axis=1)
             dmax = max(dmax, float(d.max(initial=0.0)))
         if dmax <= 0:

@@ -1,0 +1,443 @@
+"""``flexgear run SCENE.toml --out DIR``: the whole pipeline into one results folder.
+
+Steps (a list, so later steps such as meshing, reduction and recovery for flexible
+bodies slot in): load scene, assemble, eigen solve, fidelity comparison (torsional vs rigid
+variant of the same scene, paired by MAC), tables, mode-shape images, plots, ``index.html``.
+Each step gets a tqdm bar on stderr (off when stderr is not a TTY or with ``--quiet``).
+
+Everything is written into a temporary folder next to DIR and moved into place at the
+end; a failed run removes it, so DIR is either the complete new result, or untouched.
+An existing DIR is replaced only when it is empty or an earlier flexgear run (it holds
+:data:`MANIFEST`); anything else is refused.
+
+Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
+``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
+``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import logging
+import os
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Optional
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+MANIFEST = "flexgear_run.json"
+FIDELITIES = ("torsional", "rigid")
+
+
+class OutputDirError(RuntimeError):
+    """The output folder cannot be (re)placed."""
+
+
+@dataclass
+class RunOptions:
+    """``n_modes``: elastic modes drawn; ``compare``: torsional vs rigid comparison;
+    ``images``: render PNGs; ``window_size``: image size (pixels)."""
+
+    n_modes: int = 12
+    compare: bool = True
+    images: bool = True
+    window_size: tuple = (1200, 900)
+
+
+@dataclass
+class RunContext:
+    """State passed from step to step. ``work`` is the temporary output folder."""
+
+    scene_source: str
+    out_dir: Path
+    work: Path
+    options: RunOptions
+    scene: object = None
+    model: object = None
+    result: object = None
+    infos: list = field(default_factory=list)
+    variants: dict = field(default_factory=dict)      # fidelity -> (model, result, infos)
+    comparison: list = field(default_factory=list)    # rows (dicts)
+    overview: Optional[tuple] = None
+    images: list = field(default_factory=list)        # (relpath, caption, mode index)
+    plots: list = field(default_factory=list)         # (relpath, caption)
+    files: list = field(default_factory=list)         # (relpath, description)
+    notes: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+
+    def add_file(self, rel: str, description: str) -> Path:
+        self.files.append((rel, description))
+        p = self.work / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def elastic_modes(self) -> list:
+        r = self.result
+        return list(range(r.n_rigid, len(r.frequencies_hz)))
+
+
+@dataclass(frozen=True)
+class Step:
+    """A pipeline step: ``run(ctx, bar)``; ``total(ctx)`` sizes its progress bar."""
+
+    name: str
+    run: Callable
+    total: Callable = lambda ctx: 1
+    unit: str = "step"
+
+
+# --------------------------------------------------------------------------------------
+# Steps
+# --------------------------------------------------------------------------------------
+
+def step_load(ctx: RunContext, bar) -> None:
+    from .toml_io import load_scene
+
+    ctx.scene = load_scene(ctx.scene_source)
+
+
+def step_assemble(ctx: RunContext, bar) -> None:
+    from .model import assemble
+
+    ctx.model = assemble(ctx.scene)
+
+
+def step_solve(ctx: RunContext, bar) -> None:
+    from .classify import classify_modes
+    from .modal import solve_modes
+
+    ctx.result = solve_modes(ctx.model)
+    ctx.infos = classify_modes(ctx.result)
+
+
+def _user_errors():
+    from .errors import MechanismError, SceneError, SolverError
+
+    return (SceneError, MechanismError, SolverError, ValueError, np.linalg.LinAlgError)
+
+
+def step_compare(ctx: RunContext, bar) -> None:
+    """Torsional and rigid variants of the scene; pairs by MAC -> ``ctx.comparison``."""
+    from .classify import classify_modes, pair_modes
+    from .modal import solve_modes
+    from .model import assemble
+    from .scene import with_fidelity
+
+    if not ctx.options.compare:
+        bar.update(bar.total - bar.n)
+        return
+    for fid in FIDELITIES:
+        try:
+            m = assemble(with_fidelity(ctx.scene, fid))
+            r = solve_modes(m)
+            ctx.variants[fid] = (m, r, classify_modes(r))
+        except _user_errors() as exc:
+            ctx.notes.append(f"{fid} variant of the scene could not be solved: {exc}")
+            log.warning("%s variant failed: %s", fid, exc)
+        bar.update(1)
+    if all(f in ctx.variants for f in FIDELITIES):
+        try:
+            ctx.comparison = comparison_rows(ctx.variants["torsional"], ctx.variants["rigid"], pair_modes)
+        except ValueError as exc:
+            ctx.notes.append(f"fidelity comparison not possible: {exc}")
+    bar.update(1)
+
+
+def comparison_rows(tors, rigid, pair_modes) -> list:
+    """One row per elastic torsional mode (paired rigid mode by MAC), then the rigid
+    model's unpaired elastic modes. Shift = (f_rigid - f_torsional) / f_torsional (%)."""
+    (_, rt, it), (_, rr, ir) = tors, rigid
+    rows, used = [], set()
+    for ia, ib, mac in sorted(pair_modes(rt, rr)):
+        used.add(ib)
+        if ia < rt.n_rigid:
+            continue
+        fa, fb = float(rt.frequencies_hz[ia]), float(rr.frequencies_hz[ib])
+        dom = ir[ib].dominant_bodies[0] if ir[ib].dominant_bodies else ("", 0.0)
+        rows.append(dict(torsional_mode=ia + 1, f_torsional_hz=fa, class_torsional=it[ia].mode_class,
+                         rigid_mode=ib + 1, f_rigid_hz=fb, class_rigid=ir[ib].mode_class,
+                         shift_pct=100.0 * (fb - fa) / fa if fa > 0 else float("nan"), mac=mac,
+                         dominant_body=dom[0], dominant_share=dom[1]))
+    for ib in range(rr.n_rigid, len(rr.frequencies_hz)):
+        if ib in used:
+            continue
+        dom = ir[ib].dominant_bodies[0] if ir[ib].dominant_bodies else ("", 0.0)
+        rows.append(dict(torsional_mode=None, f_torsional_hz=None, class_torsional="",
+                         rigid_mode=ib + 1, f_rigid_hz=float(rr.frequencies_hz[ib]), class_rigid=ir[ib].mode_class,
+                         shift_pct=None, mac=None, dominant_body=dom[0], dominant_share=dom[1]))
+    return rows
+
+
+COMPARISON_FIELDS = ("torsional_mode", "f_torsional_hz", "class_torsional", "rigid_mode", "f_rigid_hz",
+                     "class_rigid", "shift_pct", "mac", "dominant_body", "dominant_share")
+
+
+def _dominant_text(info) -> str:
+    return "; ".join(f"{b} {100 * s:.0f}%" for b, s in info.dominant_bodies)
+
+
+def step_tables(ctx: RunContext, bar) -> None:
+    from .report import modes_json, modes_table
+
+    res, infos = ctx.result, ctx.infos
+    with open(ctx.add_file("modes.csv", "frequencies and mode table (CSV)"), "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share"])
+        for mi in infos:
+            w.writerow([mi.index + 1, f"{mi.frequency_hz:.9g}", mi.multiplicity, mi.mode_class,
+                        mi.stage or "", _dominant_text(mi)])
+    data = modes_json(res)
+    with open(ctx.add_file("modes.json", "frequencies, classes, energy shares and shapes (JSON)"), "w") as fh:
+        json.dump(data, fh, indent=1)
+    ctx.add_file("modes_table.txt", "mode table (text)").write_text(
+        modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
+    if ctx.comparison:
+        with open(ctx.add_file("fidelity_comparison.csv", "torsional vs rigid, paired by MAC (CSV)"), "w",
+                  newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=COMPARISON_FIELDS)
+            w.writeheader()
+            for r in ctx.comparison:
+                w.writerow({k: _fmt_csv(r[k]) for k in COMPARISON_FIELDS})
+
+
+def _fmt_csv(v):
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return f"{v:.9g}"
+    return v
+
+
+def _render_total(ctx: RunContext) -> int:
+    if not ctx.options.images:
+        return 1
+    return 1 + min(ctx.options.n_modes, len(ctx.elastic_modes()))
+
+
+def step_render(ctx: RunContext, bar) -> None:
+    from .render import AssemblyRenderer, mode_title
+
+    if not ctx.options.images:
+        bar.update(1)
+        return
+    rnd = AssemblyRenderer(ctx.model, window_size=ctx.options.window_size)
+    rel = "images/overview.png"
+    rnd.render_overview(ctx.add_file(rel, "undeformed assembly with body names (PNG)"),
+                        title=f"{ctx.scene.name}: assembly")
+    ctx.overview = (rel, "assembly, undeformed (springs: bearings grey, meshes red, shafts blue)")
+    bar.update(1)
+    for i in ctx.elastic_modes()[: ctx.options.n_modes]:
+        mi = ctx.infos[i]
+        rel = f"images/mode_{i + 1:03d}.png"
+        rnd.render_mode(ctx.result, i, ctx.add_file(rel, f"mode {i + 1} shape (PNG)"),
+                        title=mode_title(ctx.scene.name, mi))
+        dom = _dominant_text(mi)
+        ctx.images.append((rel, f"mode {i + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}"
+                                + (f" (x{mi.multiplicity})" if mi.multiplicity > 1 else "")
+                                + (f"; kinetic energy: {dom}" if dom else ""), i))
+        bar.update(1)
+
+
+def step_plots(ctx: RunContext, bar) -> None:
+    from .plots import plot_fidelity_frequencies
+
+    cols, pairs = [], []
+    if ctx.variants:
+        for fid in FIDELITIES:
+            if fid in ctx.variants:
+                r = ctx.variants[fid][1]
+                cols.append((fid, r.frequencies_hz, r.n_rigid))
+        if len(cols) == 2 and ctx.comparison:
+            p = [(r["torsional_mode"] - 1, r["rigid_mode"] - 1, r["mac"]) for r in ctx.comparison
+                 if r["torsional_mode"] is not None]
+            pairs = [(0, 1, p)]
+    else:
+        cols.append(("this scene", ctx.result.frequencies_hz, ctx.result.n_rigid))
+    rel = "plots/frequencies_by_fidelity.png"
+    plot_fidelity_frequencies(cols, ctx.add_file(rel, "natural frequencies per fidelity (PNG)"),
+                              title=f"{ctx.scene.name}: natural frequencies per fidelity", pairs=pairs)
+    ctx.plots.append((rel, "natural frequencies (Hz) per fidelity; lines join modes paired by MAC"))
+
+
+def _fmt(v, spec):
+    return "" if v is None else format(v, spec)
+
+
+def build_report(ctx: RunContext) -> dict:
+    """Plain dict for :func:`assembly.html_report.render_index`."""
+    res = ctx.result
+    img_of = {i: rel for rel, _, i in ctx.images}
+    modes_rows = []
+    for mi in ctx.infos:
+        modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}", mi.multiplicity, mi.mode_class,
+                           mi.stage or "", _dominant_text(mi), "image" if mi.index in img_of else ""])
+    comp = None
+    if ctx.comparison:
+        rows, classes = [], []
+        for r in ctx.comparison:
+            rows.append([_fmt(r["torsional_mode"], "d"), _fmt(r["f_torsional_hz"], ".2f"), r["class_torsional"],
+                         r["rigid_mode"], f"{r['f_rigid_hz']:.2f}", r["class_rigid"],
+                         _fmt(r["shift_pct"], "+.2f"), _fmt(r["mac"], ".3f"),
+                         f"{r['dominant_body']} {100 * r['dominant_share']:.0f}%" if r["dominant_body"] else ""])
+            classes.append("unpaired" if r["mac"] is None else ("weak" if r["mac"] < 0.8 else ""))
+        comp = dict(header=["torsional mode", "f torsional [Hz]", "class (torsional)", "rigid mode",
+                            "f rigid [Hz]", "class (rigid)", "shift [%]", "MAC", "dominant body (rigid, KE)"],
+                    rows=rows, row_classes=classes, left=(2, 5, 8),
+                    note="Each elastic torsional mode is paired with the rigid mode of largest MAC (mass-"
+                         "weighted, subspace MAC for repeated frequencies; one-to-one assignment). Rows in "
+                         "orange: MAC < 0.8. Grey rows: rigid-model modes without a torsional partner "
+                         "(translational, axial, tilt motions).")
+    meta = [f"scene: {ctx.scene.name} ({ctx.scene_source})",
+            f"{len(ctx.model.bodies)} bodies, {len(ctx.model.elements)} springs, {ctx.model.K.shape[0]} DOFs, "
+            f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "
+            f"max relative eigen-residual {res.max_residual:.1e}",
+            "units: frequency Hz, length m, angle rad; mode shapes mass-normalised (modal mass 1 kg)"]
+    if ctx.timings:
+        meta.append("time: " + ", ".join(f"{k} {v:.2f} s" for k, v in ctx.timings.items()))
+    files = list(ctx.files) + [("index.html", "this page"), (MANIFEST, "run manifest (JSON)")]
+    files = [(p, d) for p, d in files if not p.startswith("images/mode_")]
+    return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta,
+                modes=(["mode", "f [Hz]", "mult.", "class", "stage", "dominant bodies (kinetic energy)", ""],
+                       [r[:6] + [r[6]] for r in modes_rows]),
+                comparison=comp, overview=ctx.overview,
+                images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
+                files=files, notes=list(ctx.notes))
+
+
+def step_html(ctx: RunContext, bar) -> None:
+    from .html_report import render_index
+
+    text = render_index(build_report(ctx))
+    (ctx.work / "index.html").write_text(text, encoding="utf-8")
+
+
+DEFAULT_STEPS = [
+    Step("load scene", step_load),
+    Step("assemble", step_assemble),
+    Step("eigen solve", step_solve),
+    Step("fidelity comparison", step_compare, total=lambda ctx: 3 if ctx.options.compare else 1, unit="model"),
+    Step("tables", step_tables),
+    Step("mode-shape images", step_render, total=_render_total, unit="image"),
+    Step("plots", step_plots),
+    Step("index.html", step_html),
+]
+
+
+# --------------------------------------------------------------------------------------
+# Output folder handling
+# --------------------------------------------------------------------------------------
+
+def check_output_dir(out_dir: Path) -> None:
+    """Raise :class:`OutputDirError` if ``out_dir`` exists and may not be replaced."""
+    if not out_dir.exists() and not out_dir.is_symlink():
+        return
+    if not out_dir.is_dir() or out_dir.is_symlink():
+        raise OutputDirError(f"--out {out_dir}: exists and is not a folder")
+    if any(out_dir.iterdir()) and not (out_dir / MANIFEST).is_file():
+        raise OutputDirError(f"--out {out_dir}: folder exists, is not empty and holds no earlier flexgear "
+                             f"run ({MANIFEST}); choose a new or empty folder")
+
+
+def _new_work_dir(out_dir: Path) -> Path:
+    parent = out_dir.parent
+    parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.partial-", dir=parent))
+
+
+def _move_into_place(work: Path, out_dir: Path) -> None:
+    old = None
+    if out_dir.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=out_dir.parent))
+        os.rename(out_dir, old / "previous")
+    try:
+        os.rename(work, out_dir)
+    except OSError:
+        if old is not None:  # put the previous result back
+            os.rename(old / "previous", out_dir)
+            shutil.rmtree(old, ignore_errors=True)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=None,
+                 steps: list | None = None) -> RunContext:
+    """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path or shipped name)
+    and place the results in ``out_dir`` atomically. Returns the final context."""
+    from .progress import Progress
+
+    options = options or RunOptions()
+    progress = progress or Progress(enabled=False)
+    out_dir = Path(out_dir).absolute()
+    check_output_dir(out_dir)
+    work = _new_work_dir(out_dir)
+    ctx = RunContext(str(scene), out_dir, work, options)
+    t_all = time.perf_counter()
+    try:
+        for st in steps or DEFAULT_STEPS:
+            t0 = time.perf_counter()
+            with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar:
+                st.run(ctx, bar)
+            ctx.timings[st.name] = time.perf_counter() - t0
+        ctx.timings["total"] = time.perf_counter() - t_all
+        manifest = dict(
+            tool="flexgear run", scene=ctx.scene.name if ctx.scene is not None else None,
+            scene_source=ctx.scene_source, options=dict(n_modes=options.n_modes, compare=options.compare,
+                                                        images=options.images,
+                                                        window_size=list(options.window_size)),
+            files=[p for p, _ in ctx.files] + ["index.html"],
+            timings_s={k: round(v, 4) for k, v in ctx.timings.items()},
+            notes=ctx.notes, python=sys.version.split()[0])
+        (work / MANIFEST).write_text(json.dumps(manifest, indent=1))
+        check_output_dir(out_dir)
+        _move_into_place(work, out_dir)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    ctx.work = out_dir
+    log.info("wrote %s in %.2f s", out_dir, ctx.timings["total"])
+    return ctx
+
+
+# --------------------------------------------------------------------------------------
+# CLI
+# --------------------------------------------------------------------------------------
+
+def add_run_parser(subparsers) -> None:
+    """Add ``flexgear run`` to an argparse subparsers object."""
+    p = subparsers.add_parser("run", help="whole pipeline: tables, mode-shape images, plots, index.html")
+    p.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
+    p.add_argument("--out", required=True, help="output folder (replaced atomically when the run succeeds)")
+    p.add_argument("--modes", type=int, default=12, metavar="N", help="elastic modes to draw (default 12)")
+    p.add_argument("--no-compare", action="store_true", help="skip the torsional vs rigid comparison")
+    p.add_argument("--no-images", action="store_true", help="skip the mode-shape images")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no summary line")
+    p.set_defaults(func=cmd_run)
+
+
+def cmd_run(args) -> int:
+    """``flexgear run``: exit 0 on success; 2 on a bad output folder (scene errors are
+    raised for the CLI's common handler, which prints one line and exits 2)."""
+    from .progress import Progress
+
+    if args.modes < 0:
+        print(f"flexgear: error: --modes = {args.modes}: must be >= 0", file=sys.stderr)
+        return 2
+    opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
+    progress = Progress(enabled=False if args.quiet else None)
+    try:
+        ctx = run_pipeline(args.scene, args.out, opts, progress)
+    except OutputDirError as exc:
+        print(f"flexgear: error: {exc}", file=sys.stderr)
+        return 2
+    if not args.quiet:
+        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {len(ctx.images)} images -> "
+              f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")
+    return 0

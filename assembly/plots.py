@@ -1,0 +1,113 @@
+"""Matplotlib plots (Agg backend, PNG): frequencies per fidelity and parameter sweeps.
+
+matplotlib is imported lazily inside each function with the non-interactive Agg backend.
+All frequencies in Hz.
+"""
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+DPI = 120
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({"font.size": 10, "axes.grid": True, "grid.alpha": 0.3,
+                         "svg.hashsalt": "flexgear", "path.simplify": False})
+    return plt
+
+
+def _elastic(freqs, n_rigid: int) -> np.ndarray:
+    return np.asarray(freqs, float)[n_rigid:]
+
+
+def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz: float | None = None) -> Path:
+    """Frequencies of several fidelities side by side (one column each, a short bar per mode).
+
+    ``columns``: list of ``(label, frequencies_hz, n_rigid)``; rigid-body (0 Hz) modes are
+    left out. ``pairs``: optional list of ``(col_a, col_b, [(i_a, i_b, mac), ...])`` drawn as
+    lines joining paired modes (darker = higher MAC). ``max_hz`` clips the frequency axis.
+    """
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(2.2 + 2.0 * len(columns), 6.0), dpi=DPI)
+    try:
+        tops = []
+        for k, (label, f, nr) in enumerate(columns):
+            fe = _elastic(f, nr)
+            if max_hz is not None:
+                fe = fe[fe <= max_hz]
+            ax.hlines(fe, k - 0.28, k + 0.28, color=f"C{k}", lw=2)
+            tops.append(fe.max() if len(fe) else 0.0)
+            # Multiplicity labels for repeated frequencies.
+            vals, counts = np.unique(np.round(fe, 6), return_counts=True)
+            for v, c in zip(vals, counts):
+                if c > 1:
+                    ax.text(k + 0.31, v, f"x{c}", va="center", fontsize=7, color=f"C{k}")
+        for ca, cb, plist in (pairs or []):
+            fa = np.asarray(columns[ca][1], float)
+            fb = np.asarray(columns[cb][1], float)
+            na, nb = columns[ca][2], columns[cb][2]
+            for ia, ib, mac in plist:
+                if ia < na or ib < nb:
+                    continue
+                if max_hz is not None and (fa[ia] > max_hz or fb[ib] > max_hz):
+                    continue
+                xa, xb = (ca + 0.28, cb - 0.28) if ca < cb else (ca - 0.28, cb + 0.28)
+                ax.plot([xa, xb], [fa[ia], fb[ib]], color="k", lw=0.8, alpha=0.15 + 0.75 * mac,
+                        ls="-" if mac >= 0.8 else "--")
+        ax.set_xticks(range(len(columns)), [c[0] for c in columns])
+        ax.set_xlim(-0.6, len(columns) - 0.4)
+        ax.set_ylim(0, 1.05 * max(tops + [1.0]))
+        ax.set_ylabel("frequency [Hz]")
+        ax.grid(axis="x", visible=False)
+        ax.set_title(title or "natural frequencies per fidelity", fontsize=10)
+        if pairs:
+            ax.text(0.01, -0.08, "lines: modes paired by MAC (solid MAC >= 0.8, dashed below)",
+                    transform=ax.transAxes, fontsize=7, va="top")
+        fig.tight_layout()
+        fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    return Path(path)
+
+
+def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_rigid=None,
+               max_modes: int | None = None) -> Path:
+    """Natural frequencies (Hz) against a swept parameter, one line per mode number.
+
+    ``F``: (len(x), n_modes) ascending frequencies per parameter value. ``n_rigid``: per-value
+    number of rigid-body modes (left out). ``max_modes`` limits the elastic modes drawn.
+    """
+    plt = _plt()
+    x = np.asarray(x, float)
+    F = np.asarray(F, float)
+    nr = np.zeros(len(x), int) if n_rigid is None else np.asarray(n_rigid, int)
+    start = int(nr.max(initial=0))
+    stop = F.shape[1] if max_modes is None else min(F.shape[1], start + max_modes)
+    fig, ax = plt.subplots(figsize=(8.0, 5.5), dpi=DPI)
+    try:
+        for j in range(start, stop):
+            ax.plot(x, F[:, j], "-", marker="o", ms=2.5, lw=1.2, color=f"C{(j - start) % 10}")
+        if logx:
+            ax.set_xscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("natural frequency [Hz]")
+        ax.set_title(title, fontsize=10)
+        ax.set_xlim(x.min(), x.max())
+        ax.set_ylim(bottom=0)
+        ax.text(0.01, 0.99, f"elastic modes {start + 1}-{stop} (mode number by ascending frequency)",
+                transform=ax.transAxes, fontsize=7, va="top")
+        fig.tight_layout()
+        fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    return Path(path)
