@@ -81,7 +81,7 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
 
 
 def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_rigid=None,
-               max_modes: int | None = None) -> Path:
+               max_modes: int | None = None, logy: bool = False) -> Path:
     """Natural frequencies (Hz) against a swept parameter, one line per mode number.
 
     ``F``: (len(x), n_modes) ascending frequencies per parameter value. ``n_rigid``: per-value
@@ -103,7 +103,11 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
         ax.set_ylabel("natural frequency [Hz]")
         ax.set_title(title, fontsize=10)
         ax.set_xlim(x.min(), x.max())
-        ax.set_ylim(bottom=0)
+        if logy:
+            ax.set_yscale("log")
+            ax.grid(True, which="minor", alpha=0.12)
+        else:
+            ax.set_ylim(bottom=0)
         ax.text(0.01, 0.99, f"elastic modes {start + 1}-{stop} (mode number by ascending frequency)",
                 transform=ax.transAxes, fontsize=7, va="top")
         fig.tight_layout()

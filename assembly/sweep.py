@@ -1,0 +1,208 @@
+"""``flexgear sweep SCENE.toml --param helix|bearing-factor --values ... --out DIR``.
+
+Natural frequencies against one scene parameter (as Peeters et al., Wind Energy 9 (2006),
+Figs. 7 and 11a):
+
+* ``helix``: helix angle (values in deg; stored in rad) of every gear mesh, via
+  ``dataclasses.replace`` on the scene's meshes (a mesh keeps its hand: the sign of its own
+  non-zero helix angle) and on each planetary stage's ``helix_angle`` (its ring meshes get
+  the opposite sign from the stage builder);
+* ``bearing-factor``: common factor on all bearing stiffnesses (radial, axial, tilt) via
+  :func:`assembly.scale_bearings`; plotted on log axes (bearing modes grow as sqrt(factor)
+  while the gear modes level off).
+
+Writes ``sweep.csv`` (one row per value: the value, the number of rigid-body modes and
+every frequency in Hz), ``sweep.png`` and ``flexgear_run.json`` into DIR, atomically like
+``flexgear run``.
+"""
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import logging
+import math
+import shutil
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+PARAMS = ("helix", "bearing-factor")
+DEFAULT_VALUES = {"helix": np.linspace(0.0, 30.0, 31), "bearing-factor": np.geomspace(1.0, 1e6, 25)}
+
+
+def with_helix_angle(scene, beta: float):
+    """Copy of ``scene`` with every gear mesh at helix angle ``beta`` (rad).
+
+    Plain meshes keep their hand (sign of a non-zero helix angle, + otherwise); planetary
+    stages get ``helix_angle = beta`` (the stage builder gives the ring meshes the
+    opposite sign)."""
+    meshes = tuple(dataclasses.replace(m, helix_angle=math.copysign(beta, m.helix_angle) if m.helix_angle else beta)
+                   for m in scene.meshes)
+    stages = tuple(dataclasses.replace(st, helix_angle=math.copysign(beta, st.helix_angle) if st.helix_angle else beta)
+                   for st in scene.stages)
+    return dataclasses.replace(scene, meshes=meshes, stages=stages)
+
+
+def parse_values(tokens, param: str) -> np.ndarray:
+    """Parameter values from CLI tokens: numbers (``0 5 10`` or ``0,5,10``) or ranges
+    ``start:stop:count`` (linear for helix, geometric for bearing-factor). Default when
+    empty: 0..30 deg (31 values) or 1..1e6 (25 values)."""
+    if not tokens:
+        return DEFAULT_VALUES[param].copy()
+    out = []
+    for tok in tokens:
+        for part in str(tok).replace(",", " ").split():
+            if ":" in part:
+                try:
+                    a, b, n = part.split(":")
+                    a, b, n = float(a), float(b), int(n)
+                except ValueError:
+                    raise ValueError(f"--values {part!r}: a range is start:stop:count") from None
+                if n < 1:
+                    raise ValueError(f"--values {part!r}: count must be >= 1")
+                if param == "bearing-factor":
+                    if not (a > 0 and b > 0):
+                        raise ValueError(f"--values {part!r}: factors must be > 0")
+                    out.extend(np.geomspace(a, b, n))
+                else:
+                    out.extend(np.linspace(a, b, n))
+            else:
+                try:
+                    out.append(float(part))
+                except ValueError:
+                    raise ValueError(f"--values {part!r}: not a number") from None
+    v = np.asarray(out, float)
+    if not np.all(np.isfinite(v)):
+        raise ValueError("--values must be finite numbers")
+    if param == "bearing-factor" and np.any(v <= 0):
+        raise ValueError(f"--values {v[v <= 0][0]:g}: bearing factors must be > 0")
+    if param == "helix" and np.any(np.abs(v) >= 90):
+        raise ValueError(f"--values {v[np.abs(v) >= 90][0]:g}: |helix angle| must be < 90 deg")
+    return v
+
+
+@dataclass
+class SweepResult:
+    param: str
+    values: np.ndarray            # as given (deg for helix, factor for bearing-factor)
+    frequencies_hz: np.ndarray    # (n_values, n_modes)
+    n_rigid: np.ndarray           # (n_values,)
+    scene_name: str
+
+
+def run_sweep(scene, param: str, values, progress=None) -> SweepResult:
+    """Frequencies of ``scene`` (a Scene) for each parameter value."""
+    from .modal import solve_modes
+    from .model import assemble
+    from .progress import Progress
+    from .scene import scale_bearings
+
+    if param not in PARAMS:
+        raise ValueError(f"--param {param!r}: must be one of {list(PARAMS)}")
+    progress = progress or Progress(enabled=False)
+    values = np.asarray(values, float)
+    F, nr = [], []
+    with progress.step(f"sweep {param}", total=len(values), unit="model") as bar:
+        for v in values:
+            sc = with_helix_angle(scene, math.radians(v)) if param == "helix" else scale_bearings(scene, float(v))
+            r = solve_modes(assemble(sc))
+            F.append(np.sort(r.frequencies_hz))
+            nr.append(r.n_rigid)
+            bar.update(1)
+    n = min(len(f) for f in F)
+    if any(len(f) != n for f in F):  # cannot happen: the DOF count does not depend on the value
+        log.warning("mode count changes along the sweep; keeping the lowest %d", n)
+    return SweepResult(param, values, np.array([f[:n] for f in F]), np.array(nr), scene.name)
+
+
+def write_csv(sr: SweepResult, path) -> Path:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        head = ["helix_angle_deg", "helix_angle_rad"] if sr.param == "helix" else ["bearing_factor"]
+        w.writerow(head + ["n_rigid_body_modes"] + [f"f{j + 1}_hz" for j in range(sr.frequencies_hz.shape[1])])
+        for v, nr, f in zip(sr.values, sr.n_rigid, sr.frequencies_hz):
+            first = [f"{v:.9g}", f"{math.radians(v):.9g}"] if sr.param == "helix" else [f"{v:.9g}"]
+            w.writerow(first + [int(nr)] + [f"{x:.9g}" for x in f])
+    return Path(path)
+
+
+def write_plot(sr: SweepResult, path, max_modes: int | None = None) -> Path:
+    from .plots import plot_sweep
+
+    if sr.param == "helix":
+        xlabel, logx, what = "helix angle [deg]", False, "helix angle"
+    else:
+        xlabel, logx, what = "bearing stiffness factor (radial, axial, tilt) [-]", True, "bearing stiffness factor"
+    return plot_sweep(sr.values, sr.frequencies_hz, path, xlabel,
+                      title=f"{sr.scene_name}: natural frequencies vs {what}", logx=logx,
+                      n_rigid=sr.n_rigid, max_modes=max_modes, logy=logx)
+
+
+def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_modes: int | None = None) -> dict:
+    """Load the scene, sweep, and write CSV + PNG + manifest into ``out_dir`` atomically."""
+    from .pipeline import MANIFEST, _move_into_place, _new_work_dir, check_output_dir
+    from .toml_io import load_scene
+
+    out_dir = Path(out_dir).absolute()
+    check_output_dir(out_dir)
+    t0 = time.perf_counter()
+    scene = load_scene(scene_source)
+    work = _new_work_dir(out_dir)
+    try:
+        sr = run_sweep(scene, param, values, progress)
+        write_csv(sr, work / "sweep.csv")
+        write_plot(sr, work / "sweep.png", max_modes=max_modes)
+        info = dict(tool="flexgear sweep", scene=scene.name, scene_source=str(scene_source), param=param,
+                    values=[float(v) for v in sr.values], files=["sweep.csv", "sweep.png"],
+                    n_modes=int(sr.frequencies_hz.shape[1]), time_s=round(time.perf_counter() - t0, 4),
+                    python=sys.version.split()[0])
+        (work / MANIFEST).write_text(json.dumps(info, indent=1))
+        check_output_dir(out_dir)
+        _move_into_place(work, out_dir)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    return info
+
+
+def add_sweep_parser(subparsers) -> None:
+    """Add ``flexgear sweep`` to an argparse subparsers object."""
+    p = subparsers.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
+    p.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
+    p.add_argument("--param", required=True, choices=PARAMS,
+                   help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
+    p.add_argument("--values", nargs="*", default=[], metavar="V",
+                   help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
+    p.add_argument("--out", required=True, help="output folder (sweep.csv, sweep.png)")
+    p.add_argument("--max-modes", type=int, default=None, metavar="N", help="plot at most N elastic modes")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
+    p.set_defaults(func=cmd_sweep)
+
+
+def cmd_sweep(args) -> int:
+    """``flexgear sweep``: exit 0 on success, 2 on bad values or output folder (scene errors
+    are raised for the CLI's common handler)."""
+    from .pipeline import OutputDirError
+    from .progress import Progress
+
+    try:
+        values = parse_values(args.values, args.param)
+    except ValueError as exc:
+        print(f"flexgear: error: {exc}", file=sys.stderr)
+        return 2
+    progress = Progress(enabled=False if args.quiet else None)
+    try:
+        info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
+    except OutputDirError as exc:
+        print(f"flexgear: error: {exc}", file=sys.stderr)
+        return 2
+    if not args.quiet:
+        print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
+              f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
+    return 0
