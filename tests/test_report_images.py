@@ -1,0 +1,115 @@
+"""Mode-shape images (pyvista off-screen): size, not blank, deterministic, mode-dependent.
+
+Blank-frame floor: the central band of the image (rows 15-85 %) holds only the drawn
+assembly; the title sits above it and the scale bar / colour bar below. A frame without
+bodies is plain white there (standard deviation 0). Measured images of the shipped scenes
+have a grey-level standard deviation of 75-95 (0-255 scale) and 25-35 % non-white pixels
+in that band; the floors (20 grey levels, 5 % non-white) lie far below the real images and
+far above an empty frame.
+"""
+import os
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+import numpy as np
+import pytest
+
+from assembly import assemble, classify_modes, load_scene, solve_modes
+from assembly.render import (AssemblyRenderer, body_shapes, mode_title, pitch_radii, rigid_displacement,
+                             spring_glyphs)
+
+SIZE = (480, 360)
+STD_FLOOR = 20.0 / 255
+NONWHITE_FLOOR = 0.05
+
+
+def _read(path):
+    import matplotlib.image as mpimg
+
+    return mpimg.imread(str(path))[..., :3]
+
+
+def _central(a):
+    h = a.shape[0]
+    return a[int(0.15 * h):int(0.85 * h)]
+
+
+@pytest.fixture(scope="module")
+def planetary():
+    sc = load_scene("lin_parker_n4.toml")
+    m = assemble(sc)
+    r = solve_modes(m)
+    return sc, m, r, classify_modes(r), AssemblyRenderer(m, window_size=SIZE)
+
+
+def test_mode_images_size_not_blank_and_mode_dependent(planetary, tmp_path):
+    sc, m, r, infos, rnd = planetary
+    i1, i2 = r.n_rigid, r.n_rigid + 5   # translational pair vs a different class
+    p1 = rnd.render_mode(r, i1, tmp_path / "a.png", title=mode_title(sc.name, infos[i1]))
+    p2 = rnd.render_mode(r, i2, tmp_path / "b.png", title=mode_title(sc.name, infos[i2]))
+    a, b = _read(p1), _read(p2)
+    assert a.shape == b.shape == (SIZE[1], SIZE[0], 3)
+    for img in (a, b):
+        c = _central(img)
+        assert c.std() > STD_FLOOR
+        assert (c.min(axis=2) < 0.9).mean() > NONWHITE_FLOOR
+    # A different mode gives a visibly different picture (not just a different title).
+    assert np.abs(_central(a) - _central(b)).mean() > 0.01
+
+
+def test_images_are_deterministic(planetary, tmp_path):
+    sc, m, r, infos, rnd = planetary
+    i = r.n_rigid + 2
+    p1 = rnd.render_mode(r, i, tmp_path / "1.png", title="t")
+    p2 = AssemblyRenderer(m, window_size=SIZE).render_mode(r, i, tmp_path / "2.png", title="t")
+    assert np.array_equal(_read(p1), _read(p2))
+
+
+def test_overview_and_torsional_scene(tmp_path):
+    sc = load_scene("peeters_parallel_torsional.toml")
+    m = assemble(sc)
+    r = solve_modes(m)
+    rnd = AssemblyRenderer(m, window_size=SIZE)
+    ov = _read(rnd.render_overview(tmp_path / "ov.png", title=sc.name))
+    md = _read(rnd.render_mode(r, 1, tmp_path / "m.png", title="mode 2"))
+    for img in (ov, md):
+        assert img.shape == (SIZE[1], SIZE[0], 3)
+        assert _central(img).std() > STD_FLOOR
+
+
+def test_geometry_rules():
+    sc = load_scene("lin_parker_n4.toml")
+    m = assemble(sc)
+    shapes = body_shapes(m)
+    rp = pitch_radii(m.scene)
+    # Gears drawn at their pitch radius |r_b| / cos(alpha); the ring is an annulus.
+    assert shapes["stage.sun"].r_outer == pytest.approx(0.0387 / np.cos(np.radians(24.6)))
+    assert shapes["stage.ring"].kind == "ring" and rp["stage.ring"] < 0
+    assert shapes["stage.ring"].r_inner == pytest.approx(0.1391 / np.cos(np.radians(24.6)))
+    # The carrier carries the planets: a plate behind them, equivalent radius sqrt(2 J / m).
+    car = shapes["stage.carrier"]
+    assert car.kind == "plate"
+    assert car.r_outer == pytest.approx(np.sqrt(2 * 6.013133110841227e-2 / 5.43))
+    assert car.axial_offset + car.width / 2 < shapes["stage.planet0"].axial_offset - shapes["stage.planet0"].width / 2
+    glyphs = spring_glyphs(m, shapes)
+    assert len(glyphs) == len(m.elements)
+    assert sum(g.ground for g in glyphs) == 3   # sun, ring, carrier bearings to the housing
+
+
+def test_width_from_transverse_inertia():
+    from assembly.render import _width_from_inertia
+    from assembly.scene import Body
+
+    r, L, mass = 0.05, 0.08, 3.0
+    jp = mass * r ** 2 / 2
+    jt = mass * (3 * r ** 2 + L ** 2) / 12
+    b = Body(name="c", mass=mass, polar_inertia=jp, transverse_inertia=jt)
+    assert _width_from_inertia(b, r, 0.35) == pytest.approx(L)
+    thin = Body(name="d", mass=mass, polar_inertia=jp)  # default J_t = J_p / 2: no length
+    assert _width_from_inertia(thin, r, 0.35) == pytest.approx(0.35 * r)
+
+
+def test_rigid_displacement_small_rotation():
+    z = np.array([1.0, 0, 0, 0, 0, 2.0])
+    d = rigid_displacement(z, np.zeros(3), np.array([[1.0, 0, 0]]))
+    assert np.allclose(d, [[1.0, 2.0, 0.0]])
