@@ -1,0 +1,197 @@
+"""`flexgear run`: end to end into tmp_path, index.html links, Chromium page load, atomicity."""
+import argparse
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+import pytest
+
+from assembly.html_report import local_references, missing_references
+from assembly.pipeline import (MANIFEST, OutputDirError, RunOptions, add_run_parser, run_pipeline)
+
+SCENE = "lin_parker_n4.toml"
+N_IMAGES = 3
+SIZE = (480, 360)
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="flexgear")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    add_run_parser(sub)
+    return p
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "results"
+    ctx = run_pipeline(SCENE, out, RunOptions(n_modes=N_IMAGES, window_size=SIZE))
+    return out, ctx
+
+
+def _leftovers(parent, name):
+    return [p for p in parent.iterdir() if p.name.startswith(f".{name}.")]
+
+
+def test_run_writes_everything(run_dir):
+    out, ctx = run_dir
+    for f in ("modes.csv", "modes.json", "modes_table.txt", "fidelity_comparison.csv", "index.html", MANIFEST,
+              "images/overview.png", "plots/frequencies_by_fidelity.png"):
+        assert (out / f).is_file(), f
+    imgs = sorted((out / "images").glob("mode_*.png"))
+    assert len(imgs) == N_IMAGES
+    # First elastic modes: lin_parker_n4 has one rigid-body mode (mode 1).
+    assert [p.name for p in imgs] == ["mode_002.png", "mode_003.png", "mode_004.png"]
+    data = json.loads((out / "modes.json").read_text())
+    rows = list(csv.DictReader(open(out / "modes.csv")))
+    assert len(rows) == len(data["frequencies_hz"]) == 21
+    assert [float(r["frequency_hz"]) for r in rows] == pytest.approx(data["frequencies_hz"], rel=1e-8)
+    assert not _leftovers(out.parent, out.name)
+
+
+def test_fidelity_comparison_csv(run_dir):
+    out, _ = run_dir
+    rows = list(csv.DictReader(open(out / "fidelity_comparison.csv")))
+    paired = [r for r in rows if r["torsional_mode"]]
+    # Torsional model of the stage: 7 modes, 1 rigid-body -> 6 elastic, each paired once.
+    assert len(paired) == 6
+    assert len({r["rigid_mode"] for r in rows}) == len(rows)
+    for r in paired:
+        ft, fr = float(r["f_torsional_hz"]), float(r["f_rigid_hz"])
+        assert float(r["shift_pct"]) == pytest.approx(100 * (fr - ft) / ft, rel=1e-6)
+        assert 0.0 <= float(r["mac"]) <= 1.0 + 1e-9
+        assert r["class_rigid"] and r["dominant_body"].startswith("stage.")
+    # The rigid model also has every translational mode; each appears once, unpaired.
+    assert len(rows) == 20
+
+
+def test_index_references_exist(run_dir):
+    out, _ = run_dir
+    text = (out / "index.html").read_text()
+    refs = local_references(text)
+    assert "images/overview.png" in refs and "fidelity_comparison.csv" in refs
+    assert missing_references(out / "index.html") == []
+    assert all(not os.path.isabs(r) and ".." not in r for r in refs)
+    assert len(re.findall(r"<img ", text)) == N_IMAGES + 2  # modes, overview, fidelity plot
+    assert "Fidelity comparison" in text and "Hz" in text
+
+
+def _chromium():
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if exe:
+        return exe, ""
+    if hasattr(os, "geteuid") and os.geteuid() == 0 and shutil.which("apt-get"):
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        try:
+            subprocess.run(["apt-get", "update", "-qq"], check=True, capture_output=True, timeout=300, env=env)
+            subprocess.run(["apt-get", "install", "-y", "-qq", "chromium"], check=True, capture_output=True,
+                           timeout=900, env=env)
+        except (subprocess.SubprocessError, OSError) as exc:
+            return None, f"could not install chromium with apt-get: {exc}"
+        exe = shutil.which("chromium")
+        return exe, "" if exe else "apt-get install chromium gave no chromium binary"
+    return None, "chromium not installed and cannot install it (needs root and apt-get)"
+
+
+CHECK_SCRIPT = """<script>window.addEventListener("load", function () {
+  var im = Array.from(document.images);
+  var ok = im.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
+  document.body.setAttribute("data-decoded", ok + "/" + im.length);
+});</script></body>"""
+
+
+def test_index_loads_in_headless_chromium(run_dir, tmp_path):
+    exe, why = _chromium()
+    if exe is None:
+        print(f"SKIP reason: {why}")
+        pytest.skip(why)
+    out, _ = run_dir
+    copy = tmp_path / "site"
+    shutil.copytree(out, copy)
+    # Same page, plus a script that counts the decoded images after window.onload.
+    page = copy / "_check.html"
+    page.write_text((copy / "index.html").read_text().replace("</body>", CHECK_SCRIPT))
+    cmd = [exe, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+           f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=15000", "--dump-dom",
+           page.as_uri()]
+    dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
+    m = re.search(r'data-decoded="(\d+)/(\d+)"', dom)
+    assert m, dom[-2000:]
+    assert int(m.group(2)) == N_IMAGES + 2
+    assert m.group(1) == m.group(2), f"only {m.group(1)} of {m.group(2)} images decoded"
+
+
+def test_cli_run_quiet_and_rerun_replaces(tmp_path, capsys):
+    out = tmp_path / "r"
+    args = _parser().parse_args(["run", "kahraman_beta20.toml", "--out", str(out), "--modes", "1", "--quiet",
+                                 "--no-images"])
+    assert args.func(args) == 0
+    assert capsys.readouterr().err == ""  # no progress bars when quiet
+    assert (out / "index.html").is_file() and not (out / "images").exists()
+    (out / "stale.txt").write_text("from an earlier run")
+    assert args.func(args) == 0           # an earlier run is replaced as a whole
+    assert not (out / "stale.txt").exists()
+    assert not _leftovers(tmp_path, "r")
+
+
+def test_bad_scene_leaves_no_output(tmp_path):
+    from assembly.errors import SceneError
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[bodies]]\nname = "a"\nmass = -1.0\npolar_inertia = 1.0\n')
+    out = tmp_path / "out"
+    with pytest.raises(SceneError):
+        run_pipeline(bad, out, RunOptions(n_modes=1, window_size=SIZE))
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_failure_in_a_late_step_leaves_previous_result(tmp_path):
+    from assembly.pipeline import DEFAULT_STEPS, Step
+
+    out = tmp_path / "keep"
+    run_pipeline("peeters_parallel_torsional.toml", out, RunOptions(n_modes=1, images=False))
+    before = sorted(p.name for p in out.iterdir())
+
+    def boom(ctx, bar):
+        raise RuntimeError("late failure")
+
+    steps = DEFAULT_STEPS[:-1] + [Step("boom", boom)]
+    with pytest.raises(RuntimeError):
+        run_pipeline("kahraman_beta20.toml", out, RunOptions(n_modes=1, images=False), steps=steps)
+    assert sorted(p.name for p in out.iterdir()) == before
+    assert json.loads((out / MANIFEST).read_text())["scene_source"] == "peeters_parallel_torsional.toml"
+    assert not _leftovers(tmp_path, "keep")
+
+
+def test_refuses_foreign_folder(tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "thesis.tex").write_text("precious")
+    with pytest.raises(OutputDirError):
+        run_pipeline("kahraman_beta20.toml", out, RunOptions(images=False))
+    assert (out / "thesis.tex").read_text() == "precious"
+    args = _parser().parse_args(["run", "kahraman_beta20.toml", "--out", str(out), "-q"])
+    assert args.func(args) == 2
+
+
+def test_cli_subprocess_bad_scene_exit_code(tmp_path):
+    """Through a parser wired like assembly.cli: SceneError ends in one line, no folder."""
+    code = ("import sys, argparse\n"
+            "from assembly.pipeline import add_run_parser\n"
+            "from assembly.errors import SceneError\n"
+            "p = argparse.ArgumentParser(); s = p.add_subparsers(dest='cmd', required=True)\n"
+            "add_run_parser(s); a = p.parse_args(sys.argv[1:])\n"
+            "try:\n    sys.exit(a.func(a))\n"
+            "except SceneError as e:\n    print('flexgear: error:', e, file=sys.stderr); sys.exit(2)\n")
+    out = tmp_path / "o"
+    r = subprocess.run([sys.executable, "-c", code, "run", str(tmp_path / "nope.toml"), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "nope.toml" in r.stderr
+    assert not out.exists() and list(tmp_path.iterdir()) == []
