@@ -42,9 +42,19 @@ class RigidBodyModel:
     def stiffness_matrix(self) -> np.ndarray:
         return np.zeros((6, 6))
 
-    def motion_at(self, point) -> np.ndarray:
+    @classmethod
+    def from_mass_properties(cls, name, position, axes, mass, inertia) -> "RigidBodyModel":
+        return cls(name, np.asarray(position, float), axes, float(mass), np.asarray(inertia, float))
+
+    def motion_at(self, point, interface=None) -> np.ndarray:
         """6 x 6 map from the body's DOFs to the motion [u, theta] at ``point``."""
         return rigid_transfer(point, self.position)
+
+    def rigid_projection(self) -> np.ndarray:
+        return np.eye(6)
+
+    def rigid_motion(self, zb: np.ndarray) -> np.ndarray:
+        return zb
 
     def dof_names(self) -> list[str]:
         return [f"{self.name}.{d}" for d in ABS_DOF_NAMES]

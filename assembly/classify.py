@@ -84,7 +84,7 @@ def classify_modes(result) -> list[ModeInfo]:
 
 
 def _motion_class(cat: np.ndarray) -> str:
-    inplane, axial, tilt, spin = cat
+    inplane, axial, tilt, spin = cat[:4]
     if axial + tilt >= max(inplane, spin):
         return "out-of-plane"
     return "rotational" if spin >= inplane else "translational"
@@ -94,14 +94,14 @@ def _planetary_class(Eg, names, sc_bodies, stage, st) -> str:
     idx = [i for i, s in enumerate(stage) if s == st]
     Es = Eg[idx].sum()
     central = [i for i in idx if sc_bodies[names[i]].role in CENTRAL]
-    Ec = Eg[central].sum(axis=0)  # inplane, axial, tilt, spin
+    Ec = Eg[central].sum(axis=0)  # inplane, axial, tilt, spin, elastic
     tol = CLASS_TOL * Es
     oop = Eg[idx][:, 1:3].sum() / Es
     if Ec.sum() < tol:
         return "planet"
-    if Ec[0] + Ec[2] < tol:
+    if Ec[0] + Ec[2] + Ec[4] < tol:
         return "out-of-plane" if oop > 0.5 else "rotational"
-    if Ec[1] + Ec[3] < tol:
+    if Ec[1] + Ec[3] + Ec[4] < tol:
         return "out-of-plane" if oop > 0.5 else "translational"
     return "mixed"
 
@@ -136,10 +136,11 @@ def subspace_mac(A: np.ndarray, B: np.ndarray, groups_b, W) -> np.ndarray:
 def pair_modes(res_a, res_b, W=None):
     """Pair modes of two models of the same scene by (subspace) MAC on the absolute body
     motions. Returns a list of (i_a, i_b, mac). ``W`` defaults to res_b's mass matrix."""
-    A, B = res_a.abs_shapes, res_b.abs_shapes
-    if A.shape[0] != B.shape[0]:
-        raise ValueError("models do not share absolute coordinates")
-    W = res_b.model.M_abs if W is None else W
+    if list(res_a.model.bodies) != list(res_b.model.bodies):
+        raise ValueError("models do not have the same bodies")
+    A = res_a.model.rigid_coordinates(res_a.abs_shapes)
+    B = res_b.model.rigid_coordinates(res_b.abs_shapes)
+    W = res_b.model.rigid_mass_matrix() if W is None else W
     mac = subspace_mac(A, B, res_b.groups, W)
     ia, ib = linear_sum_assignment(-mac)
     return [(int(i), int(j), float(mac[i, j])) for i, j in zip(ia, ib)]

@@ -44,6 +44,22 @@ def cmd_modes(args) -> int:
     return 0
 
 
+def cmd_compare(args) -> int:
+    from .compare import compare, comparison_table
+    from .toml_io import load_scene
+
+    scene = load_scene(args.scene)
+    c = compare(scene, n_rows=args.modes)
+    if args.json:
+        json.dump({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
+                   "pairs": c.rows, "timings": c.timings}, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(f"{scene.name}  ({args.scene})")
+        print(comparison_table(c))
+    return 0
+
+
 def cmd_demo(args) -> int:
     from .modal import solve_modes
     from .model import assemble
@@ -77,6 +93,11 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
     m.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     m.set_defaults(func=cmd_modes)
+    c = sub.add_parser("compare", help="torsional, rigid and flexible variants side by side (MAC-paired)")
+    c.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
+    c.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    c.add_argument("--modes", type=int, default=20, help="rows of the table (default 20)")
+    c.set_defaults(func=cmd_compare)
     d = sub.add_parser("demo", help="run the shipped example scenes")
     d.add_argument("--out", default="results", help="output folder")
     d.set_defaults(func=cmd_demo)

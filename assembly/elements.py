@@ -32,6 +32,7 @@ class Element:
     point: np.ndarray
     B: np.ndarray
     k: np.ndarray
+    interfaces: tuple = (None, None)
 
     def stiffness(self) -> np.ndarray:
         """Element stiffness on the stacked attachment motions (global axes), exactly

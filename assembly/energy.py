@@ -4,17 +4,26 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Motion categories of a body in its own axes (z = rotation axis).
-CATEGORIES = ("inplane", "axial", "tilt", "spin")
+#: Motion categories of a body in its own axes (z = rotation axis); "elastic" is the
+#: kinetic energy of a flexible body beyond its rigid-equivalent motion.
+CATEGORIES = ("inplane", "axial", "tilt", "spin", "elastic")
 
 
 def kinetic_by_body(result) -> np.ndarray:
     """(n_modes, n_bodies) kinetic-energy shares (rows sum to 1; zero rows for no motion)."""
+    return _normalise(kinetic_energy_by_body(result))
+
+
+def kinetic_energy_by_body(result) -> np.ndarray:
+    """(n_modes, n_bodies) z_b' M_b z_b of each body (mass-normalised modes: shares of 1)."""
     m = result.model
-    Z, M = result.abs_shapes, m.M_abs
-    E = np.column_stack([np.einsum("im,ij,jm->m", Z[m.body_slice(b)], M[m.body_slice(b), m.body_slice(b)].toarray(),
-                                   Z[m.body_slice(b)]) for b in m.bodies])
-    return _normalise(E)
+    Z = result.abs_shapes
+    cols = []
+    for b in m.bodies:
+        sl = m.body_slice(b)
+        Mb = m.M_abs[sl, sl]
+        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(Mb @ Z[sl])))
+    return np.column_stack(cols)
 
 
 def strain_by_element(result) -> np.ndarray:
@@ -34,8 +43,9 @@ def kinetic_by_category(result) -> np.ndarray:
     """(n_modes, n_bodies, 4) kinetic energy (unnormalised) per body and CATEGORIES entry."""
     m = result.model
     out = np.zeros((result.abs_shapes.shape[1], len(m.bodies), len(CATEGORIES)))
+    total = kinetic_energy_by_body(result)
     for j, (name, bm) in enumerate(m.bodies.items()):
-        z = result.abs_shapes[m.body_slice(name)]
+        z = bm.rigid_projection() @ result.abs_shapes[m.body_slice(name)]
         R = bm.axes
         u = R.T @ z[:3]
         th = R.T @ z[3:]
@@ -46,6 +56,7 @@ def kinetic_by_category(result) -> np.ndarray:
         out[:, j, 1] = bm.mass * u[2] ** 2
         out[:, j, 2] = rot - spin
         out[:, j, 3] = spin
+        out[:, j, 4] = np.clip(total[:, j] - out[:, j, :4].sum(axis=1), 0.0, None)
     return out
 
 

@@ -1,20 +1,23 @@
 """Assembly of a scene into one linear modal problem.
 
-Absolute coordinates ``z`` stack every body's own DOFs (global axes); all elements and
-mass matrices are written in them. Independent coordinates ``q`` (``z = T q``) express each
-body's motion relative to its reference frame, minus the constrained directions (fixed
-DOFs, rigid bearing directions, and the five non-spin DOFs of a torsional body). So
-``K = T' K_abs T`` and ``M = T' M_abs T``; a torsional model is literally the rigid model
-with five DOFs per body constrained.
+Absolute coordinates ``z`` stack every body's own DOFs (a rigid body: 6, global axes, at
+its centre of mass; a flexible body: its component coordinates); all elements and mass
+matrices are written in them. Independent coordinates ``q`` (``z = T q``) express each
+rigid body's motion relative to its reference frame, minus the constrained directions
+(fixed DOFs, rigid bearing directions, and the five non-spin DOFs of a torsional body).
+So ``K = T' K_abs T`` and ``M = T' M_abs T``: a torsional model is literally the rigid
+model with five DOFs per body constrained. Matrices are sparse (CSR) throughout.
 """
 from __future__ import annotations
 
 import logging
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
+from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .elements import Element, gear_mesh, relative_spring
 from .geometry import block_rotation
@@ -34,8 +37,9 @@ class AssembledModel:
     T: sp.csr_matrix
     dof_names: list
     abs_dof_names: list
-    K: np.ndarray = field(repr=False)
-    M: np.ndarray = field(repr=False)
+    K: sp.csr_matrix = field(repr=False)
+    M: sp.csr_matrix = field(repr=False)
+    timings: dict = field(default_factory=dict)
 
     @property
     def n_abs(self) -> int:
@@ -52,16 +56,30 @@ class AssembledModel:
 
     def attachment_operator(self, el: Element) -> sp.csr_matrix:
         """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
-        rows = []
-        for b in el.bodies:
+        blocks = []
+        for b, iface in zip(el.bodies, el.interfaces):
             if b is None:
-                rows.append(sp.csr_matrix((6, self.n_abs)))
+                blocks.append(sp.csr_matrix((6, self.n_abs)))
                 continue
-            P = self.bodies[b].motion_at(el.point)
-            blk = sp.lil_matrix((6, self.n_abs))
-            blk[:, self.body_slice(b)] = P
-            rows.append(blk.tocsr())
-        return sp.vstack(rows).tocsr()
+            P = sp.csr_matrix(self.bodies[b].motion_at(el.point, iface))
+            o = self.offsets[b]
+            P = sp.hstack([sp.csr_matrix((6, o)), P, sp.csr_matrix((6, self.n_abs - o - P.shape[1]))])
+            blocks.append(P.tocsr())
+        return sp.vstack(blocks).tocsr()
+
+    def rigid_coordinates(self, Z: np.ndarray) -> np.ndarray:
+        """Rigid-equivalent motion (6 per body, global axes, at each COM) of columns of Z."""
+        return np.vstack([self.bodies[b].rigid_projection() @ Z[self.body_slice(b)] for b in self.bodies])
+
+    def rigid_mass_matrix(self) -> np.ndarray:
+        """Block-diagonal 6x6 rigid mass matrices of all bodies (for mass-weighted MAC)."""
+        blocks = []
+        for bm in self.bodies.values():
+            B = np.zeros((6, 6))
+            B[:3, :3] = bm.mass * np.eye(3)
+            B[3:, 3:] = bm.inertia
+            blocks.append(B)
+        return sp.block_diag(blocks, format="csr")
 
 
 def _frame_order(scene: Scene) -> list:
@@ -87,88 +105,143 @@ def constrained_dofs(scene: Scene) -> dict:
     out = {b.name: set() for b in scene.bodies}
     for f in scene.fixed:
         out[f.body].update(f.dofs)
-    by_name = {b.name: b for b in scene.bodies}
     for br in scene.bearings:
-        k = br.diagonal()
-        for name, ki in zip(DOF_NAMES, k):
+        for name, ki in zip(DOF_NAMES, br.diagonal()):
             if np.isinf(ki):
                 out[br.body].add(name)
     for b in scene.bodies:
         if b.fidelity == "torsional":
             out[b.name].update(d for d in DOF_NAMES if d != "rz")
-    del by_name
     return out
 
 
-def build_elements(scene: Scene, bodies: dict) -> list:
+def build_elements(scene: Scene, bodies: dict, masters: dict) -> list:
     """Bearings, shafts and gear meshes of an (expanded) scene as :class:`Element`s."""
     by_name = {b.name: b for b in scene.bodies}
     elements = []
     for i, br in enumerate(scene.bearings):
         body = by_name[br.body]
         frame = br.frame if br.frame is not None else body.frame
-        point = br.position if br.position is not None else body.position
+        point, iface = bearing_point(br, body, masters, f"bearings[{i}]")
         k = np.where(np.isinf(br.diagonal()), 0.0, br.diagonal())
-        elements.append(relative_spring(br.name or f"bearing[{i}]:{br.body}", "bearing", br.body,
-                                        None if frame == HOUSING else frame, point,
-                                        bodies[br.body].axes, k))
+        el = relative_spring(br.name or f"bearing[{i}]:{br.body}", "bearing", br.body,
+                             None if frame == HOUSING else frame, point, bodies[br.body].axes, k)
+        elements.append(_with_interfaces(el, (iface, br.frame_interface)))
     for i, s in enumerate(scene.shafts):
-        point = s.position if s.position is not None else 0.5 * (
-            np.asarray(by_name[s.body1].position) + np.asarray(by_name[s.body2].position))
-        elements.append(relative_spring(s.name or f"shaft[{i}]:{s.body1}-{s.body2}", "shaft",
-                                        s.body1, s.body2, point, bodies[s.body1].axes, s.diagonal()))
+        point, i1, i2 = shaft_points(s, by_name[s.body1], by_name[s.body2], masters, f"shafts[{i}]")
+        el = relative_spring(s.name or f"shaft[{i}]:{s.body1}-{s.body2}", "shaft", s.body1, s.body2, point,
+                             bodies[s.body1].axes, s.diagonal())
+        elements.append(_with_interfaces(el, (i1, i2)))
     for i, m in enumerate(scene.meshes):
         b1, b2 = by_name[m.gear1], by_name[m.gear2]
-        c1 = m.center1 if m.center1 is not None else b1.position
-        c2 = m.center2 if m.center2 is not None else b2.position
-        elements.append(gear_mesh(m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}", m.gear1, m.gear2,
-                                  b1.axis, c1, c2, m.base_radius1, m.base_radius2, m.pressure_angle,
-                                  m.helix_angle, m.drive_sign, m.stiffness, m.contact_point))
+        c1, c2, i1, i2 = mesh_centers(m, b1, b2, masters, f"meshes[{i}]")
+        el = gear_mesh(m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}", m.gear1, m.gear2, b1.axis, c1, c2,
+                       m.base_radius1, m.base_radius2, m.pressure_angle, m.helix_angle, m.drive_sign,
+                       m.stiffness, m.contact_point)
+        elements.append(_with_interfaces(el, (i1, i2)))
     return elements
 
 
-def assemble(scene: Scene) -> AssembledModel:
-    """Assemble ``scene`` (any stages expanded) into K, M on independent coordinates."""
+def _with_interfaces(el: Element, ifaces) -> Element:
+    import dataclasses
+    return dataclasses.replace(el, interfaces=tuple(ifaces))
+
+
+def build_body_models(scene: Scene, full_fe: bool = False, progress=None) -> dict:
+    """Body models in frame order: rigid (plain or from a component's mesh) or flexible."""
+    from .flexible import DEFAULT_BAND_HZ, FlexOptions, component_params, flexible_body, mass_properties
+    from .geometry import axis_frame
+    band = scene.band_hz or DEFAULT_BAND_HZ
+    out = {}
+    for b in _frame_order(scene):
+        if b.component is None:
+            out[b.name] = RigidBodyModel.from_body(b)
+            continue
+        params = component_params(b, b.name)
+        opts = b.flex or FlexOptions()
+        if b.fidelity == "flexible":
+            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe)
+        else:
+            mass, com, J, _ = mass_properties(b, params, opts)
+            out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J)
+        if progress is not None:
+            progress(b.name)
+    return out
+
+
+def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) -> AssembledModel:
+    """Assemble ``scene`` (stages expanded) into sparse K, M on independent coordinates.
+
+    ``full_fe=True`` keeps flexible bodies unreduced (every FE DOF): the reference model.
+    ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants).
+    """
+    t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)
-    bodies, offsets, n = {}, {}, 0
+    origin = {b.name: b.name for b in sc.bodies}
+    masters = component_masters(sc, origin)
+    if bodies is None:
+        bodies = build_body_models(sc, full_fe=full_fe)
+    t_bodies = time.perf_counter() - t0
+    offsets, n = {}, 0
     for b in order:
-        bodies[b.name] = RigidBodyModel.from_body(b)
         offsets[b.name] = n
         n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies)
+    elements = build_elements(sc, bodies, masters)
 
     abs_names = []
     for b in order:
         abs_names += bodies[b.name].dof_names()
-    M_abs = sp.block_diag([bodies[b.name].mass_matrix() for b in order], format="csr")
-    K_abs = sp.block_diag([bodies[b.name].stiffness_matrix() for b in order], format="csr")
-
-    model = AssembledModel(sc, bodies, offsets, elements, K_abs, M_abs, None, [], abs_names, None, None)
+    M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
+    K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
+    model = AssembledModel(sc, {b.name: bodies[b.name] for b in order}, offsets, elements, K_abs, M_abs,
+                           None, [], abs_names, None, None)
+    parts = [K_abs]
     for el in elements:
-        K_abs = K_abs + model.element_stiffness_abs(el)
-    model.K_abs = K_abs.tocsr()
+        parts.append(model.element_stiffness_abs(el))
+    model.K_abs = sum(parts[1:], parts[0]).tocsr()
 
-    # z = T q: each body moves with its frame plus its free relative DOFs (local axes).
+    # z = T q: rigid bodies move with their frame plus free relative DOFs (local axes);
+    # flexible bodies (housing frame only) keep all their DOFs.
     held = constrained_dofs(sc)
-    T = np.zeros((n, 0))
-    names = []
+    ncols, col0 = {}, {}
+    m = 0
     for b in order:
         bm = bodies[b.name]
-        sl = model.body_slice(b.name)
-        free = [i for i, d in enumerate(DOF_NAMES) if d not in held[b.name]]
-        cols = np.zeros((n, len(free)))
-        cols[sl, :] = block_rotation(bm.axes)[:, free]
+        k = bm.ndof if b.fidelity == "flexible" else sum(d not in held[b.name] for d in DOF_NAMES)
+        col0[b.name], ncols[b.name] = m, k
+        m += k
+    rows, names = {}, []
+    for b in order:
+        bm = bodies[b.name]
+        if b.fidelity == "flexible":
+            own = sp.identity(bm.ndof, format="csr")
+            names += bm.dof_names()
+        else:
+            free = [i for i, d in enumerate(DOF_NAMES) if d not in held[b.name]]
+            own = sp.csr_matrix(block_rotation(bm.axes)[:, free])
+            names += [f"{b.name}.{DOF_NAMES[i]}" for i in free]
+        blk = sp.hstack([sp.csr_matrix((bm.ndof, col0[b.name])), own,
+                         sp.csr_matrix((bm.ndof, m - col0[b.name] - ncols[b.name]))]).tocsr()
         if b.frame != HOUSING:
             fr = bodies[b.frame]
-            T[sl, :] = fr.motion_at(bm.position) @ T[model.body_slice(b.frame), :]
-        T = np.hstack([T, cols])
-        names += [f"{b.name}.{DOF_NAMES[i]}" for i in free]
-    model.T = sp.csr_matrix(T)
+            iface = _frame_interface(sc, b)
+            blk = blk + sp.csr_matrix(fr.motion_at(bm.position, iface)) @ rows[b.frame]
+        rows[b.name] = blk.tocsr()
+    model.T = sp.vstack([rows[b.name] for b in order]).tocsr()
     model.dof_names = names
-    model.K = (model.T.T @ model.K_abs @ model.T).toarray()
-    model.M = (model.T.T @ model.M_abs @ model.T).toarray()
-    model.K = 0.5 * (model.K + model.K.T)
-    model.M = 0.5 * (model.M + model.M.T)
+    K = (model.T.T @ model.K_abs @ model.T).tocsr()
+    M = (model.T.T @ model.M_abs @ model.T).tocsr()
+    model.K = ((K + K.T) * 0.5).tocsr()
+    model.M = ((M + M.T) * 0.5).tocsr()
+    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
     log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(elements), len(names))
     return model
+
+
+def _frame_interface(scene: Scene, body) -> str | None:
+    """Interface of the frame body at which ``body`` rides (its bearing's frame_interface)."""
+    for br in scene.bearings:
+        if br.body == body.name and (br.frame is None or br.frame == body.frame) and br.frame_interface:
+            return br.frame_interface
+    return None

@@ -19,6 +19,7 @@ import numpy as np
 
 from .errors import SceneError
 from .geometry import axis_frame
+from .flexible import FlexOptions
 from .scene import Bearing, Body, Fidelity, Fixed, GearMesh, Vec3, angle
 
 Support = Literal["bearing", "fixed", "floating"]
@@ -38,15 +39,21 @@ class BearingSpec:
 class Member:
     """Sun, ring or carrier. ``support``: 'bearing' (to the housing, stiffness ``bearing``;
     a ring on a torsional spring is a bearing with k_torsion), 'fixed' (all six DOFs held)
-    or 'floating' (no bearing at all). ``base_radius`` (m, positive) for sun and ring."""
+    or 'floating' (no bearing at all). ``base_radius`` (m, positive) for sun and ring.
+    The carrier may instead be a ``component`` (fe_components carrier without
+    ``planet_angles``/``pin_pitch_radius``: the stage places the pins at its planets) with
+    ``flex`` options; its bearing then acts at the component's ``bearing_interface``."""
 
-    mass: float
-    polar_inertia: float
+    mass: Optional[float] = None
+    polar_inertia: Optional[float] = None
     transverse_inertia: Optional[float] = None
     base_radius: Optional[float] = None
     support: Support = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Fidelity = "rigid"
+    component: Optional[dict] = None
+    flex: Optional[FlexOptions] = None
+    bearing_interface: str = "bearing_b"
 
 
 @dataclass(frozen=True)
@@ -110,10 +117,23 @@ def check_stage(st: PlanetaryStage, path: str) -> None:
     for role in ("sun", "ring", "carrier"):
         m: Member = getattr(st, role)
         p = f"{path}.{role}"
-        if not m.mass > 0:
-            raise SceneError(f"{p}.mass", m.mass, "must be > 0 kg")
-        if not m.polar_inertia > 0:
-            raise SceneError(f"{p}.polar_inertia", m.polar_inertia, "must be > 0 kg m^2")
+        if m.component is not None:
+            if role != "carrier":
+                raise SceneError(f"{p}.component", m.component.get("kind"),
+                                 "only the carrier of a planetary stage can be a component so far")
+            for f in ("planet_angles", "pin_pitch_radius", "n_planets"):
+                if f in m.component or f + "_deg" in m.component:
+                    raise SceneError(f"{p}.component.{f}", m.component.get(f, m.component.get(f + "_deg")),
+                                     "set by the stage from its planets; remove it")
+            if m.mass is not None or m.polar_inertia is not None:
+                raise SceneError(f"{p}.mass", m.mass, "a component carrier takes mass and inertia from its mesh")
+        else:
+            if m.fidelity == "flexible":
+                raise SceneError(f"{p}.fidelity", m.fidelity, "a flexible member needs a component table")
+            if m.mass is None or not m.mass > 0:
+                raise SceneError(f"{p}.mass", m.mass, "must be > 0 kg")
+            if m.polar_inertia is None or not m.polar_inertia > 0:
+                raise SceneError(f"{p}.polar_inertia", m.polar_inertia, "must be > 0 kg m^2")
         if m.support == "bearing" and m.bearing is None:
             raise SceneError(f"{p}.bearing", None, "support = 'bearing' needs a bearing table")
         if m.support != "bearing" and m.bearing is not None:
@@ -175,13 +195,18 @@ def expand_stage(st: PlanetaryStage, path: str) -> _Parts:
 
     def central(role: str, m: Member):
         bname = f"{n}.{role}"
+        comp = None
+        if m.component is not None:
+            comp = {**m.component, "planet_angles": list(st.planet_angles()), "pin_pitch_radius": Rc}
         bodies.append(Body(name=bname, mass=m.mass, polar_inertia=m.polar_inertia,
                            transverse_inertia=m.transverse_inertia, position=tuple(c),
-                           axis=tuple(E[:, 2]), fidelity=m.fidelity, stage=n, role=role))
+                           axis=tuple(E[:, 2]), fidelity=m.fidelity, stage=n, role=role,
+                           component=comp, flex=m.flex))
         if m.support == "bearing":
             b = m.bearing
             bearings.append(Bearing(body=bname, k_radial=b.k_radial, k_axial=b.k_axial,
-                                    k_tilt=b.k_tilt, k_torsion=b.k_torsion, name=f"{bname}.bearing"))
+                                    k_tilt=b.k_tilt, k_torsion=b.k_torsion, name=f"{bname}.bearing",
+                                    interface=m.bearing_interface if comp is not None else None))
         elif m.support == "fixed":
             fixed.append(Fixed(body=bname))
         return bname
@@ -199,7 +224,8 @@ def expand_stage(st: PlanetaryStage, path: str) -> _Parts:
                            stage=n, role="planet"))
         b = pl.bearing
         bearings.append(Bearing(body=pname, k_radial=b.k_radial, k_axial=b.k_axial, k_tilt=b.k_tilt,
-                                k_torsion=b.k_torsion, name=f"{pname}.bearing"))
+                                k_torsion=b.k_torsion, name=f"{pname}.bearing",
+                                frame_interface=f"pin_{i}" if st.carrier.component is not None else None))
         # Sun closes its mesh turning in +drive_sign; the planet it pushes turns the other
         # way and so closes the ring mesh turning in -drive_sign.
         meshes.append(GearMesh(gear1=sun, gear2=pname, stiffness=st.k_mesh_sun,

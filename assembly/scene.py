@@ -19,6 +19,7 @@ from typing import Literal, Optional
 import numpy as np
 
 from .errors import SceneError
+from .flexible import FlexOptions
 
 HOUSING = "housing"
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -50,15 +51,19 @@ def _vector(path, value):
 
 @dataclass(frozen=True)
 class Body:
-    """A rigid (or, later, flexible) body. Inertia about its centre of mass, local axes.
+    """A body. Inertia about its centre of mass, local axes.
 
-    Give either ``polar_inertia`` (about the rotation axis, kg m^2) with optional
-    ``transverse_inertia`` (default polar/2, a thin disc), or a full 3x3 ``inertia_tensor``
-    in the body's local axes (x, y, axis).
+    Give ``mass`` and either ``polar_inertia`` (about the rotation axis, kg m^2) with
+    optional ``transverse_inertia`` (default polar/2, a thin disc), or a full 3x3
+    ``inertia_tensor`` in the body's local axes (x, y, axis) -- or instead a ``component``
+    table (fe_components: pinion, wheel, carrier, cylinder), whose mesh then gives mass and
+    inertia at every fidelity; ``position`` is then where the component's local origin sits
+    (its local z along ``axis``). ``fidelity = "flexible"`` needs a component; ``flex``
+    says how it is meshed and reduced.
     """
 
     name: str
-    mass: float
+    mass: Optional[float] = None
     polar_inertia: Optional[float] = None
     transverse_inertia: Optional[float] = None
     inertia_tensor: Optional[tuple[Vec3, Vec3, Vec3]] = None
@@ -68,6 +73,8 @@ class Body:
     fidelity: Fidelity = "rigid"
     stage: Optional[str] = None
     role: Optional[str] = None
+    component: Optional[dict] = None
+    flex: Optional[FlexOptions] = None
 
     def inertia_local(self) -> np.ndarray:
         """3x3 inertia tensor about the centre of mass in local axes (kg m^2)."""
@@ -79,6 +86,22 @@ class Body:
     def check(self, path: str) -> None:
         if not self.name or self.name == HOUSING or "/" in self.name:
             raise SceneError(f"{path}.name", self.name, "must be a non-empty name other than 'housing'")
+        if self.component is not None:
+            for f in ("mass", "polar_inertia", "transverse_inertia", "inertia_tensor"):
+                if getattr(self, f) is not None:
+                    raise SceneError(f"{path}.{f}", getattr(self, f),
+                                     "a body with a component takes mass and inertia from its mesh")
+            if self.flex is not None:
+                self.flex.check(f"{path}.flex")
+            _vector(f"{path}.position", self.position)
+            return
+        if self.fidelity == "flexible":
+            raise SceneError(f"{path}.fidelity", self.fidelity,
+                             "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder)")
+        if self.flex is not None:
+            raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
+        if self.mass is None:
+            raise SceneError(f"{path}.mass", None, "missing required field (kg)")
         _positive(f"{path}.mass", self.mass, "must be > 0 kg")
         if (self.inertia_tensor is None) == (self.polar_inertia is None):
             raise SceneError(f"{path}.polar_inertia", self.polar_inertia,
@@ -96,9 +119,6 @@ class Body:
         a = _vector(f"{path}.axis", self.axis)
         if np.linalg.norm(a) == 0:
             raise SceneError(f"{path}.axis", list(self.axis), "must be a non-zero vector")
-        if self.fidelity == "flexible":
-            raise SceneError(f"{path}.fidelity", self.fidelity,
-                             "flexible bodies need a 'component' (not available in this version)")
 
 
 @dataclass(frozen=True)
@@ -106,7 +126,8 @@ class Bearing:
     """Diagonal 6x6 spring diag(k_radial, k_radial, k_axial, k_tilt, k_tilt, k_torsion).
 
     Acts on the motion of ``body`` relative to ``frame`` (default: the body's own reference
-    frame) at ``position`` (default: the body's position), in the body's axes.
+    frame) at ``position`` (default: the body's position, or the master node of
+    ``interface`` for a body with a component), in the body's axes.
     Translational stiffness N/m, rotational N m/rad; ``inf`` constrains that direction.
     """
 
@@ -118,6 +139,8 @@ class Bearing:
     frame: Optional[str] = None
     position: Optional[Vec3] = None
     name: Optional[str] = None
+    interface: Optional[str] = None
+    frame_interface: Optional[str] = None
 
     def diagonal(self) -> np.ndarray:
         return np.array([self.k_radial, self.k_radial, self.k_axial,
@@ -157,6 +180,8 @@ class GearMesh:
     center1: Optional[Vec3] = None
     center2: Optional[Vec3] = None
     contact_point: Literal["pitch", "tangent"] = "pitch"
+    interface1: Optional[str] = None
+    interface2: Optional[str] = None
 
     def check(self, path: str) -> None:
         if self.gear1 == self.gear2:
@@ -195,6 +220,8 @@ class Shaft:
     k_shear: float = 0.0
     position: Optional[Vec3] = None
     name: Optional[str] = None
+    interface1: Optional[str] = None
+    interface2: Optional[str] = None
 
     def diagonal(self) -> np.ndarray:
         return np.array([self.k_shear, self.k_shear, self.k_axial,

@@ -81,6 +81,10 @@ def convert(tp, value: Any, path: str):
         return tuple(convert(a, v, f"{path}[{i}]") for i, (a, v) in enumerate(zip(args, value)))
     if dataclasses.is_dataclass(tp):
         return from_dict(tp, value, path)
+    if tp is dict:
+        if not isinstance(value, dict):
+            raise SceneError(path, value, "must be a table")
+        return value
     if tp is typing.Any:
         return value
     raise TypeError(f"schema: unsupported annotation {tp!r} at {path}")

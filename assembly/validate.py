@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 
+from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .errors import SceneError
 from .geometry import unit
 
@@ -86,6 +87,20 @@ def validate_scene(scene) -> None:
     for i, f in enumerate(scene.fixed):
         ref(f"fixed[{i}].body", f.body)
 
+    masters = component_masters(sc, origin)
+    for b in sc.bodies:
+        if b.fidelity == "flexible" and b.frame != HOUSING:
+            raise SceneError(f"{origin[b.name]}.frame", b.frame, "a flexible body must live in the housing frame")
+    for i, br in enumerate(sc.bearings):
+        p = f"bearings[{i}]" if i < len(scene.bearings) else origin[br.body] + " bearing"
+        bearing_point(br, names[br.body], masters, p)
+    for i, s in enumerate(sc.shafts):
+        shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
+    for f in sc.fixed:
+        if names[f.body].fidelity == "flexible":
+            raise SceneError(f"{origin[f.body]}.fidelity", "flexible",
+                             "fixed DOFs act on rigid bodies; hold a flexible body by a rigid bearing")
+
     # Infinite bearing stiffness is modelled as a constraint: only for a bearing acting at
     # the body's own position relative to its own frame.
     all_bearings = list(enumerate(scene.bearings)) + [(None, b) for b in sc.bearings[len(scene.bearings):]]
@@ -93,6 +108,9 @@ def validate_scene(scene) -> None:
         body = names[br.body]
         p = f"bearings[{i}]" if i is not None else origin[br.body] + " bearing"
         if np.any(np.isinf(br.diagonal())):
+            if body.fidelity == "flexible" or body.component is not None:
+                raise SceneError(f"{p}.k_radial", br.k_radial, "infinite stiffness is only supported for "
+                                 "plain rigid bodies; give a component body a finite bearing")
             own_frame = br.frame is None or br.frame == body.frame
             at_body = br.position is None or np.allclose(br.position, body.position, rtol=0, atol=1e-12)
             if not (own_frame and at_body):
@@ -106,8 +124,7 @@ def validate_scene(scene) -> None:
         a1, a2 = unit(b1.axis), unit(b2.axis)
         if abs(abs(a1 @ a2) - 1) > 1e-9:
             raise SceneError(f"{p}.gear2", m.gear2, "gear axes are not parallel (only parallel-axis meshes)")
-        c1 = np.asarray(m.center1 if m.center1 is not None else b1.position, float)
-        c2 = np.asarray(m.center2 if m.center2 is not None else b2.position, float)
+        c1, c2, _, _ = mesh_centers(m, b1, b2, masters, p)
         d = c2 - c1
         C = np.linalg.norm(d - (d @ a1) * a1)
         C_want = abs(m.base_radius1 + m.base_radius2) / math.cos(m.pressure_angle)

@@ -1,0 +1,101 @@
+"""Torsional, rigid and flexible variants of one scene, solved and paired by MAC.
+
+Variants (each contains the next, so the k-th frequency satisfies
+flexible <= rigid <= torsional by Rayleigh-Ritz): the flexible model is the scene as
+given; the rigid variant makes each flexible body rigid (mass and inertia from its mesh,
+springs at the same attachment points); the torsional variant is the rigid one with five
+DOFs per body constrained.
+"""
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .classify import classify_modes, pair_modes
+from .modal import solve_modes
+from .model import assemble
+from .scene import with_fidelity
+
+log = logging.getLogger(__name__)
+FIDELITIES = ("torsional", "rigid", "flexible")
+
+
+def variants(scene) -> dict:
+    sc = scene.expanded()
+    flex = [b.name for b in sc.bodies if b.fidelity == "flexible"]
+    out = {"torsional": with_fidelity(sc, "torsional"), "rigid": with_fidelity(sc, "rigid", bodies=flex)}
+    if flex:
+        out["flexible"] = sc
+    return out
+
+
+@dataclass
+class Comparison:
+    results: dict
+    rows: list
+    timings: dict = field(default_factory=dict)
+
+    def frequencies(self) -> dict:
+        return {k: [float(f) for f in np.sort(r.frequencies_hz)] for k, r in self.results.items()}
+
+
+def compare(scene, n_rows: int | None = None) -> Comparison:
+    res, times = {}, {}
+    for name, sc in variants(scene).items():
+        t0 = time.perf_counter()
+        m = assemble(sc)
+        res[name] = solve_modes(m)
+        times[name] = {"total_s": time.perf_counter() - t0, **m.timings, "solve_s": res[name].solve_time_s,
+                       "n_dofs": int(m.K.shape[0])}
+    top = "flexible" if "flexible" in res else "rigid"
+    infos = classify_modes(res[top])
+    pairs = {}
+    chain = [k for k in ("flexible", "rigid", "torsional") if k in res]
+    for hi, lo in zip(chain, chain[1:]):
+        pairs[(hi, lo)] = {i: (j, mac) for i, j, mac in pair_modes(res[hi], res[lo])}
+    rows = []
+    n = len(res[top].frequencies_hz) if n_rows is None else min(n_rows, len(res[top].frequencies_hz))
+    for i in range(n):
+        row = {"mode": i + 1, "class": infos[i].mode_class,
+               "dominant_body": infos[i].dominant_bodies[0][0] if infos[i].dominant_bodies else None,
+               top: float(res[top].frequencies_hz[i])}
+        idx = i
+        for hi, lo in zip(chain, chain[1:]):
+            if idx is None or idx not in pairs[(hi, lo)]:
+                idx = None
+                row[lo] = row[f"mac_{lo}"] = None
+                continue
+            j, mac = pairs[(hi, lo)][idx]
+            row[lo] = float(res[lo].frequencies_hz[j])
+            row[f"mac_{lo}"] = mac
+            idx = j
+        rows.append(row)
+    return Comparison(res, rows, times)
+
+
+def comparison_table(c: Comparison) -> str:
+    cols = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
+    top = cols[-1]
+    head = f"{'mode':>4}  " + "  ".join(f"{k + ' [Hz]':>15}" for k in cols)
+    head += "  " + "  ".join(f"{'shift ' + k[:4] + ' %':>13}" for k in cols[:-1]) + f"  {'MAC':>5}  {'class':<13} dominant"
+    lines = [head]
+    for r in c.rows:
+        cells = []
+        for k in cols:
+            v = r.get(k)
+            cells.append(f"{v:>15.2f}" if v is not None else f"{'-':>15}")
+        shifts = []
+        for k in cols[:-1]:
+            v = r.get(k)
+            ok = v is not None and r["class"] != "rigid-body" and v > 0
+            shifts.append(f"{100 * (r[top] / v - 1):>13.2f}" if ok else f"{'-':>13}")
+        mac = r.get(f"mac_{cols[-2]}") if len(cols) > 1 else None
+        mac_s = "-" if mac is None else f"{mac:.2f}"
+        lines.append(f"{r['mode']:>4}  " + "  ".join(cells) + "  " + "  ".join(shifts)
+                     + f"  {mac_s:>5}  {r['class']:<13} {r['dominant_body']}")
+    t = ", ".join(f"{k}: {v['n_dofs']} DOFs {v['total_s']:.2f} s" for k, v in c.timings.items())
+    lines.append(f"shift = {top} / other - 1; MAC of the {top} mode with its partner one fidelity down. {t}")
+    return "\n".join(lines)
