@@ -1,0 +1,68 @@
+"""`flexgear sweep`: helix angle and bearing stiffness factor sweeps into CSV + PNG."""
+import argparse
+import csv
+import math
+
+import numpy as np
+import pytest
+
+from assembly import assemble, load_scene, scale_bearings, solve_modes
+from assembly.sweep import add_sweep_parser, parse_values, run_sweep, with_helix_angle
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="flexgear")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    add_sweep_parser(sub)
+    return p
+
+
+def test_helix_sweep_cli(tmp_path):
+    out = tmp_path / "helix"
+    args = _parser().parse_args(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "0:20:3",
+                                 "--out", str(out), "-q"])
+    assert args.func(args) == 0
+    rows = list(csv.DictReader(open(out / "sweep.csv")))
+    assert [float(r["helix_angle_deg"]) for r in rows] == [0.0, 10.0, 20.0]
+    assert float(rows[2]["helix_angle_rad"]) == pytest.approx(math.radians(20))
+    # At 20 deg the sweep reproduces the shipped 20-deg scene (same pair, same convention).
+    ref = solve_modes(assemble(load_scene("kahraman_beta20.toml"))).frequencies_hz
+    got = [float(rows[2][f"f{j + 1}_hz"]) for j in range(len(ref))]
+    assert got == pytest.approx(np.sort(ref), rel=1e-7, abs=1e-6)
+    assert (out / "sweep.png").stat().st_size > 10_000
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["helix"]
+
+
+def test_bearing_factor_sweep(tmp_path):
+    out = tmp_path / "bf"
+    args = _parser().parse_args(["sweep", "lin_parker_n4.toml", "--param", "bearing-factor",
+                                 "--values", "1", "100", "1e4", "--out", str(out), "-q"])
+    assert args.func(args) == 0
+    rows = list(csv.DictReader(open(out / "sweep.csv")))
+    assert [float(r["bearing_factor"]) for r in rows] == [1.0, 100.0, 1e4]
+    base = np.sort(solve_modes(assemble(load_scene("lin_parker_n4.toml"))).frequencies_hz)
+    assert [float(rows[0][f"f{j + 1}_hz"]) for j in range(len(base))] == pytest.approx(base, rel=1e-7, abs=1e-6)
+    stiff = np.sort(solve_modes(assemble(scale_bearings(load_scene("lin_parker_n4.toml"), 1e4))).frequencies_hz)
+    assert [float(rows[2][f"f{j + 1}_hz"]) for j in range(len(base))] == pytest.approx(stiff, rel=1e-7, abs=1e-6)
+
+
+def test_stage_helix_replaced():
+    sc = load_scene("lin_parker_n4.toml")
+    beta = math.radians(15)
+    ex = with_helix_angle(sc, beta).expanded()
+    assert {round(m.helix_angle, 12) for m in ex.meshes} == {round(beta, 12), round(-beta, 12)}
+    r = run_sweep(sc, "helix", [0.0, 15.0])
+    assert r.frequencies_hz.shape == (2, 21)
+    assert not np.allclose(r.frequencies_hz[0], r.frequencies_hz[1])
+
+
+def test_parse_values():
+    assert list(parse_values(["0,5", "10"], "helix")) == [0, 5, 10]
+    assert parse_values([], "helix")[[0, -1]].tolist() == [0.0, 30.0]
+    assert parse_values(["1:1e6:7"], "bearing-factor").tolist() == pytest.approx([1, 10, 100, 1e3, 1e4, 1e5, 1e6])
+    for bad, param in ((["x"], "helix"), (["95"], "helix"), (["0"], "bearing-factor"), (["1:2"], "helix")):
+        with pytest.raises(ValueError):
+            parse_values(bad, param)
+    args = _parser().parse_args(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "abc",
+                                 "--out", "/nonexistent/x"])
+    assert args.func(args) == 2
