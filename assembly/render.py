@@ -368,6 +368,18 @@ def spring_glyphs(model, shapes: dict) -> list:
     return out
 
 
+def index_mark(shape: BodyShape) -> np.ndarray:
+    """Two points of a radial index line on the body's free face (along local x), so that
+    a rotation about the axis shows against the ghost."""
+    face = shape.face_center_back if shape.kind == "plate" else shape.face_center_front
+    ax = shape.axes[:, 2] * (-1 if shape.kind == "plate" else 1)
+    lift = ax * 0.01 * shape.width
+    r0 = shape.r_inner if shape.r_inner > 0 else 0.0
+    r1 = shape.r_outer - (0.5 * shape.tooth_height if shape.kind == "gear" else 0.0)
+    e1 = shape.axes[:, 0]
+    return np.array([face + lift + r0 * e1, face + lift + r1 * e1])
+
+
 def assembly_bounds(shapes: dict) -> tuple[np.ndarray, np.ndarray]:
     """Axis-aligned bounding box (m) of the undeformed bodies."""
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
@@ -559,6 +571,23 @@ class AssemblyRenderer:
                 self._cache[key] = ref.extract_feature_edges(feature_angle=40, boundary_edges=True,
                                                              non_manifold_edges=False, manifold_edges=False)
             pl.add_mesh(self._cache[key], color=GHOST_COLOR, line_width=1, lighting=False)
+        pv = _pyvista()
+        for name, sh in self.shapes.items():
+            if not hasattr(self.model.bodies[name], "render_mesh"):
+                pl.add_mesh(pv.Line(*index_mark(sh)), color=GHOST_COLOR, line_width=3)
+
+    def _marks(self, pl, shape_of, scale):
+        """Index lines moved with their bodies (black)."""
+        pv = _pyvista()
+        for name, sh in self.shapes.items():
+            bm = self.model.bodies[name]
+            if hasattr(bm, "render_mesh"):
+                continue
+            P = index_mark(sh)
+            z = shape_of(name)
+            if z is not None:
+                P = P + scale * rigid_displacement(rigid_part(bm, z), bm.position, P)
+            pl.add_mesh(pv.Line(*P), color="black", line_width=4, render_lines_as_tubes=True)
 
     def _scale_bar(self, pl):
         pv = _pyvista()
@@ -670,6 +699,7 @@ class AssemblyRenderer:
                         position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
                         font_size=11, color="black")
             self._springs(pl, shape_of, scale)
+            self._marks(pl, shape_of, scale)
             pl.add_text(title, position="upper_left", font_size=15, color="black")
             text = (f"deformation drawn x {scale:.3g} (largest displacement = "
                     f"{100 * DEFORMATION_FRACTION:.0f} % of assembly size {self.view.size:.3g} m)")
