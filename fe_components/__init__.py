@@ -1,1 +1,20 @@
-"""fe_components package."""
+"""Flexible gearbox components: gmsh geometry, scikit-fem K/M, interface master nodes.
+
+SI units throughout (m, kg, N, s, rad, Pa; frequencies in Hz).  Importing this
+package does not import gmsh (only meshing a new geometry does).
+"""
+from .coupling import CoupledModel, couple
+from .errors import CouplingError, GeometryError, MaterialError, MeshingError
+from .export import write_vtu
+from .fe_model import FEModel, Interface, build_component, default_mesh_size
+from .material import STEEL, Material
+from .meshing import MeshOptions
+from .params import (CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment, WheelParams,
+                     component_from_dict)
+
+__all__ = [
+    "CarrierParams", "CoupledModel", "CouplingError", "CylinderParams", "FEModel", "GearTeeth",
+    "GeometryError", "Interface", "Material", "MaterialError", "MeshOptions", "MeshingError",
+    "PinionParams", "STEEL", "ShaftSegment", "WheelParams", "build_component", "component_from_dict",
+    "couple", "default_mesh_size", "write_vtu",
+]

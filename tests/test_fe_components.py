@@ -120,3 +120,28 @@ def test_dof_order_matches_skfem_vector_basis(models):
     np.testing.assert_array_equal(d[:, 0::3], d[:, 1::3])
     np.testing.assert_array_equal(d[:, 0::3], d[:, 2::3])
     assert m.K.shape == (m.n_dofs, m.n_dofs) and m.M.shape == m.K.shape
+
+
+def test_involute_flank_nodes_lie_on_the_involute(models):
+    # flank points at radius r sit at polar angle +-theta(r) from the tooth centre,
+    # theta(r) = s_t / (2 r_p) + inv(alpha_t) - inv(alpha_r), cos(alpha_r) = r_b / r (ISO 21771)
+    from fe_components.involute import flank_half_angle
+
+    t = CASES["pinion_involute"][0].teeth
+    x = models["pinion_involute"].nodes[models["pinion_involute"].interfaces["gear_mesh"].nodes]
+    r = np.hypot(x[:, 0], x[:, 1])
+    flank = (r > t.base_radius + 0.05 * t.normal_module) & (r < t.tip_radius - 0.05 * t.normal_module)
+    pitch = 2 * np.pi / t.n_teeth
+    phi = np.arctan2(x[flank, 1], x[flank, 0])
+    rel = (phi + pitch / 2) % pitch - pitch / 2  # angle from the nearest tooth centre (tooth 0 at angle 0)
+    err = np.abs(np.abs(rel) - flank_half_angle(t, r[flank])) * r[flank]  # arc length [m]
+    assert flank.sum() > 100
+    assert err.max() < 0.01 * t.normal_module  # spline through 7 exact points per flank
+
+
+def test_package_import_does_not_load_gmsh_or_pyvista():
+    import subprocess
+
+    code = "import sys, fe_components; print('gmsh' in sys.modules or 'pyvista' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
