@@ -120,6 +120,24 @@ def pitch_radii(scene) -> dict:
     return out
 
 
+def _local_inertia(bm) -> np.ndarray:
+    """Inertia (kg m^2) about the centre of mass in the body's local axes (x, y, axis),
+    from the assembled body model (rigid or flexible: both carry mass, inertia, axes)."""
+    R = np.asarray(bm.axes, float)
+    return R.T @ np.asarray(bm.inertia, float) @ R
+
+
+class _MassProps:
+    """Mass properties of an assembled body model, shaped like a scene Body for sizing."""
+
+    def __init__(self, bm):
+        self.mass = float(bm.mass)
+        self._J = _local_inertia(bm)
+
+    def inertia_local(self):
+        return self._J
+
+
 def _width_from_inertia(body, radius: float, fraction: float) -> float:
     """Face width L from the body's inertia, ``fraction * radius`` when that gives no real
     length. Any axisymmetric body whose mass is spread evenly along its axis has
@@ -148,6 +166,7 @@ def body_shapes(model) -> dict:
     # Gears and plain bodies first; plates (bodies carrying others) need their children.
     for b in sc.bodies:
         bm = model.bodies[b.name]
+        mp = _MassProps(bm)
         if b.name in children and b.name not in rp:
             continue
         if b.name in rp:
@@ -156,24 +175,24 @@ def body_shapes(model) -> dict:
             h = 1.1 * module
             if r < 0 or b.role == "ring":
                 r = abs(r)
-                width = _width_from_inertia(b, r, WIDTH_FRACTION * 0.6)
+                width = _width_from_inertia(mp, r, WIDTH_FRACTION * 0.6)
                 shapes[b.name] = BodyShape(b.name, "ring", bm.position, bm.axes, r, r * 1.18 + h,
                                            width, 0.0, n_teeth, h)
             else:
-                width = _width_from_inertia(b, r, WIDTH_FRACTION)
+                width = _width_from_inertia(mp, r, WIDTH_FRACTION)
                 shapes[b.name] = BodyShape(b.name, "gear", bm.position, bm.axes, 0.22 * r, r,
                                            width, 0.0, n_teeth, h)
         else:
-            r = math.sqrt(2.0 * b.inertia_local()[2, 2] / b.mass)
-            width = _width_from_inertia(b, r, WIDTH_FRACTION)
+            r = math.sqrt(2.0 * mp.inertia_local()[2, 2] / mp.mass)
+            width = _width_from_inertia(mp, r, WIDTH_FRACTION)
             shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, r, width)
     for name, kids in children.items():
         if name in shapes:
             continue
-        b = by_name[name]
         bm = model.bodies[name]
-        r = math.sqrt(2.0 * b.inertia_local()[2, 2] / b.mass)
-        width = _width_from_inertia(b, r, PLATE_WIDTH_FRACTION)
+        mp = _MassProps(bm)
+        r = math.sqrt(2.0 * mp.inertia_local()[2, 2] / mp.mass)
+        width = _width_from_inertia(mp, r, PLATE_WIDTH_FRACTION)
         width = min(width, PLATE_WIDTH_FRACTION * r * 2)
         # Behind the carried bodies: their rearmost face, a small gap, then the plate.
         ax = bm.axes[:, 2]
@@ -292,10 +311,6 @@ class SpringGlyph:
 
 def spring_glyphs(model, shapes: dict) -> list:
     """Where to draw each bearing, shaft and mesh of ``model``."""
-    from .elements import line_of_action
-
-    sc = model.scene
-    meshes = {m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}": m for i, m in enumerate(sc.meshes)}
     size = assembly_size(shapes)
     out = []
     used_starts: list = []
@@ -313,17 +328,10 @@ def spring_glyphs(model, shapes: dict) -> list:
 
     for el in model.elements:
         if el.kind == "mesh":
-            m = meshes.get(el.name)
             s1, s2 = shapes[el.bodies[0]], shapes[el.bodies[1]]
             ax = s1.axes[:, 2]
-            if m is not None:
-                b1, b2 = sc.body(m.gear1), sc.body(m.gear2)
-                c1 = np.asarray(m.center1 if m.center1 is not None else b1.position, float)
-                c2 = np.asarray(m.center2 if m.center2 is not None else b2.position, float)
-                n, p = line_of_action(b1.axis, c1, c2, m.base_radius1, m.base_radius2,
-                                      m.pressure_angle, m.helix_angle, m.drive_sign)
-            else:  # pragma: no cover - every mesh element comes from a scene mesh
-                p, n = el.point, el.B[0, :3]
+            # The element's own contact point and line of action (B = [n, 0, -n ...]).
+            p, n = np.asarray(el.point, float), np.asarray(el.B[0, :3], float)
             half = 0.5 * min(abs(s1.r_outer) if s1.kind != "ring" else s1.r_inner,
                               abs(s2.r_outer) if s2.kind != "ring" else s2.r_inner)
             front = max(s1.axial_offset + s1.width / 2, s2.axial_offset + s2.width / 2)
@@ -339,7 +347,13 @@ def spring_glyphs(model, shapes: dict) -> list:
             sa = shapes[ba]
             ax = sa.axes[:, 2]
             L = 0.12 * size
-            if bb is None:
+            off_body = np.linalg.norm(np.asarray(el.point, float) - sa.position) > 1e-3 * size
+            if bb is None and off_body:
+                # Bearing seat away from the body's centre (e.g. on a shaft): radial spring
+                # from the seat to the housing.
+                start = np.asarray(el.point, float)
+                out.append(SpringGlyph(el.name, el.kind, start, start - L * sa.axes[:, 1], ba, None, True))
+            elif bb is None:
                 # Bearing to the housing: axial spring out of the free face to a ground point.
                 if sa.kind == "plate":
                     start = sa.face_center_back
@@ -703,6 +717,11 @@ class AssemblyRenderer:
             pl.add_text(title, position="upper_left", font_size=15, color="black")
             text = (f"deformation drawn x {scale:.3g} (largest displacement = "
                     f"{100 * DEFORMATION_FRACTION:.0f} % of assembly size {self.view.size:.3g} m)")
+            approx = [n for n, bm in self.model.bodies.items()
+                      if getattr(bm, "ndof", 6) != 6 and not hasattr(bm, "render_mesh")]
+            if approx:
+                text += ("\nflexible bodies drawn with their rigid-equivalent motion (FE deformation not shown): "
+                         + ", ".join(approx))
             if subtitle:
                 text = subtitle + "\n" + text
             pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
