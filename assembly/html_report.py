@@ -31,19 +31,27 @@ def _e(x) -> str:
     return html.escape(str(x), quote=True)
 
 
+def _cell(v) -> str:
+    """Escaped cell text; ``("link", href, text)`` becomes a link."""
+    if isinstance(v, tuple) and len(v) == 3 and v[0] == "link":
+        return f'<a href="{_e(v[1])}">{_e(v[2])}</a>'
+    return _e(v)
+
+
 def _table(header, rows, left=(), row_classes=None) -> str:
     out = ["<table>", "<tr>" + "".join(
         f'<th class="l">{_e(h)}</th>' if i in left else f"<th>{_e(h)}</th>" for i, h in enumerate(header)) + "</tr>"]
     for r, row in enumerate(rows):
         cls = f' class="{row_classes[r]}"' if row_classes and row_classes[r] else ""
         out.append(f"<tr{cls}>" + "".join(
-            f'<td class="l">{_e(v)}</td>' if i in left else f"<td>{_e(v)}</td>" for i, v in enumerate(row)) + "</tr>")
+            f'<td class="l">{_cell(v)}</td>' if i in left else f"<td>{_cell(v)}</td>" for i, v in enumerate(row)) + "</tr>")
     out.append("</table>")
     return "\n".join(out)
 
 
 def _img(src: str, caption: str, alt: str = "") -> str:
-    return (f'<figure><a href="{_e(src)}"><img src="{_e(src)}" alt="{_e(alt or caption)}" loading="eager"></a>'
+    fid = "fig-" + re.sub(r"[^A-Za-z0-9]+", "-", Path(src).stem)
+    return (f'<figure id="{fid}"><a href="{_e(src)}"><img src="{_e(src)}" alt="{_e(alt or caption)}" loading="eager"></a>'
             f"<figcaption>{_e(caption)}</figcaption></figure>")
 
 

@@ -277,7 +277,8 @@ def build_report(ctx: RunContext) -> dict:
     modes_rows = []
     for mi in ctx.infos:
         modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}", mi.multiplicity, mi.mode_class,
-                           mi.stage or "", _dominant_text(mi), "image" if mi.index in img_of else ""])
+                           mi.stage or "", _dominant_text(mi),
+                           ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
         rows, classes = [], []

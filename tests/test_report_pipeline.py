@@ -79,6 +79,10 @@ def test_index_references_exist(run_dir):
     assert all(not os.path.isabs(r) and ".." not in r for r in refs)
     assert len(re.findall(r"<img ", text)) == N_IMAGES + 2  # modes, overview, fidelity plot
     assert "Fidelity comparison" in text and "Hz" in text
+    # In-page links from the mode table land on figures that exist.
+    anchors = re.findall(r'href="#([^"]+)"', text)
+    assert len(anchors) == N_IMAGES
+    assert all(f'id="{a}"' in text for a in anchors)
 
 
 def _chromium():
