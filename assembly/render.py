@@ -573,7 +573,7 @@ class AssemblyRenderer:
         pv = _pyvista()
         pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
         pl.set_background("white")
-        pl.enable_anti_aliasing("ssaa") if hasattr(pl, "enable_anti_aliasing") else None
+        pl.enable_anti_aliasing("ssaa")  # FXAA is not supported with EGL; VTK falls back to SSAA
         return pl
 
     def _ghost(self, pl):
