@@ -24,8 +24,13 @@ class RigidBodyModel:
     axes: np.ndarray
     mass: float
     inertia: np.ndarray
+    axis_point: np.ndarray = None  # a point of the rotation axis (default: the COM)
 
     ndof = 6
+
+    def __post_init__(self):
+        if self.axis_point is None:
+            object.__setattr__(self, "axis_point", np.asarray(self.position, float))
 
     @classmethod
     def from_body(cls, body) -> "RigidBodyModel":
@@ -43,8 +48,12 @@ class RigidBodyModel:
         return np.zeros((6, 6))
 
     @classmethod
-    def from_mass_properties(cls, name, position, axes, mass, inertia) -> "RigidBodyModel":
-        return cls(name, np.asarray(position, float), axes, float(mass), np.asarray(inertia, float))
+    def from_mass_properties(cls, name, position, axes, mass, inertia, axis_point=None) -> "RigidBodyModel":
+        """A rigid body of given mass properties whose rotation axis passes through
+        ``axis_point`` (e.g. a component's geometric axis; its mesh COM may sit a few
+        micrometres off that axis)."""
+        return cls(name, np.asarray(position, float), axes, float(mass), np.asarray(inertia, float),
+                   None if axis_point is None else np.asarray(axis_point, float))
 
     def motion_at(self, point, interface=None) -> np.ndarray:
         """6 x 6 map from the body's DOFs to the motion [u, theta] at ``point``."""

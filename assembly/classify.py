@@ -21,8 +21,9 @@ from scipy.optimize import linear_sum_assignment
 
 from .energy import kinetic_by_body, kinetic_by_category
 
-#: Relative energy below which a class condition counts as exactly zero.
-CLASS_TOL = 1e-6
+#: Relative energy below which a class condition counts as zero. Exact models give
+#: zeros to round-off; FE-based bodies are symmetric only to mesh accuracy (~1e-4).
+CLASS_TOL = 1e-3
 CENTRAL = ("sun", "ring", "carrier")
 
 
@@ -97,11 +98,13 @@ def _planetary_class(Eg, names, sc_bodies, stage, st) -> str:
     Ec = Eg[central].sum(axis=0)  # inplane, axial, tilt, spin, elastic
     tol = CLASS_TOL * Es
     oop = Eg[idx][:, 1:3].sum() / Es
-    if Ec.sum() < tol:
+    if Ec[:4].sum() < tol:
         return "planet"
-    if Ec[0] + Ec[2] + Ec[4] < tol:
+    # Tests use the central members' rigid-equivalent motion; a flexible carrier's own
+    # deformation (Ec[4]) belongs to whichever class its rigid motion has.
+    if Ec[0] + Ec[2] < tol:
         return "out-of-plane" if oop > 0.5 else "rotational"
-    if Ec[1] + Ec[3] + Ec[4] < tol:
+    if Ec[1] + Ec[3] < tol:
         return "out-of-plane" if oop > 0.5 else "translational"
     return "mixed"
 

@@ -89,6 +89,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
     p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug)")
     sub = p.add_subparsers(dest="cmd", required=True)
+    from .pipeline import add_run_parser
+    from .sweep import add_sweep_parser
+    add_run_parser(sub)
+    add_sweep_parser(sub)
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
     m.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
     m.add_argument("--json", action="store_true", help="print one JSON object to stdout")

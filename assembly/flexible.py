@@ -186,12 +186,31 @@ def _rigid_rows(points_local, kinds, com_local) -> np.ndarray:
     return rigid_body_basis(points_local, kinds, reference=com_local)
 
 
+def mesh_dir(params, mesh_size: float, order: int):
+    """Committed reference mesh folder if it holds this exact mesh, else the default cache."""
+    from fe_components.meshing import MeshOptions, mesh_path
+    from fe_components.reference import REF_DIR
+    return REF_DIR if mesh_path(params, MeshOptions(size=mesh_size, order=order), REF_DIR).exists() else None
+
+
+_FE_MEMO: dict = {}
+
+
 def build_fe(body, params, options: FlexOptions):
-    """Mesh (cached) and assemble the component's FE model."""
-    from fe_components.fe_model import build_component
+    """Mesh (cached on disk) and assemble the component's FE model (memoised per process,
+    so the torsional, rigid and flexible variants of a scene assemble each mesh once)."""
+    from fe_components.fe_model import build_component, default_mesh_size
     from fe_components.material import Material
+    from fe_components.params import params_digest
     m = options.material
-    return build_component(params, Material(m.E, m.nu, m.rho), mesh_size=options.mesh_size, order=options.order)
+    size = options.mesh_size if options.mesh_size is not None else default_mesh_size(params)
+    key = params_digest(params, size, options.order, m.E, m.nu, m.rho)
+    if key not in _FE_MEMO:
+        if len(_FE_MEMO) >= 8:
+            _FE_MEMO.pop(next(iter(_FE_MEMO)))
+        _FE_MEMO[key] = build_component(params, Material(m.E, m.nu, m.rho), mesh_size=size, order=options.order,
+                                        cache_dir=mesh_dir(params, size, options.order))
+    return _FE_MEMO[key]
 
 
 def mass_properties(body, params, options: FlexOptions):
@@ -259,7 +278,7 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
         kinds = np.tile(np.arange(6), len(names))
         Rl = np.zeros((se.K.shape[0], 6))
         Rl[:6 * len(names)] = _rigid_rows(pts, kinds, com_l)
-        K, M = se.K, se.M
+        K, M = deflate_rigid(se.K, se.M, Rl, body.name), se.M
         mass, inertia = float(md["mass"]), np.asarray(md["inertia"])
         info = {"n_modes": se.n_modes, "n_full_dofs": md.get("n_full_dofs"), "cutoff_hz": cutoff,
                 "reduce_time_s": time.perf_counter() - t0, "cache_hits": cache.hits}
@@ -275,6 +294,30 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
         info = {"n_full_dofs": int(fe.n_dofs), "build_time_s": time.perf_counter() - t0}
     return FlexibleBodyModel(body.name, o + R @ com_l, R, o, mass, R @ inertia @ R.T, K, M, masters, Rl,
                              reduce, se, info)
+
+
+#: Largest admissible |K_r R| / (|K_r| |R|) of a superelement before deflation: rigid
+#: motions must be (numerically) free of strain energy.
+RIGID_STRAIN_TOL = 1e-8
+
+
+def deflate_rigid(K: np.ndarray, M: np.ndarray, R: np.ndarray, name: str) -> np.ndarray:
+    """Remove round-off strain energy of rigid motions from a reduced stiffness.
+
+    ``K <- P' K P`` with the M-orthogonal projector ``P = I - R (R'MR)^-1 R'M`` onto the
+    motions with no rigid part: exact for an exactly singular ``K`` (K R = 0), and it makes
+    free-free rigid modes come out at 0 Hz to round-off instead of at ~1e-6 x f_max.
+    Raises if ``K R`` is not small: then the superelement is not free-free consistent.
+    """
+    KR = K @ R
+    rel = np.linalg.norm(KR) / (np.linalg.norm(K) * np.linalg.norm(R))
+    if rel > RIGID_STRAIN_TOL:
+        raise RuntimeError(f"{name}: superelement strains rigid motions (|K R|/|K||R| = {rel:.2e})")
+    MR = M @ R
+    G = np.linalg.solve(R.T @ MR, MR.T)        # (R'MR)^-1 R'M
+    P = np.eye(K.shape[0]) - R @ G
+    Kd = P.T @ K @ P
+    return 0.5 * (Kd + Kd.T)
 
 
 def dataclasses_replace(obj, **kw):

@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .elements import Element, gear_mesh, relative_spring
-from .geometry import block_rotation
+from .geometry import block_rotation, rigid_transfer
 from .scene import DOF_NAMES, HOUSING, Scene
 
 log = logging.getLogger(__name__)
@@ -163,7 +163,8 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None) -> dic
             out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe)
         else:
             mass, com, J, _ = mass_properties(b, params, opts)
-            out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J)
+            out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J,
+                                                              axis_point=b.position)
         if progress is not None:
             progress(b.name)
     return out
@@ -219,7 +220,8 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) ->
             names += bm.dof_names()
         else:
             free = [i for i, d in enumerate(DOF_NAMES) if d not in held[b.name]]
-            own = sp.csr_matrix(block_rotation(bm.axes)[:, free])
+            # relative DOFs live at the body's axis point, in its axes (spin about the axis)
+            own = sp.csr_matrix(rigid_transfer(bm.position, bm.axis_point) @ block_rotation(bm.axes)[:, free])
             names += [f"{b.name}.{DOF_NAMES[i]}" for i in free]
         blk = sp.hstack([sp.csr_matrix((bm.ndof, col0[b.name])), own,
                          sp.csr_matrix((bm.ndof, m - col0[b.name] - ncols[b.name]))]).tocsr()
