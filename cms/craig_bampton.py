@@ -69,14 +69,16 @@ class CraigBamptonReductor:
     threads : BLAS/OpenMP thread limit during solves (1 is fastest on 2 cores for the
         block eigen solve; ``None`` leaves the default).
     tol : relative eigen-residual tolerance.
+    ordering : CHOLMOD fill-reducing ordering (default METIS).
+    eigen_method : ``"arpack"`` or ``"block"`` (see :func:`cms.eigen.lowest_modes`).
     metadata : JSON-serialisable dict stored in the superelement.
     """
 
     def __init__(self, K, M, boundary_dofs, n_modes: int | None = None,
                  cutoff_hz: float | None = None, dof_names=None, node_coords=None,
                  dof_layout=None, rigid_body_basis=None, backend: str | None = None,
-                 threads: int | None = None, tol: float = 1e-8, ordering: str = "default",
-                 metadata: dict | None = None):
+                 threads: int | None = None, tol: float = 1e-8, ordering: str = "metis",
+                 eigen_method: str = "arpack", metadata: dict | None = None):
         self.K = sp.csr_matrix(K, dtype=float)
         self.M = sp.csr_matrix(M, dtype=float)
         n = self.K.shape[0]
@@ -141,6 +143,7 @@ class CraigBamptonReductor:
         self.threads = threads
         self.tol = tol
         self.ordering = ordering
+        self.eigen_method = eigen_method
         self.metadata = dict(metadata or {})
         self.timings = Timings()
         self.superelement: Superelement | None = None
@@ -227,7 +230,7 @@ class CraigBamptonReductor:
         meta = dict(self.metadata)
         meta.setdefault("mode_selection", {"n_modes": self.n_modes, "cutoff_hz": self.cutoff_hz})
         meta["solver"] = {"backend": F.backend, "threads": self.threads, "tol": self.tol,
-                          "ordering": self.ordering}
+                          "ordering": self.ordering, "eigen_method": self.eigen_method}
         meta["timings_s"] = vars(self.timings).copy()
         meta["self_checks"] = checks
         names = ([self.dof_names[j] for j in b] if self.dof_names is not None
@@ -257,13 +260,14 @@ class CraigBamptonReductor:
             return np.zeros(0), np.zeros((ni, 0)), np.zeros(0)
         if self.n_modes is not None:
             r = lowest_modes(Kii, Mii, self.n_modes, factorization=F, tol=self.tol,
-                             threads=self.threads)
+                             threads=self.threads, method=self.eigen_method)
             self._check_positive(r.eigenvalues, Kii, Mii)
             return r.eigenvalues, r.vectors, r.residuals
         lam_cut = (2 * math.pi * self.cutoff_hz) ** 2
         k = min(ni, 12)
         while True:
-            r = lowest_modes(Kii, Mii, k, factorization=F, tol=self.tol, threads=self.threads)
+            r = lowest_modes(Kii, Mii, k, factorization=F, tol=self.tol, threads=self.threads,
+                             method=self.eigen_method)
             self._check_positive(r.eigenvalues, Kii, Mii)
             if r.eigenvalues[-1] > lam_cut or k == ni:
                 keep = r.eigenvalues <= lam_cut

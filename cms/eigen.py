@@ -98,7 +98,7 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
                  factorization: Factorization | None = None, sigma: float = 0.0,
                  tol: float = 1e-8, block_size: int | None = None, depth: int | None = None,
                  max_restarts: int = 20, seed: int = 0, backend: str | None = None,
-                 threads: int | None = None) -> EigenResult:
+                 threads: int | None = None, method: str = "arpack") -> EigenResult:
     """The ``k`` eigenpairs of ``K x = lam M x`` closest to ``sigma`` from above.
 
     Parameters
@@ -109,6 +109,12 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     sigma : shift in (rad/s)^2 (0 for a clamped component, negative for free-free).
     tol : required relative residual eta of every returned pair.
     block_size, depth : block Krylov block width and number of blocks per cycle.
+    method : ``"arpack"`` (default): scipy's ``eigsh`` in shift-invert mode with
+        ``OPinv`` = the given factorization (single-vector solves, thread-limited);
+        ``"block"``: the block Krylov / Rayleigh-Ritz iteration of this module.
+        Measured on a 100k-DOF P2 plate, 30 modes, CHOLMOD with reference BLAS:
+        arpack 16 s, block 109-166 s (slow convergence on clustered modes), so
+        arpack is the default until the block method is improved.
 
     Raises
     ------
@@ -126,6 +132,10 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
         lam, X = _dense(K, M, k, sigma)
         res = residual_norms(K, M, lam, X)
         return EigenResult(lam, X, res, 0, 0, time.perf_counter() - t0)
+    if method == "arpack":
+        return _arpack(K, M, k, factorization, sigma, tol, threads, t0, solves0, rhs0)
+    if method != "block":
+        raise ReductionError("unknown eigen method", "method", method)
 
     b = block_size or max(6, math.ceil(k / 2) + 2)
     p = depth or max(3, math.ceil(3 * k / b) + 1)
@@ -172,6 +182,29 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
         p = 3
     raise EigenSolveError(f"eigen solve did not converge in {max_restarts} restarts",
                           "max relative residual", float(res.max()))
+
+
+def _arpack(K, M, k, F, sigma, tol, threads, t0, solves0, rhs0):
+    import scipy.sparse.linalg as spla
+    from .linsolve import thread_limit
+    # ARPACK's own tolerance is on the Ritz estimate; the relative residual eta
+    # below is what is checked, with a tighter ARPACK tol as the first try.
+    for arpack_tol in (tol * 1e-2, 0.0):
+        with thread_limit(threads if threads is not None else 1):
+            w, X = spla.eigsh(K, k, M, sigma=sigma, which="LM", OPinv=F.as_operator(),
+                              tol=arpack_tol)
+        order = np.argsort(w)
+        lam, X = w[order], X[:, order]
+        res = residual_norms(K, M, lam, X)
+        if res.max() <= tol:
+            break
+    else:
+        raise EigenSolveError("ARPACK eigen solve missed the residual tolerance",
+                              "max relative residual", float(res.max()))
+    # eigsh returns M-orthonormal vectors; renormalise against round-off
+    X = X / np.sqrt(np.einsum("ij,ij->j", X, M @ X))
+    return EigenResult(lam, X, res, F.n_solves - solves0, F.n_rhs - rhs0,
+                       time.perf_counter() - t0)
 
 
 def _dense(K, M, k, sigma):

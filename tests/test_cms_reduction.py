@@ -228,3 +228,17 @@ def test_bad_inputs_carry_the_value():
     assert ei.value.value == [1]
     with pytest.raises(ReductionError):
         CraigBamptonReductor(m.K, m.M, [0], n_modes=1, cutoff_hz=10.0)
+
+
+@pytest.mark.parametrize("method", ["arpack", "block"])
+def test_eigen_methods_agree_with_dense_and_are_mass_normalised(method):
+    from cms.eigen import lowest_modes
+    m = box(lengths=(1.0, 0.1, 0.1), divisions=(12, 2, 2))
+    b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
+    i = np.setdiff1d(np.arange(m.n), b)
+    K, M = m.K[i][:, i], m.M[i][:, i]
+    r = lowest_modes(K, M, 12, method=method, tol=1e-8)
+    lam_all = sla.eigh(K.toarray(), M.toarray(), eigvals_only=True)
+    assert np.all(np.abs(r.eigenvalues / lam_all[:12] - 1) <= _dense_rtol(lam_all[-1], lam_all[:12]))
+    assert np.allclose(r.vectors.T @ (M @ r.vectors), np.eye(12), atol=1e-10)
+    assert r.residuals.max() <= 1e-8
