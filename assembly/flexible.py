@@ -123,7 +123,60 @@ class FlexibleBodyModel:
     reduced: bool = True
     superelement: object = None
     info: dict = field(default_factory=dict)
+    params: object = None
+    options: FlexOptions = None
     _proj: np.ndarray = None
+    _coupled: object = None
+
+    # ---- back-expansion to the FE mesh (lazy: needs only the cached mesh) ----------
+    def coupled(self):
+        """(FEModel, CoupledModel) of the component, rebuilt from the mesh cache on demand."""
+        if self._coupled is None:
+            from fe_components.coupling import couple
+            fe = build_fe(None, self.params, self.options)
+            self._coupled = (fe, couple(fe, dict(self.options.couplings or {})))
+        return self._coupled
+
+    def expand(self, zb: np.ndarray) -> np.ndarray:
+        """FE displacement field(s) (m, local axes, scikit-fem DOF order) of body DOFs ``zb``:
+        Craig-Bampton back-expansion (constraint + fixed-interface modes), then the
+        interface couplings (u = T q_c)."""
+        _, cm = self.coupled()
+        qc = self.superelement.reconstruct(zb) if self.reduced else np.asarray(zb)
+        return cm.T @ qc
+
+    def stress(self, zb: np.ndarray):
+        """Nodal stresses (cms.stress.NodalStress, Pa) of body DOFs ``zb``: von Mises and
+        principal stresses, L2-projected to the P2 nodes."""
+        from cms.stress import recover_stress
+        m = self.options.material
+        return recover_stress(self.stress_basis(), self.expand(zb), m.E, m.nu)
+
+    def stress_basis(self):
+        """Vector basis for stress recovery, integrated at order 2p: the L2 projection
+        needs an exact (non-singular) mass matrix; the stiffness basis uses order 2p-2."""
+        if self.info.get("_stress_basis") is None:
+            from skfem import Basis
+            fe, _ = self.coupled()
+            self.info["_stress_basis"] = Basis(fe.mesh, fe.basis.elem, intorder=2 * fe.order)
+        return self.info["_stress_basis"]
+
+    def nodes_global(self) -> np.ndarray:
+        fe, _ = self.coupled()
+        return self.origin + fe.nodes @ self.axes.T
+
+    def displacement_global(self, zb: np.ndarray) -> np.ndarray:
+        """(n_nodes, 3) nodal displacement in global axes (m)."""
+        return self.expand(zb).reshape(-1, 3) @ self.axes.T
+
+    # ---- rendering hooks (assembly.render draws flexible bodies through these) -------
+    def render_reference(self):
+        from .render_fe import fe_surface
+        return fe_surface(self, None, 0.0)
+
+    def render_mesh(self, shape, scale: float):
+        from .render_fe import fe_surface
+        return fe_surface(self, np.asarray(shape), scale)
 
     @property
     def ndof(self) -> int:
@@ -196,7 +249,7 @@ def mesh_dir(params, mesh_size: float, order: int):
 _FE_MEMO: dict = {}
 
 
-def build_fe(body, params, options: FlexOptions):
+def build_fe(body, params, options: FlexOptions):  # noqa: ARG001 (body kept for symmetry)
     """Mesh (cached on disk) and assemble the component's FE model (memoised per process,
     so the torsional, rigid and flexible variants of a scene assemble each mesh once)."""
     from fe_components.fe_model import build_component, default_mesh_size
@@ -292,8 +345,11 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
         mass, inertia = fe.mass, fe.inertia
         se = None
         info = {"n_full_dofs": int(fe.n_dofs), "build_time_s": time.perf_counter() - t0}
-    return FlexibleBodyModel(body.name, o + R @ com_l, R, o, mass, R @ inertia @ R.T, K, M, masters, Rl,
-                             reduce, se, info)
+    fbm = FlexibleBodyModel(body.name, o + R @ com_l, R, o, mass, R @ inertia @ R.T, K, M, masters, Rl,
+                            reduce, se, info, params, dataclasses_replace(options, mesh_size=mesh_size))
+    if not reduce:
+        fbm._coupled = (fe, cm)
+    return fbm
 
 
 #: Largest admissible |K_r R| / (|K_r| |R|) of a superelement before deflation: rigid

@@ -268,6 +268,7 @@ class Scene:
     fixed: tuple[Fixed, ...] = ()
     stages: tuple["PlanetaryStage", ...] = ()
     band_hz: Optional[float] = None
+    load: Optional["LoadCase"] = None
 
     def __post_init__(self):
         from .validate import validate_scene
@@ -311,4 +312,5 @@ def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial
     return dataclasses.replace(sc, bearings=new)
 
 
+from .loads import LoadCase  # noqa: E402  (dataclass used in annotations above)
 from .planetary import PlanetaryStage  # noqa: E402  (dataclass used in annotations above)

@@ -133,6 +133,9 @@ def validate_scene(scene) -> None:
                              f"centre distance {C:.9g} m between {m.gear1} and {m.gear2} does not "
                              f"match |r1 + r2|/cos(pressure_angle) = {C_want:.9g} m")
 
+    if scene.load is not None:
+        scene.load.check("load", names)
+
     # Every body must be connected to something.
     linked = set()
     for br in sc.bearings:
