@@ -33,7 +33,7 @@ import numpy as np
 log = logging.getLogger(__name__)
 
 MANIFEST = "flexgear_run.json"
-FIDELITIES = ("torsional", "rigid")
+from .compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
 
 
 class OutputDirError(RuntimeError):
@@ -124,59 +124,31 @@ def _user_errors():
 
 
 def step_compare(ctx: RunContext, bar) -> None:
-    """Torsional and rigid variants of the scene; pairs by MAC -> ``ctx.comparison``."""
-    from .classify import classify_modes, pair_modes
-    from .modal import solve_modes
-    from .model import assemble
-    from .scene import with_fidelity
+    """Torsional, rigid (and flexible) variants of the scene, paired by MAC ->
+    ``ctx.comparison`` (rows of :func:`assembly.compare.compare`)."""
+    from .classify import classify_modes
+    from .compare import compare
 
     if not ctx.options.compare:
         bar.update(bar.total - bar.n)
         return
-    for fid in FIDELITIES:
-        try:
-            m = assemble(with_fidelity(ctx.scene, fid))
-            r = solve_modes(m)
-            ctx.variants[fid] = (m, r, classify_modes(r))
-        except _user_errors() as exc:
-            ctx.notes.append(f"{fid} variant of the scene could not be solved: {exc}")
-            log.warning("%s variant failed: %s", fid, exc)
-        bar.update(1)
-    if all(f in ctx.variants for f in FIDELITIES):
-        try:
-            ctx.comparison = comparison_rows(ctx.variants["torsional"], ctx.variants["rigid"], pair_modes)
-        except ValueError as exc:
-            ctx.notes.append(f"fidelity comparison not possible: {exc}")
-    bar.update(1)
+    try:
+        c = compare(ctx.scene)
+    except _user_errors() as exc:
+        ctx.notes.append(f"fidelity comparison not possible: {exc}")
+        log.warning("comparison failed: %s", exc)
+        bar.update(bar.total - bar.n)
+        return
+    for fid, r in c.results.items():
+        ctx.variants[fid] = (r.model, r, classify_modes(r))
+    ctx.comparison = [row for row in c.rows if row["class"] != "rigid-body"]
+    ctx.timings.update({f"{k} model": v["total_s"] for k, v in c.timings.items()})
+    bar.update(bar.total - bar.n)
 
 
-def comparison_rows(tors, rigid, pair_modes) -> list:
-    """One row per elastic torsional mode (paired rigid mode by MAC), then the rigid
-    model's unpaired elastic modes. Shift = (f_rigid - f_torsional) / f_torsional (%)."""
-    (_, rt, it), (_, rr, ir) = tors, rigid
-    rows, used = [], set()
-    for ia, ib, mac in sorted(pair_modes(rt, rr)):
-        used.add(ib)
-        if ia < rt.n_rigid:
-            continue
-        fa, fb = float(rt.frequencies_hz[ia]), float(rr.frequencies_hz[ib])
-        dom = ir[ib].dominant_bodies[0] if ir[ib].dominant_bodies else ("", 0.0)
-        rows.append(dict(torsional_mode=ia + 1, f_torsional_hz=fa, class_torsional=it[ia].mode_class,
-                         rigid_mode=ib + 1, f_rigid_hz=fb, class_rigid=ir[ib].mode_class,
-                         shift_pct=100.0 * (fb - fa) / fa if fa > 0 else float("nan"), mac=mac,
-                         dominant_body=dom[0], dominant_share=dom[1]))
-    for ib in range(rr.n_rigid, len(rr.frequencies_hz)):
-        if ib in used:
-            continue
-        dom = ir[ib].dominant_bodies[0] if ir[ib].dominant_bodies else ("", 0.0)
-        rows.append(dict(torsional_mode=None, f_torsional_hz=None, class_torsional="",
-                         rigid_mode=ib + 1, f_rigid_hz=float(rr.frequencies_hz[ib]), class_rigid=ir[ib].mode_class,
-                         shift_pct=None, mac=None, dominant_body=dom[0], dominant_share=dom[1]))
-    return rows
-
-
-COMPARISON_FIELDS = ("torsional_mode", "f_torsional_hz", "class_torsional", "rigid_mode", "f_rigid_hz",
-                     "class_rigid", "shift_pct", "mac", "dominant_body", "dominant_share")
+def comparison_fields(ctx) -> list:
+    fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
+    return ["mode"] + fids + [f"mac_{f}" for f in fids[:-1]] + ["class", "dominant_body"]
 
 
 def _dominant_text(info) -> str:
@@ -199,12 +171,13 @@ def step_tables(ctx: RunContext, bar) -> None:
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
         modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     if ctx.comparison:
-        with open(ctx.add_file("fidelity_comparison.csv", "torsional vs rigid, paired by MAC (CSV)"), "w",
-                  newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=COMPARISON_FIELDS)
+        fields = comparison_fields(ctx)
+        with open(ctx.add_file("fidelity_comparison.csv", "fidelities side by side, paired by MAC (CSV; Hz)"),
+                  "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=fields)
             w.writeheader()
             for r in ctx.comparison:
-                w.writerow({k: _fmt_csv(r[k]) for k in COMPARISON_FIELDS})
+                w.writerow({k: _fmt_csv(r.get(k)) for k in fields})
 
 
 def _fmt_csv(v):
@@ -248,16 +221,18 @@ def step_render(ctx: RunContext, bar) -> None:
 def step_plots(ctx: RunContext, bar) -> None:
     from .plots import plot_fidelity_frequencies
 
+    from .classify import pair_modes
+
     cols, pairs = [], []
     if ctx.variants:
-        for fid in FIDELITIES:
-            if fid in ctx.variants:
-                r = ctx.variants[fid][1]
-                cols.append((fid, r.frequencies_hz, r.n_rigid))
-        if len(cols) == 2 and ctx.comparison:
-            p = [(r["torsional_mode"] - 1, r["rigid_mode"] - 1, r["mac"]) for r in ctx.comparison
-                 if r["torsional_mode"] is not None]
-            pairs = [(0, 1, p)]
+        fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
+        for fid in fids:
+            r = ctx.variants[fid][1]
+            cols.append((fid, r.frequencies_hz, r.n_rigid))
+        for k in range(len(fids) - 1):
+            lo, hi = ctx.variants[fids[k]][1], ctx.variants[fids[k + 1]][1]
+            pairs.append((k, k + 1, [(i, j, mac) for j, i, mac in pair_modes(hi, lo)
+                                     if i >= lo.n_rigid and j >= hi.n_rigid]))
     else:
         cols.append(("this scene", ctx.result.frequencies_hz, ctx.result.n_rigid))
     rel = "plots/frequencies_by_fidelity.png"
@@ -281,20 +256,27 @@ def build_report(ctx: RunContext) -> dict:
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
+        fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
+        top = fids[-1]
         rows, classes = [], []
         for r in ctx.comparison:
-            rows.append([_fmt(r["torsional_mode"], "d"), _fmt(r["f_torsional_hz"], ".2f"), r["class_torsional"],
-                         r["rigid_mode"], f"{r['f_rigid_hz']:.2f}", r["class_rigid"],
-                         _fmt(r["shift_pct"], "+.2f"), _fmt(r["mac"], ".3f"),
-                         f"{r['dominant_body']} {100 * r['dominant_share']:.0f}%" if r["dominant_body"] else ""])
-            classes.append("unpaired" if r["mac"] is None else ("weak" if r["mac"] < 0.8 else ""))
-        comp = dict(header=["torsional mode", "f torsional [Hz]", "class (torsional)", "rigid mode",
-                            "f rigid [Hz]", "class (rigid)", "shift [%]", "MAC", "dominant body (rigid, KE)"],
-                    rows=rows, row_classes=classes, left=(2, 5, 8),
-                    note="Each elastic torsional mode is paired with the rigid mode of largest MAC (mass-"
-                         "weighted, subspace MAC for repeated frequencies; one-to-one assignment). Rows in "
-                         "orange: MAC < 0.8. Grey rows: rigid-model modes without a torsional partner "
-                         "(translational, axial, tilt motions).")
+            cells = [r["mode"]] + [_fmt(r.get(f), ".2f") for f in fids]
+            for f in fids[:-1]:
+                v = r.get(f)
+                cells.append(_fmt(100.0 * (r[top] / v - 1) if v else None, "+.2f"))
+            mac = r.get(f"mac_{fids[-2]}") if len(fids) > 1 else None
+            cells += [_fmt(mac, ".3f"), r["class"], r["dominant_body"] or ""]
+            rows.append(cells)
+            classes.append("unpaired" if mac is None else ("weak" if mac < 0.8 else ""))
+        n = len(fids)
+        comp = dict(header=[f"{top} mode"] + [f"f {f} [Hz]" for f in fids]
+                    + [f"shift vs {f} [%]" for f in fids[:-1]] + ["MAC", "class", "dominant body"],
+                    rows=rows, row_classes=classes, left=(2 * n + 1, 2 * n + 2),
+                    note=f"Each elastic {top} mode is paired, one fidelity down at a time, with the mode of "
+                         "largest MAC (mass-weighted on rigid-equivalent body motions; subspace MAC for "
+                         "repeated frequencies; one-to-one assignment). Shift = f_" + top + " / f_other - 1. "
+                         "Orange: MAC < 0.8; grey: no partner in the lower-fidelity model. Rayleigh-Ritz: "
+                         "the k-th frequency obeys flexible <= rigid <= torsional.")
     meta = [f"scene: {ctx.scene.name} ({ctx.scene_source})",
             f"{len(ctx.model.bodies)} bodies, {len(ctx.model.elements)} springs, {ctx.model.K.shape[0]} DOFs, "
             f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "
@@ -312,6 +294,82 @@ def build_report(ctx: RunContext) -> dict:
                 files=files, notes=list(ctx.notes))
 
 
+def _flexible_bodies(ctx) -> list:
+    return [n for n, bm in ctx.model.bodies.items() if hasattr(bm, "stress")]
+
+
+def _recovery_total(ctx) -> int:
+    return 1 + len(_flexible_bodies(ctx)) * (1 + min(ctx.options.n_modes, len(ctx.elastic_modes())))
+
+
+def step_recovery(ctx: RunContext, bar) -> None:
+    """Flexible bodies: static load case (if the scene has one) and modal stresses,
+    back-expanded to the FE meshes; stress images; VTU files + one .pvd collection."""
+    from .loads import solve_static
+    from .render_fe import render_stress_image
+
+    flex = _flexible_bodies(ctx)
+    if not flex:
+        bar.update(bar.total - bar.n)
+        return
+    modes = ctx.elastic_modes()[: ctx.options.n_modes]
+    cases = []  # (label, model, z)
+    if ctx.scene.load is not None:
+        st = solve_static(ctx.scene, ctx.scene.load, bodies=ctx.model.bodies)
+        cases.append((ctx.scene.load.name, st.model, st.z))
+    bar.update(1)
+    rows, collection = [], []
+    for b in flex:
+        bm = ctx.model.bodies[b]
+        entries = [(lbl, m.body_slice(b), z) for lbl, m, z in cases]
+        entries += [(f"mode {i + 1} ({ctx.result.frequencies_hz[i]:.1f} Hz)", ctx.model.body_slice(b),
+                     ctx.result.abs_shapes[:, i]) for i in modes]
+        for k, (label, sl, z) in enumerate(entries):
+            zb = z[sl]
+            tag = "load" if k < len(cases) else f"mode_{modes[k - len(cases)] + 1:03d}"
+            st = bm.stress(zb)
+            j = int(np.argmax(st.von_mises))
+            loc = bm.origin + bm.axes @ st.points[j]
+            rows.append({"body": b, "case": label, "max_von_mises_Pa": float(st.von_mises[j]),
+                         "x_m": float(loc[0]), "y_m": float(loc[1]), "z_m": float(loc[2])})
+            vtu = f"vtu/{b}_{tag}.vtu"
+            _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label} (VTU)"))
+            collection.append((len(collection), vtu))
+            if k < len(cases) or k == len(cases):  # load case and first elastic mode as images
+                rel = f"images/stress_{b}_{tag}.png"
+                unit = "Pa" if k < len(cases) else "Pa per unit modal coordinate"
+                render_stress_image(bm, zb, ctx.add_file(rel, f"{b} von Mises, {label} (PNG)"),
+                                    f"{ctx.scene.name}: {b}, von Mises ({unit}), {label}",
+                                    ctx.options.window_size)
+                ctx.plots.append((rel, f"von Mises stress on {b}: {label}"))
+            bar.update(1)
+    with open(ctx.add_file("stress.csv", "max von Mises per flexible body and case (CSV; Pa, m)"), "w",
+              newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    pvd = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
+    pvd += [f'<DataSet timestep="{t}" part="0" file="{f}"/>' for t, f in collection]
+    pvd += ["</Collection>", "</VTKFile>"]
+    ctx.add_file("results.pvd", "ParaView collection of all VTU files of this run").write_text("\n".join(pvd) + "\n")
+    for r in rows[: 1 + len(cases)]:
+        ctx.notes.append(f"{r['body']}, {r['case']}: max von Mises {r['max_von_mises_Pa'] / 1e6:.4g} MPa at "
+                         f"({r['x_m']:.4f}, {r['y_m']:.4f}, {r['z_m']:.4f}) m")
+
+
+def _write_body_vtu(bm, zb, stress, path) -> None:
+    """Deformed shape (global displacement, m) and von Mises (Pa) of one flexible body."""
+    import meshio
+    fe, _ = bm.coupled()
+    nodes = bm.nodes_global()
+    cells = fe.basis.element_dofs[0::3, :].T // 3
+    data = {"displacement_m": bm.displacement_global(zb), "von_mises_Pa": stress.von_mises[: len(nodes)]}
+    tmp = path.with_name(path.name + ".tmp")
+    meshio.write(tmp, meshio.Mesh(nodes, [("tetra10" if fe.order == 2 else "tetra", cells)], point_data=data),
+                 file_format="vtu")
+    os.replace(tmp, path)
+
+
 def step_html(ctx: RunContext, bar) -> None:
     from .html_report import render_index
 
@@ -327,6 +385,7 @@ DEFAULT_STEPS = [
     Step("tables", step_tables),
     Step("mode-shape images", step_render, total=_render_total, unit="image"),
     Step("plots", step_plots),
+    Step("stress recovery and VTU", step_recovery, total=_recovery_total, unit="case"),
     Step("index.html", step_html),
 ]
 

@@ -18,7 +18,7 @@ def fe_surface(body, shape, scale: float):
         nv = fe.mesh.p.shape[1]
         pts = body.origin + fe.mesh.p.T @ body.axes.T
         grid = pv.UnstructuredGrid({pv.CellType.TETRA: fe.mesh.t[:4].T.astype(np.int64)}, pts)
-        surf = grid.extract_surface(pass_pointid=True)
+        surf = grid.extract_surface(pass_pointid=True, algorithm="dataset_surface")
         _SURF[key] = (surf, np.asarray(surf.point_data["vtkOriginalPointIds"]), nv)
     surf, ids, nv = _SURF[key]
     out = surf.copy()
@@ -29,3 +29,33 @@ def fe_surface(body, shape, scale: float):
     out.points = np.asarray(surf.points) + scale * d
     out.point_data["displacement_m"] = np.linalg.norm(d, axis=1)
     return out
+
+
+def render_stress_image(body, zb, path, title: str, window_size=(1200, 900)):
+    """PNG of one flexible body coloured by von Mises stress (MPa) for body DOFs ``zb``,
+    drawn on its undeformed surface; fixed camera from the body's bounding box."""
+    from .render import _pyvista
+    pv = _pyvista()
+    st = body.stress(zb)
+    fe, _ = body.coupled()
+    nv = fe.mesh.p.shape[1]
+    surf = fe_surface(body, None, 0.0)
+    ids = _SURF[id(fe)][1]
+    surf.point_data["von_mises_MPa"] = st.von_mises[:nv][ids] / 1e6
+    pl = pv.Plotter(off_screen=True, window_size=list(window_size))
+    try:
+        pl.set_background("white")
+        pl.add_mesh(surf, scalars="von_mises_MPa", cmap="turbo", show_edges=False,
+                    scalar_bar_args=dict(title="von Mises [MPa]", color="black", vertical=False,
+                                         position_x=0.55, position_y=0.04, width=0.4, height=0.07, fmt="%.3g"))
+        k = int(np.argmax(st.von_mises))
+        pmax = body.origin + body.axes @ st.points[k]
+        pl.add_points(np.array([pmax]), color="black", point_size=14, render_points_as_spheres=True)
+        pl.add_text(f"{title}\nmax {st.von_mises[k] / 1e6:.4g} MPa at ({pmax[0]:.4f}, {pmax[1]:.4f}, "
+                    f"{pmax[2]:.4f}) m (black dot)", position="upper_left", font_size=12, color="black")
+        pl.camera_position = "iso"
+        pl.reset_camera()
+        pl.screenshot(str(path))
+    finally:
+        pl.close()
+    return float(st.von_mises[k]), pmax
