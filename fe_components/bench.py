@@ -5,6 +5,10 @@ Usage (wired as ``flexgear bench fe``)::
     python -m fe_components.bench                       # quick: 3 sizes, finest ~60k DOFs
     python -m fe_components.bench --target-dofs 300000  # README table: 3 sizes, finest ~300k DOFs (P2)
 
+Frequencies are computed for cases up to ``--max-modal-dofs`` (default 120k):
+the sparse Cholesky of K - sigma M dominates above that (CHOLMOD on the
+system BLAS).
+
 Each case runs in a fresh process (spawned) with an empty temporary mesh cache,
 so that "mesh" is a real gmsh run and "peak RSS" (ru_maxrss after assembly)
 is the case's own.  The first six elastic free-free frequencies (Hz) give the
@@ -39,7 +43,7 @@ def _coarse_size(component: str) -> float:
     return ref.CASES[key][1].size
 
 
-def _run_case(component: str, size: float, order: int, n_modes: int, queue) -> None:
+def _run_case(component: str, size: float, order: int, n_modes: int, max_modal_dofs: int, queue) -> None:
     from .fe_model import build_component
     from .meshing import MeshOptions
     from .modal import lowest_frequencies
@@ -52,7 +56,7 @@ def _run_case(component: str, size: float, order: int, n_modes: int, queue) -> N
         model = build_component(_params(component), options=MeshOptions(size=size, order=order), cache_dir=cache)
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # Linux: kB
     freqs, t_modes = [], float("nan")
-    if n_modes > 0:
+    if n_modes > 0 and model.n_dofs <= max_modal_dofs:
         t0 = time.perf_counter()
         f = lowest_frequencies(model.K, model.M, 6 + n_modes)
         t_modes = time.perf_counter() - t0
@@ -65,11 +69,11 @@ def _run_case(component: str, size: float, order: int, n_modes: int, queue) -> N
                    t_modes=t_modes, freqs=freqs))
 
 
-def run_case(component: str, size: float, order: int = 2, n_modes: int = 6) -> dict:
+def run_case(component: str, size: float, order: int = 2, n_modes: int = 6, max_modal_dofs: int = 10**9) -> dict:
     """Mesh + assemble (+ modes) one case in a spawned process; returns its measurements."""
     ctx = mp.get_context("spawn")
     q = ctx.Queue()
-    p = ctx.Process(target=_run_case, args=(component, size, order, n_modes, q))
+    p = ctx.Process(target=_run_case, args=(component, size, order, n_modes, max_modal_dofs, q))
     p.start()
     res = q.get()
     p.join()
@@ -105,17 +109,19 @@ def sizes_for(component: str, target_dofs: int, levels: int, order: int) -> list
     return [float(h) for h in h0 * (h1 / h0) ** (np.arange(levels) / (levels - 1))]
 
 
+HEADER = ("| component | mesh size [mm] | nodes | DOFs | mesh [s] | assembly [s] | mesh+asm [s] "
+          "| peak RSS [MB] | modes [s] | first six elastic frequencies [Hz] |\n" + "|" + "---|" * 10)
+
+
+def format_row(r: dict) -> str:
+    f = ", ".join(f"{x:.1f}" for x in r["freqs"]) if r["freqs"] else "-"
+    return (f"| {r['component']} | {1e3 * r['size']:.2f} | {r['nodes']} | {r['dofs']} | {r['t_mesh']:.2f} "
+            f"| {r['t_asm']:.2f} | {r['t_mesh'] + r['t_asm']:.2f} | {r['rss_mb']:.0f} "
+            f"| {r['t_modes']:.1f} | {f} |")
+
+
 def format_table(rows: list[dict]) -> str:
-    head = ("| component | mesh size [mm] | nodes | DOFs | mesh [s] | assembly [s] | mesh+asm [s] "
-            "| peak RSS [MB] | modes [s] | first six elastic frequencies [Hz] |")
-    sep = "|" + "---|" * 10
-    lines = [head, sep]
-    for r in rows:
-        f = ", ".join(f"{x:.1f}" for x in r["freqs"]) if r["freqs"] else "-"
-        lines.append(f"| {r['component']} | {1e3 * r['size']:.2f} | {r['nodes']} | {r['dofs']} | {r['t_mesh']:.2f} "
-                     f"| {r['t_asm']:.2f} | {r['t_mesh'] + r['t_asm']:.2f} | {r['rss_mb']:.0f} "
-                     f"| {r['t_modes']:.1f} | {f} |")
-    return "\n".join(lines)
+    return "\n".join([HEADER] + [format_row(r) for r in rows])
 
 
 def main(argv=None) -> int:
@@ -126,13 +132,14 @@ def main(argv=None) -> int:
     ap.add_argument("--levels", type=int, default=3, help="number of mesh sizes per component")
     ap.add_argument("--order", type=int, choices=(1, 2), default=2)
     ap.add_argument("--modes", type=int, default=6, help="elastic modes per case (0: skip the eigen solve)")
+    ap.add_argument("--max-modal-dofs", type=int, default=120000,
+                    help="skip the eigen solve above this many DOFs (sparse Cholesky time and memory)")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    rows = []
+    print(HEADER, flush=True)  # benchmark table output, one row per finished case
     for comp in args.components:
         for h in sizes_for(comp, args.target_dofs, args.levels, args.order):
-            rows.append(run_case(comp, h, args.order, args.modes))
-    print(format_table(rows))  # benchmark table output
+            print(format_row(run_case(comp, h, args.order, args.modes, args.max_modal_dofs)), flush=True)
     return 0
 
 
