@@ -30,8 +30,10 @@ $(STAMP): pyproject.toml | sysdeps
 
 setup: sysdeps $(STAMP)
 
+DEMO ?= hs_parallel_stage.toml
 run: setup
-	$(VENV)/bin/flexgear demo --out results
+	$(VENV)/bin/flexgear run $(DEMO) --out results
+	@echo "flexgear: results written; open $(CURDIR)/results/index.html"
 
 test: setup
 	$(PY) -m pytest -q

@@ -75,7 +75,7 @@ def cmd_demo(args) -> int:
 
 def cmd_bench(args) -> int:
     import importlib
-    targets = {"fe": "fe_components.bench", "cms": "cms.bench"}
+    targets = {"fe": "fe_components.bench", "cms": "cms.bench", "flex": "assembly.bench_flex"}
     names = list(targets) if args.what == "all" else [args.what]
     for name in names:
         mod = importlib.import_module(targets[name])
@@ -106,7 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--out", default="results", help="output folder")
     d.set_defaults(func=cmd_demo)
     b = sub.add_parser("bench", help="benchmarks (print tables; not tests)")
-    b.add_argument("what", choices=["fe", "cms", "all"])
+    b.add_argument("what", choices=["fe", "cms", "flex", "all"])
     b.add_argument("rest", nargs=argparse.REMAINDER, help="arguments passed to the benchmark")
     b.set_defaults(func=cmd_bench)
     return p
