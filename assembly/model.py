@@ -100,6 +100,45 @@ def _frame_order(scene: Scene) -> list:
     return order
 
 
+#: A bearing direction stiffer than RIGID_RATIO x the scene's reference stiffness (largest
+#: gear-mesh or shaft stiffness, N/m; times the largest base radius squared for rotations)
+#: is modelled as an exact constraint. Such a spring changes the physical frequencies by
+#: about 1/RIGID_RATIO relative, but as a spring it puts eigenvalues RIGID_RATIO times
+#: above the physics and costs the low modes their accuracy (eps * lambda_max).
+RIGID_RATIO = 1e8
+
+
+def rigidify(scene: Scene) -> tuple[Scene, list]:
+    """Scene with near-rigid bearing directions replaced by ``inf`` (constraints), and the
+    list of (bearing, direction) converted. Only bearings that may carry a constraint (a
+    plain rigid body, at its position, to its own frame) are converted."""
+    import dataclasses
+    import math
+    ks = [m.stiffness for m in scene.meshes] + [max(s.k_axial, s.k_shear) for s in scene.shafts]
+    if not ks or max(ks) <= 0:
+        return scene, []
+    k_ref = max(ks)
+    r = max([abs(m.base_radius1) for m in scene.meshes] + [abs(m.base_radius2) for m in scene.meshes] + [0.0])
+    kr_ref = max([k_ref * r * r] + [max(s.k_torsion, s.k_bending) for s in scene.shafts])
+    by_name = {b.name: b for b in scene.bodies}
+    out, changed = [], []
+    for br in scene.bearings:
+        body = by_name[br.body]
+        eligible = (body.component is None and (br.frame is None or br.frame == body.frame)
+                    and (br.position is None or np.allclose(br.position, body.position, rtol=0, atol=1e-12)))
+        new = {}
+        if eligible:
+            for f, ref in (("k_radial", k_ref), ("k_axial", k_ref), ("k_tilt", kr_ref), ("k_torsion", kr_ref)):
+                v = getattr(br, f)
+                if math.isfinite(v) and v > RIGID_RATIO * ref:
+                    new[f] = math.inf
+                    changed.append((br.name or br.body, f, v))
+        out.append(dataclasses.replace(br, **new) if new else br)
+    if changed:
+        log.info("near-rigid bearing directions modelled as constraints: %s", changed)
+    return dataclasses.replace(scene, bearings=tuple(out)), changed
+
+
 def constrained_dofs(scene: Scene) -> dict:
     """Local DOF names held at zero, per body (fixed DOFs, rigid bearings, torsional)."""
     out = {b.name: set() for b in scene.bodies}
@@ -177,7 +216,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) ->
     ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants).
     """
     t0 = time.perf_counter()
-    sc = scene.expanded()
+    sc, rigidified = rigidify(scene.expanded())
     order = _frame_order(sc)
     origin = {b.name: b.name for b in sc.bodies}
     masters = component_masters(sc, origin)
@@ -237,6 +276,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) ->
     model.K = ((K + K.T) * 0.5).tocsr()
     model.M = ((M + M.T) * 0.5).tocsr()
     model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
+    model.rigidified = rigidified
     log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(elements), len(names))
     return model
 
