@@ -201,7 +201,7 @@ def row(name, n, res):
 
 
 #: mesh sizes (m) giving roughly 30k, 100k and 300k DOFs per component
-DEFAULT_SIZES = {"pinion": (0.0083, 0.0056, 0.0039), "wheel": (0.0143, 0.0096, 0.0066),
+DEFAULT_SIZES = {"pinion": (0.0083, 0.0056, 0.0035), "wheel": (0.0143, 0.0096, 0.0066),
                  "carrier": (0.02, 0.013, 0.009)}
 
 
