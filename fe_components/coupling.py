@@ -10,21 +10,31 @@ RBE2 ("rbe2"): the slave DOFs are eliminated exactly, u_s = G q_m.  This adds
 stiffness (the interface moves rigidly).
 
 RBE3 ("rbe3"): the master is the weighted least-squares rigid fit of the slave
-motion, q_m = A u_s with A = (G^T W G)^-1 G^T W (W = diag of the weights;
+motion, q_m = A u_s with A = H^-1 G^T W, H = G^T W G (W = diag of the weights;
 uniform weights, the Nastran RBE3 default).  A G = I, so a rigid motion of
 the slaves gives exactly that motion at the master.  The master becomes a
-coordinate by an invertible change of variables on the slave DOFs: six pivot
-slave DOFs p (chosen by QR with column pivoting of A) are replaced by q_m,
+coordinate by an invertible change of variables u_s = T_s [q_m; r] with
+A T_s = [I, 0] (r spans the null space of A and joins the interior DOFs).
 
-    u_p = A_p^-1 (q_m - A_o u_o),   u_o kept (they join the interior DOFs).
+T_s = [G, N]: the master columns are the rigid motion of the slaves (A G = I)
+and N is a sparse, well-conditioned basis of null(A) built on a binary
+cluster tree of the slave nodes (a single pivot elimination would couple
+every slave DOF to every other one: a dense (3 n_s)^2 block in K_c).
+Leaf cluster c (3..6 nodes): six QR-pivoted DOFs p follow the others so that
+the leaf's own fit stays zero, u_p = -A_cp^-1 A_co u_o (u_o kept).  Parent S
+of children i, k (H_i = G_i^T W_i G_i, fit_S = sum_i H_S^-1 H_i fit_i): six
+columns "rigid motion e of child i, compensated by the rigid motion
+-(H_S^-1 H_k)^-1 (H_S^-1 H_i) e of child k" have zero fit on S.  Columns are
+O(1), each node lies in ~log2(n_s) of them.
 
 T is square and invertible for RBE3-only couplings, so K_c = T^T K T and
 M_c = T^T M T have exactly the eigenvalues of the free body (RBE3 adds no
 stiffness).  A master force f_m is carried by slave forces f_s = A^T f_m,
 i.e. f_s = W G (G^T W G)^-1 f_m -- the classical RBE3 distribution.
 
-Reduced coordinates q_c: first the retained full-model DOFs in ascending
-order, then 6 DOFs per master in interface order; ``u_full = T @ q_c``.
+Reduced coordinates q_c: first the interior coordinates (retained full-model
+DOFs in ascending order, then the RBE3 cluster coordinates), then 6 DOFs per
+master in interface order; ``u_full = T @ q_c``.
 """
 from __future__ import annotations
 
@@ -53,7 +63,8 @@ class CoupledModel:
     masters : list of (name, position (3,) [m], 6 indices into q_c ordered
         [ux, uy, uz, rx, ry, rz], global axes).
     kinds : coupling kind used per interface.
-    retained : full-model DOF represented by each non-master coordinate q_c[:len(retained)].
+    retained : full-model DOF equal to each of the first len(retained) coordinates (DOFs of
+        no interface); the RBE3 null-space coordinates follow them, then the masters.
     """
 
     K_c: sp.csr_matrix
@@ -123,6 +134,7 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
     rows, cols, vals = [], [], []  # entries of T: (full dof, "col key", value)
     # master columns are numbered after the retained DOFs; use provisional negative keys
     master_blocks = []
+    extra = _ExtraColumns()  # RBE3 cluster coordinates
     used: dict[str, str] = {}
     for k, name in enumerate(names):
         iface = model.interfaces[name]
@@ -139,17 +151,13 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
             r, c = np.nonzero(G)
             rows.append(sdofs[r]); cols.append(mcols[c]); vals.append(G[r, c])
         else:
-            A = rbe3_operator(pts, iface.master)
-            _, _, piv = sla.qr(A, mode="economic", pivoting=True)
-            p, o = piv[:6], piv[6:]
-            Ap_inv = np.linalg.inv(A[:, p])
-            B = -Ap_inv @ A[:, o]  # (6, n_o): u_p contribution of the kept slave DOFs
-            eliminated[sdofs[p]] = True
-            # u_p = Ap_inv q_m + B u_o
-            rr, cc = np.meshgrid(np.arange(6), np.arange(6), indexing="ij")
-            rows.append(sdofs[p][rr.ravel()]); cols.append(mcols[cc.ravel()]); vals.append(Ap_inv.ravel())
-            rr, cc = np.meshgrid(np.arange(6), np.arange(len(o)), indexing="ij")
-            rows.append(sdofs[p][rr.ravel()]); cols.append(sdofs[o][cc.ravel()]); vals.append(B.ravel())
+            weights = np.ones(len(pts))
+            tree = _rbe3_tree(pts, iface.master, weights, np.arange(len(pts)))
+            _rbe3_rec(tree, pts, iface.master, weights, sdofs, rows, cols, vals, eliminated, extra)
+            # master columns: the rigid motion of all slaves (A G = I)
+            G = rigid_kinematics(pts, iface.master)
+            r, c = np.nonzero(G)
+            rows.append(sdofs[r]); cols.append(mcols[c]); vals.append(G[r, c])
         master_blocks.append((name, iface.master.copy(), mcols))
 
     retained = np.flatnonzero(~eliminated)
@@ -161,21 +169,100 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
     R = np.concatenate(rows)
     C = np.concatenate(cols)
     V = np.concatenate(vals)
+    n_int = n_ret + extra.n
     is_master = C < 0
+    is_extra = C >= _EXTRA_BASE
+    is_full = ~is_master & ~is_extra
     Cm = np.empty_like(C)
-    Cm[~is_master] = col_of_full[C[~is_master]]
-    Cm[is_master] = n_ret + (-C[is_master] - 1)
+    Cm[is_full] = col_of_full[C[is_full]]
+    Cm[is_extra] = n_ret + (C[is_extra] - _EXTRA_BASE)
+    Cm[is_master] = n_int + (-C[is_master] - 1)
     if np.any(Cm < 0):  # pragma: no cover - internal consistency
         raise RuntimeError("coupling references an eliminated DOF")
-    n_c = n_ret + 6 * len(names)
-    T = sp.csr_matrix((V, (R, Cm)), shape=(n_full, n_c))
+    n_c = n_int + 6 * len(names)
+    T = sp.csr_matrix((V, (R, Cm)), shape=(n_full, n_c))  # duplicates are summed
     T.eliminate_zeros()
     K_c = (T.T @ model.K @ T).tocsr()
     M_c = (T.T @ model.M @ T).tocsr()
     K_c = ((K_c + K_c.T) * 0.5).tocsr()  # remove round-off asymmetry
     M_c = ((M_c + M_c.T) * 0.5).tocsr()
-    masters = [(name, pos, n_ret + 6 * k + np.arange(6)) for k, (name, pos, _) in enumerate(master_blocks)]
-    boundary = np.arange(n_ret, n_c)
+    masters = [(name, pos, n_int + 6 * k + np.arange(6)) for k, (name, pos, _) in enumerate(master_blocks)]
+    boundary = np.arange(n_int, n_c)
     log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{used[n]}" for n in names),
              n_full, n_c, len(boundary))
     return CoupledModel(K_c, M_c, T, boundary, masters, used, model, retained)
+
+
+# ---------------------------------------------------------------- RBE3 cluster tree
+_EXTRA_BASE = 1 << 40  # provisional column keys of RBE3 cluster coordinates
+LEAF_NODES = 6  # leaf clusters hold 3..6 nodes
+
+
+class _ExtraColumns:
+    def __init__(self) -> None:
+        self.n = 0
+
+    def new(self, k: int) -> np.ndarray:
+        keys = _EXTRA_BASE + self.n + np.arange(k)
+        self.n += k
+        return keys
+
+
+def _H(pts: np.ndarray, master: np.ndarray, w: np.ndarray) -> np.ndarray:
+    G = rigid_kinematics(pts, master)
+    return G.T @ (np.repeat(w, 3)[:, None] * G)
+
+
+def _well_posed(pts, master, w) -> bool:
+    return len(pts) >= 3 and np.linalg.cond(_H(pts, master, w)) < 1e10
+
+
+def _rbe3_tree(pts, master, w, idx):
+    """Binary tree of node-index arrays: split along the principal axis while both halves stay well posed."""
+    if len(idx) > LEAF_NODES:
+        x = pts[idx] - pts[idx].mean(axis=0)
+        axis = np.linalg.svd(x, full_matrices=False)[2][0]
+        order = idx[np.argsort(x @ axis, kind="stable")]
+        half = len(order) // 2
+        a, b = order[:half], order[half:]
+        if _well_posed(pts[a], master, w[a]) and _well_posed(pts[b], master, w[b]):
+            return (_rbe3_tree(pts, master, w, a), _rbe3_tree(pts, master, w, b))
+    return idx
+
+
+def _rbe3_rec(tree, pts, master, w, sdofs, rows, cols, vals, eliminated, extra):
+    """Emit the interior (null-space) columns of a subtree; return (its node indices, H_subtree)."""
+    if isinstance(tree, np.ndarray):  # leaf: DOFs with zero leaf fit, by pivot elimination in the leaf
+        idx = tree
+        dofs = (3 * idx[:, None] + np.arange(3)).ravel()  # local slave DOFs (node-major)
+        A = rbe3_operator(pts[idx], master, w[idx])
+        _, _, piv = sla.qr(A, mode="economic", pivoting=True)
+        p, o = piv[:6], piv[6:]
+        B = -np.linalg.solve(A[:, p], A[:, o])
+        gp, go = sdofs[dofs[p]], sdofs[dofs[o]]
+        eliminated[gp] = True
+        eliminated[go] = True  # replaced by null-space coordinates (u_o is not their value)
+        keys = extra.new(len(o))  # column j: 1 at DOF o_j, B[:, j] at the pivots
+        rows.append(go); cols.append(keys); vals.append(np.ones(len(o)))
+        rr, cc = np.meshgrid(np.arange(6), np.arange(len(o)), indexing="ij")
+        rows.append(gp[rr.ravel()]); cols.append(keys[cc.ravel()]); vals.append(B.ravel())
+        return idx, _H(pts[idx], master, w[idx])
+    children = [_rbe3_rec(t, pts, master, w, sdofs, rows, cols, vals, eliminated, extra) for t in tree]
+    H_S = sum(h for _, h in children)
+    S = [np.linalg.solve(H_S, h) for _, h in children]  # fit of S = sum_i S_i (fit of child i)
+    k = int(np.argmax([np.linalg.eigvalsh(h)[0] / np.linalg.eigvalsh(h)[-1] for _, h in children]))
+    idx_k = children[k][0]
+    G_k = rigid_kinematics(pts[idx_k], master)
+    dofs_k = sdofs[(3 * idx_k[:, None] + np.arange(3)).ravel()]
+    for i, (idx_i, _) in enumerate(children):
+        if i == k:
+            continue
+        # rigid motion e of child i, compensated by child k so that the fit of S stays zero
+        keys = extra.new(6)
+        G_i = rigid_kinematics(pts[idx_i], master)
+        dofs_i = sdofs[(3 * idx_i[:, None] + np.arange(3)).ravel()]
+        Ck = -G_k @ np.linalg.solve(S[k], S[i])
+        for Gm, d in ((G_i, dofs_i), (Ck, dofs_k)):
+            r, c = np.nonzero(np.abs(Gm) > 0)
+            rows.append(d[r]); cols.append(keys[c]); vals.append(Gm[r, c])
+    return np.concatenate([c[0] for c in children]), H_S

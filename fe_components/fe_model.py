@@ -151,6 +151,7 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     k_order = 2 * p - 2 if stiffness_intorder is None else stiffness_intorder
     m_order = 2 * p if mass_intorder is None else mass_intorder
     kb = Basis(mesh, elem, intorder=max(k_order, 1))
+    _check_jacobians(kb, raw)
     lam, mu = lame_parameters(material.E, material.nu)
     K = asm(linear_elasticity(lam, mu), kb).tocsr()
 
@@ -188,6 +189,16 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     log.info("assembled %d DOFs (P%d) in %.2f s", kb.N, p, t_asm)
     return FEModel(params=params, material=material, mesh=mesh, basis=kb, K=K, M=M, interfaces=interfaces,
                    mass=mass, center_of_mass=com, inertia=inertia, order=p, timings={"assembly": t_asm})
+
+
+def _check_jacobians(basis, raw: RawMesh) -> None:
+    """Refuse curved elements whose Jacobian changes sign (inverted) at the quadrature points."""
+    d = basis.mapping.detDF(basis.X)
+    bad = np.flatnonzero(d.min(axis=1) * d.max(axis=1) <= 0)
+    if len(bad):
+        raise MeshingError("mesh", {"cell_type": raw.cell_type, "n_inverted": int(len(bad)),
+                                    "first_inverted_element": int(bad[0])},
+                           "inverted (negative-Jacobian) elements: use a smaller mesh size or order=1")
 
 
 def _interfaces(params, raw: RawMesh, nodes: np.ndarray) -> dict[str, Interface]:

@@ -186,7 +186,7 @@ def read_mesh(path: str | os.PathLike) -> RawMesh:
     """Read a cached .msh with meshio; drop orphan nodes; collect physical surface node sets."""
     import meshio
 
-    m = meshio.read(os.fspath(path))
+    m = meshio.read(os.fspath(path), file_format="gmsh")  # ".msh" is also tried as ANSYS otherwise
     vol = [(c.type, c.data) for c in m.cells if c.type in ("tetra", "tetra10")]
     if not vol:
         raise MeshingError("mesh", {"path": os.fspath(path)}, "file holds no tetrahedra")
