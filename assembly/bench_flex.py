@@ -93,14 +93,58 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="flexgear bench flex", description=__doc__.split("\n")[0])
     p.add_argument("--scene", action="append", help="scene(s) (default: both flexible demo scenes)")
     p.add_argument("--modes", default="0,4,8,16,32", help="fixed-interface modes per body to try")
-    p.add_argument("--factors", default="1,1.5,2,3", help="cutoff factors (x band) to try")
+    p.add_argument("--factors", default="1,2,4,6", help="cutoff factors (x band) to try")
+    p.add_argument("--out", help="folder for speed_vs_error.png and speed_vs_error.csv")
     a = p.parse_args(argv)
     scenes = a.scene or ["hs_parallel_stage.toml", "planetary_flexible_carrier.toml"]
     modes = [int(x) for x in a.modes.split(",") if x]
     factors = [float(x) for x in a.factors.split(",") if x]
+    rows = []
     for s in scenes:
-        run(s, modes, factors)
+        rows += run(s, modes, factors)
+    if a.out:
+        write_plot(rows, a.out)
     return 0
+
+
+def write_plot(rows: list, out_dir) -> None:
+    """Speed vs error of the flexible model against mode count (PNG) and the rows (CSV)."""
+    import csv
+    import os
+    from pathlib import Path
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "speed_vs_error.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        rs = [r for r in rows if r["scene"] == scene and r["selection"].endswith("modes")]
+        if not rs:
+            continue
+        n = [int(r["selection"].split()[0]) for r in rs]
+        axes[0].semilogy(n, [max(r["band_max_err_pct"], 1e-4) for r in rs], "o-", label=scene)
+        axes[1].loglog([r["total_s"] for r in rs], [max(r["max_err_pct"], 1e-4) for r in rs], "o-", label=scene)
+        axes[1].axvline(rs[0]["full_fe_s"], ls=":", color=axes[1].lines[-1].get_color())
+    axes[0].axhline(0.5, ls="--", color="k", lw=0.8)
+    axes[0].set(xlabel="fixed-interface modes per flexible body", ylabel="max error in band vs full FE [%]",
+                title="accuracy against mode count")
+    axes[1].set(xlabel="time to reduce + solve [s] (dotted: full FE)", ylabel="max error, first 20 modes [%]",
+                title="speed vs error")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    tmp = out / ".speed_vs_error.png.tmp"
+    fig.savefig(tmp, dpi=120, format="png")
+    plt.close(fig)
+    os.replace(tmp, out / "speed_vs_error.png")
 
 
 if __name__ == "__main__":
