@@ -85,7 +85,7 @@ class GearTeeth:
     normal_module : m_n [m].
     pressure_angle : normal pressure angle alpha_n [rad].
     face_width : b [m].
-    helix_angle : beta [rad] (0 = spur; sign gives the hand).
+    helix_angle : beta [rad] (0 = spur; > 0 right-hand helix about +z, < 0 left-hand).
     fidelity : "smooth" (solid annulus of radius ``smooth_radius``) or "involute".
     smooth_radius : outer radius of the smooth annulus [m]; default pitch radius.
     profile_shift : profile shift coefficient x [-].

@@ -145,3 +145,21 @@ def test_package_import_does_not_load_gmsh_or_pyvista():
     code = "import sys, fe_components; print('gmsh' in sys.modules or 'pyvista' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_inverted_curved_element_is_refused():
+    import dataclasses
+
+    from fe_components.errors import MeshingError
+    from fe_components.fe_model import assemble
+    from fe_components.meshing import read_mesh
+
+    params, options = CASES["annulus"]
+    raw = read_mesh(mesh_path(params, options, REF_DIR))
+    pts = raw.points.copy()
+    c = raw.cells[0]
+    # push the mid-edge node of edge (0, 1) beyond vertex 1: the quadratic map folds over
+    pts[c[4]] = pts[c[0]] + 1.5 * (pts[c[1]] - pts[c[0]])
+    with pytest.raises(MeshingError) as e:
+        assemble(params, dataclasses.replace(raw, points=pts))
+    assert e.value.params["n_inverted"] >= 1
