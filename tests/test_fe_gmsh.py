@@ -52,6 +52,17 @@ def test_helical_involute_pinion_coarse(tmp_path):
     x = m.nodes[m.interfaces["gear_mesh"].nodes]
     r = np.hypot(x[:, 0], x[:, 1])
     assert r.max() == pytest.approx(teeth.tip_radius, rel=1e-3)
+    # right-hand helix for beta > 0: the transverse profile turns by dphi/dz = tan(beta) / r_p;
+    # every tip-land node lies within the tip half-angle of a tooth centre so turned
+    from fe_components.involute import flank_half_angle
+
+    tip = r > teeth.tip_radius - 1e-3 * teeth.normal_module
+    z0 = p.gear_center - teeth.face_width / 2
+    phi = np.arctan2(x[tip, 1], x[tip, 0]) - (x[tip, 2] - z0) * math.tan(teeth.helix_angle) / teeth.pitch_radius
+    pitch = 2 * math.pi / teeth.n_teeth
+    rel = (phi + pitch / 2) % pitch - pitch / 2
+    assert tip.sum() > 20
+    assert np.all(np.abs(rel) < flank_half_angle(teeth, teeth.tip_radius) + 0.01 * teeth.normal_module / teeth.tip_radius)
     f = lowest_frequencies(m.K, m.M, 7)
     assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
 
