@@ -479,7 +479,7 @@ _KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams
 def component_from_dict(d: Mapping[str, Any], path: str = "component") -> ComponentParams:
     """Build component parameters from a table with ``kind = "pinion"|"wheel"|"carrier"|"cylinder"``."""
     kind = d.get("kind") if isinstance(d, Mapping) else None
-    if kind not in _KINDS:
+    if not isinstance(kind, str) or kind not in _KINDS:
         raise GeometryError(f"{path}.kind", kind, f"must be one of {sorted(_KINDS)}")
     return _KINDS[kind].from_dict(d, path)
 

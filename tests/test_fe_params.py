@@ -143,3 +143,10 @@ def test_wheel_params_type_check():
                     hub_length=0.05, bore_diameter=0.05)
     with pytest.raises(GeometryError):
         PinionParams(PINION_SMOOTH.teeth, (ShaftSegment(0.1, 0.03),), gear_center=0.05)
+
+
+@pytest.mark.parametrize("kind", [None, "gearbox", ["pinion"], 3])
+def test_component_kind_refused(kind):
+    with pytest.raises(GeometryError) as e:
+        component_from_dict({"kind": kind}, "bodies[0].component")
+    assert e.value.parameter == "bodies[0].component.kind" and e.value.value == kind
