@@ -50,36 +50,61 @@ class EigenResult:
         return np.sqrt(np.clip(self.eigenvalues, 0.0, None)) / (2 * np.pi)
 
 
-def _m_orth(W, V, MV, M, drop=1e-10):
+def _m_orth(W, V, MV, M, drop=1e-10, MW=None, KW=None, KV=None):
     """M-orthonormalise block W against the columns V (with MV = M V) and itself.
 
     Columns are normalised first, so a correction that is small in norm but new in
     direction is kept; a column whose part outside span(V) is below ``drop`` (relative)
     is numerically in the span and dropped, as are rank-deficient combinations.
-    Returns (W, MW) with W^T M W = I and V^T M W = 0.
+    ``MW`` (and optionally ``KW`` with ``KV``) are carried through the same linear
+    combinations, so no further sparse products are needed.
+    Returns (W, MW) or, if ``KW`` is given, (W, MW, KW), with W^T M W = I, V^T M W = 0.
     """
-    def colnorm(A):
-        return np.sqrt(np.maximum(np.einsum("ij,ij->j", A, M @ A), 0.0))
+    MW = M @ W if MW is None else MW
+    carry_k = KW is not None
 
-    nrm = colnorm(W)
-    W = W[:, nrm > 0] / nrm[nrm > 0]
+    def apply(C, sub=None):
+        nonlocal W, MW, KW
+        if sub is None:
+            W, MW = W @ C, MW @ C
+            if carry_k:
+                KW = KW @ C
+        else:
+            W, MW = W - V @ sub, MW - MV @ sub
+            if carry_k:
+                KW = KW - KV @ sub
+
+    def colnorm():
+        return np.sqrt(np.maximum(np.einsum("ij,ij->j", W, MW), 0.0))
+
+    def scale_cols(keep, nrm):
+        nonlocal W, MW, KW
+        W, MW = W[:, keep] / nrm[keep], MW[:, keep] / nrm[keep]
+        if carry_k:
+            KW = KW[:, keep] / nrm[keep]
+
+    nrm = colnorm()
+    scale_cols(nrm > 0, nrm)
     if V is not None and V.shape[1]:
         for _ in range(2):  # classical Gram-Schmidt, twice ("twice is enough")
-            W = W - V @ (MV.T @ W)
-        nrm = colnorm(W)
-        keep = nrm > drop
-        W = W[:, keep] / nrm[keep]
-    if W.shape[1] == 0:
-        return W, W.copy()
-    MW = M @ W
-    G = W.T @ MW
-    s, Q = np.linalg.eigh(0.5 * (G + G.T))
-    keep = s > drop * s.max()
-    W = (W @ Q[:, keep]) / np.sqrt(s[keep])
-    if V is not None and V.shape[1]:
-        W = W - V @ (MV.T @ W)   # one more pass: rotation can reintroduce round-off
-    MW = M @ W
-    return W, MW
+            apply(None, MV.T @ W)
+        nrm = colnorm()
+        scale_cols(nrm > drop, nrm)
+    if W.shape[1]:
+        G = W.T @ MW
+        s, Q = np.linalg.eigh(0.5 * (G + G.T))
+        keep = s > drop * s.max()
+        apply(Q[:, keep] / np.sqrt(s[keep]))
+        if V is not None and V.shape[1]:
+            apply(None, MV.T @ W)   # one more pass: the rotation can reintroduce round-off
+    return (W, MW, KW) if carry_k else (W, MW)
+
+
+def _residuals(KX, MX, lam, knorm1, sigma, X):
+    rn = np.linalg.norm(KX - MX * lam, axis=0)
+    scale = np.maximum(np.linalg.norm(KX - sigma * MX, axis=0),
+                       1e-6 * knorm1 * np.linalg.norm(X, axis=0))
+    return rn / scale
 
 
 def residual_norms(K, M, lam, X, KX=None, MX=None, sigma=0.0):
@@ -142,10 +167,13 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     b = block_size or max(6, math.ceil(k / 2) + 2)
     p = depth or max(3, math.ceil(3 * k / b) + 1)
     rng = np.random.default_rng(seed)
+    knorm1 = abs(K).sum(axis=0).max()
     X0 = rng.standard_normal((n, b))
+    MX0 = M @ X0
+    KX0 = K @ X0
     R0 = None   # residual block of the restart vectors (None on the first cycle)
     for cycle in range(max_restarts + 1):
-        V, MV = _m_orth(X0, None, None, M)
+        V, MV, KV = _m_orth(X0, None, None, M, MW=MX0, KW=KX0, KV=None)
         MW = MV
         for j in range(p - 1):
             if V.shape[1] >= n - 1:
@@ -154,33 +182,40 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
                 # Davidson/LOBPCG-style correction (K - sigma M)^{-1} r: same span as S X
                 # in exact arithmetic, but free of the cancellation that stalls
                 # plain Krylov restarts once the Ritz vectors have converged.
-                W = factorization.solve(R0)
+                rhs = R0
             else:
-                W = factorization.solve(MW)      # one block solve: S applied to the last block
-            W, MW = _m_orth(W, V, MV, M)
+                rhs = MW                      # S applied to the last block
+            W = factorization.solve(rhs)      # one block solve
+            MW = M @ W                        # the only sparse product per block
+            KW = rhs + sigma * MW             # (K - sigma M) W = rhs
+            W, MW, KW = _m_orth(W, V, MV, M, MW=MW, KW=KW, KV=KV)
             if W.shape[1] == 0:
                 break
             V = np.hstack([V, W])
             MV = np.hstack([MV, MW])
-        KV = K @ V
+            KV = np.hstack([KV, KW])
         Kr = V.T @ KV
         Mr = V.T @ MV
         theta, Y = sla.eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
         order = np.argsort(theta - sigma)   # closest to sigma from above
         theta, Y = theta[order], Y[:, order]
-        X = V @ Y[:, :k]
         lam = theta[:k]
-        res = residual_norms(K, M, lam, X, KV @ Y[:, :k], MV @ Y[:, :k], sigma)
+        Yk = Y[:, :k]
+        res = _residuals(KV @ Yk, MV @ Yk, lam, knorm1, sigma, V @ Yk)
         log.debug("eigen cycle %d: basis %d, max residual %.2e", cycle, V.shape[1], res.max())
         if res.max() <= tol:
-            dt = time.perf_counter() - t0
-            return EigenResult(lam, X, res, factorization.n_solves - solves0,
-                               factorization.n_rhs - rhs0, dt)
+            X = V @ Yk
+            # confirm with true products (the carried images accumulate round-off)
+            res = residual_norms(K, M, lam, X, sigma=sigma)
+            if res.max() <= tol:
+                dt = time.perf_counter() - t0
+                return EigenResult(lam, X, res, factorization.n_solves - solves0,
+                                   factorization.n_rhs - rhs0, dt)
         # thick restart from the best Ritz vectors (wanted ones + guard)
         nkeep = min(V.shape[1], k + max(4, k // 2))
         Yk = Y[:, :nkeep]
-        X0 = V @ Yk
-        R0 = KV @ Yk - (MV @ Yk) * (theta[:nkeep] - sigma)
+        X0, MX0, KX0 = V @ Yk, MV @ Yk, KV @ Yk
+        R0 = KX0 - MX0 * theta[:nkeep]
         p = 3
     raise EigenSolveError(f"eigen solve did not converge in {max_restarts} restarts",
                           "max relative residual", float(res.max()))
