@@ -57,7 +57,8 @@ def _take(d: Mapping[str, Any], path: str, allowed: Sequence[str], angles: Seque
         elif key in allowed:
             out[key] = value
         else:
-            raise GeometryError(f"{path}.{key}", value, f"unknown parameter (known: {', '.join(allowed)})")
+            where = f"{path}.{key}" if isinstance(key, str) and key.isidentifier() else f"{path}[{key!r}]"
+            raise GeometryError(where, value, f"unknown parameter (known: {', '.join(allowed)})")
     return out
 
 
