@@ -19,7 +19,10 @@ from .errors import SceneError
 
 
 def _join(path: str, key: str) -> str:
-    return f"{path}.{key}" if path else key
+    """``path.key``, or ``path['key']`` (escaped) for a key that is not a plain name."""
+    if isinstance(key, str) and key.isidentifier():
+        return f"{path}.{key}" if path else key
+    return f"{path}[{key!r}]"
 
 
 def _type_name(tp) -> str:
@@ -108,9 +111,13 @@ def from_dict(cls, data: Any, path: str = ""):
             name = key[:-4]
             if name in data:
                 raise SceneError(p, value, f"give either {name} (rad) or {key} (deg), not both")
-            deg = convert(float, value, p) if not isinstance(value, list) else convert(
-                tuple[float, ...], value, p)
-            val = tuple(math.radians(d) for d in deg) if isinstance(deg, tuple) else math.radians(deg)
+            deg = convert(hints[name], value, p)  # same type as the radian field
+            if deg is None:
+                val = None
+            elif isinstance(deg, tuple):
+                val = tuple(math.radians(d) for d in deg)
+            else:
+                val = math.radians(deg)
         else:
             allowed = sorted(fields)
             raise SceneError(p, value, f"unknown key; allowed keys: {', '.join(allowed)}")
