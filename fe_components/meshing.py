@@ -10,6 +10,7 @@ gmsh is imported lazily inside :func:`generate_mesh` only.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import os
 import time
@@ -42,6 +43,8 @@ class MeshOptions:
     algorithm_3d : gmsh ``Mesh.Algorithm3D`` (10 = HXT, 1 = Delaunay).
     flank_points : interpolation points per involute flank (geometry).
     helix_sections : transverse sections lofted for a helical gear (geometry).
+    tooth_size : optional element size [m] on the gear-mesh surfaces (teeth / rim), growing
+        linearly to ``size`` at two whole depths (4.5 m_n) from them; None = uniform ``size``.
     """
 
     size: float
@@ -51,6 +54,7 @@ class MeshOptions:
     algorithm_3d: int = 10
     flank_points: int = 7
     helix_sections: int = 5
+    tooth_size: float | None = None
 
     def __post_init__(self) -> None:
         if not (isinstance(self.size, (int, float)) and np.isfinite(self.size) and self.size > 0):
@@ -63,6 +67,21 @@ class MeshOptions:
             raise GeometryError("helix_sections", self.helix_sections, "must be >= 2")
         if self.flank_points < 3:
             raise GeometryError("flank_points", self.flank_points, "must be >= 3")
+        if self.tooth_size is not None and not (np.isfinite(self.tooth_size) and 0 < self.tooth_size <= self.size):
+            raise GeometryError("tooth_size", self.tooth_size, "must satisfy 0 < tooth_size <= size")
+
+    def digest_fields(self) -> dict:
+        """Fields entering the cache name; options left at None (features off) are omitted so
+        that adding an optional feature keeps the names of existing meshes."""
+        d = {"__type__": type(self).__name__}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if not (f.name in _OPTIONAL_FIELDS and v is None):
+                d[f.name] = v
+        return d
+
+
+_OPTIONAL_FIELDS = ("tooth_size",)
 
 
 def _gmsh_version() -> str:
@@ -75,7 +94,7 @@ def _gmsh_version() -> str:
 def mesh_path(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None) -> Path:
     """Cache file of the mesh of ``params`` meshed with ``options``."""
     cache = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE_DIR
-    digest = params_digest(params, options, MESHER_VERSION, _gmsh_version())
+    digest = params_digest(params, options.digest_fields(), MESHER_VERSION, _gmsh_version())
     return cache / f"{component_kind(params)}-{digest}.msh"
 
 
@@ -138,6 +157,7 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
             surfaces[tag] = (pts, float(pts[:, 2].min()), float(pts[:, 2].max()))
         gmsh.model.addPhysicalGroup(3, vol_tags, name="solid")
         taken: dict[int, str] = {}
+        tooth_tags: list[int] = []
         for idef in interface_defs(params):
             tags = [t for t, (pts, zlo, zhi) in surfaces.items()
                     if any(sel.matches(pts, zlo, zhi, tol) for sel in idef.selectors)]
@@ -148,7 +168,11 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
                     raise RuntimeError(f"surface {t} belongs to interfaces {taken[t]!r} and {idef.name!r}")
                 taken[t] = idef.name
             gmsh.model.addPhysicalGroup(2, tags, name=idef.name)
+            if idef.name == "gear_mesh":
+                tooth_tags = tags
             log.debug("interface %s: surfaces %s", idef.name, tags)
+        if options.tooth_size is not None:
+            _tooth_refinement(gmsh, params, options, tooth_tags)
         gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
         gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
@@ -170,6 +194,23 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
             gmsh.finalize()
         else:
             gmsh.model.remove()
+
+
+def _tooth_refinement(gmsh, params, options: MeshOptions, tooth_tags: list[int]) -> None:
+    """Background size field: ``tooth_size`` on the gear-mesh surfaces, ``size`` from 4.5 m_n away."""
+    teeth = getattr(params, "teeth", None)
+    if teeth is None or not tooth_tags:
+        raise GeometryError("tooth_size", options.tooth_size, "the component has no gear teeth")
+    fd = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(fd, "SurfacesList", tooth_tags)
+    ft = gmsh.model.mesh.field.add("Threshold")
+    gmsh.model.mesh.field.setNumber(ft, "InField", fd)
+    gmsh.model.mesh.field.setNumber(ft, "SizeMin", options.tooth_size)
+    gmsh.model.mesh.field.setNumber(ft, "SizeMax", options.size)
+    gmsh.model.mesh.field.setNumber(ft, "DistMin", 0.0)
+    gmsh.model.mesh.field.setNumber(ft, "DistMax", 4.5 * teeth.normal_module)
+    gmsh.model.mesh.field.setAsBackgroundMesh(ft)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
 
 
 @dataclass(frozen=True)

@@ -103,3 +103,28 @@ def test_bench_main_prints_table(capsys):
     assert cells[0] == "carrier" and int(cells[3]) > 0
     freqs = [float(f) for f in cells[-1].split(",")]
     assert len(freqs) == 6 and all(f > 0 for f in freqs) and freqs == sorted(freqs)
+
+
+def test_tooth_refinement(tmp_path):
+    from scipy.spatial import cKDTree
+
+    from fe_components.errors import GeometryError
+    from fe_components.reference import PINION_SMOOTH
+
+    def spacing(model):
+        x = model.nodes[model.interfaces["gear_mesh"].nodes]
+        d, _ = cKDTree(x).query(x, k=2)
+        return np.median(d[:, 1])
+
+    coarse = build_component(PINION_SMOOTH, options=MeshOptions(size=0.015), cache_dir=tmp_path)
+    fine = build_component(PINION_SMOOTH, options=MeshOptions(size=0.015, tooth_size=0.004), cache_dir=tmp_path)
+    # P2 surface nodes (vertices and edge midpoints) are about half an element edge apart
+    assert 0.25 * 0.004 < spacing(fine) < 0.75 * 0.004
+    assert spacing(coarse) > 2 * spacing(fine)
+    # the shaft far from the teeth stays at the coarse size: seat node counts of the same order
+    assert len(fine.interfaces["bearing_a"].nodes) < 3 * len(coarse.interfaces["bearing_a"].nodes)
+    with pytest.raises(GeometryError) as e:
+        ensure_mesh(CylinderParams(0.2, 0.04), MeshOptions(size=0.02, tooth_size=0.01), tmp_path)
+    assert e.value.parameter == "tooth_size"
+    with pytest.raises(GeometryError):
+        MeshOptions(size=0.01, tooth_size=0.02)
