@@ -291,6 +291,10 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
     cutoff = options.cutoff_hz
     if options.n_modes is None and cutoff is None:
         cutoff = CUTOFF_FACTOR * band_hz
+    if options.cutoff_hz is not None and options.cutoff_hz < band_hz:
+        log.warning("%s: Craig-Bampton cutoff %.4g Hz lies below the scene's band %.4g Hz: coupled modes "
+                    "in the band will be too stiff (the convergence study needs %.0f x band)",
+                    body.name, options.cutoff_hz, band_hz, CUTOFF_FACTOR)
     couplings = dict(options.couplings or {})
     key_inputs = {"mesh": mfile.name, "material": [options.material.E, options.material.nu, options.material.rho],
                   "couplings": couplings, "n_modes": options.n_modes, "cutoff_hz": cutoff,
