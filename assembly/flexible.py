@@ -249,6 +249,20 @@ def mesh_dir(params, mesh_size: float, order: int):
 
 _FE_MEMO: dict = {}
 
+#: Bulk-to-shear modulus ratio K/G = 2(1 + nu) / (3(1 - 2 nu)) above which linear (P1)
+#: tetrahedra lock volumetrically (nu > ~0.45): stiffness and frequencies come out too high.
+LOCKING_RATIO = 10.0
+
+
+def check_locking(order: int, nu: float) -> bool:
+    """Warn (and return True) when P1 tetrahedra will lock at this Poisson ratio."""
+    ratio = 2 * (1 + nu) / (3 * (1 - 2 * nu))
+    if order == 1 and ratio > LOCKING_RATIO:
+        log.warning("P1 tetrahedra lock volumetrically at nu = %.4g (bulk/shear modulus %.3g > %.0f): "
+                    "results will be too stiff; use order = 2", nu, ratio, LOCKING_RATIO)
+        return True
+    return False
+
 
 def build_fe(body, params, options: FlexOptions):  # noqa: ARG001 (body kept for symmetry)
     """Mesh (cached on disk) and assemble the component's FE model (memoised per process,
@@ -258,6 +272,7 @@ def build_fe(body, params, options: FlexOptions):  # noqa: ARG001 (body kept for
     from fe_components.params import params_digest
     m = options.material
     size = options.mesh_size if options.mesh_size is not None else default_mesh_size(params)
+    check_locking(options.order, m.nu)
     key = params_digest(params, size, options.order, m.E, m.nu, m.rho)
     if key not in _FE_MEMO:
         if len(_FE_MEMO) >= 8:

@@ -40,3 +40,28 @@ def test_interface_leaving_a_mechanism_is_named():
     with pytest.raises(MechanismError) as exc:
         CraigBamptonReductor(m.K, m.M, np.arange(3), n_modes=2, node_coords=m.node_coords).reduce()
     assert "rotation" in str(exc.value)
+
+
+def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
+    # nu = 0.499: P1 tets lock (warned); P2 on the reference cylinder (L = 0.5 m, D = 0.05 m,
+    # committed mesh) keeps the free-free torsion and axial frequencies of rod theory:
+    # f_t = sqrt(G/rho) / 2L with G = E / 2(1 + nu), f_a = sqrt(E/rho) / 2L (Love's lateral
+    # inertia correction ~ (nu pi r / L)^2 / 2 = 0.3 % here, inside the 1 % target).
+    import math
+    from assembly.flexible import check_locking
+    from fe_components.fe_model import build_component
+    from fe_components.material import Material
+    from fe_components.modal import lowest_frequencies
+    from fe_components.reference import CYLINDER, REF_DIR
+    with caplog.at_level(logging.WARNING, logger="assembly.flexible"):
+        assert check_locking(1, 0.499)
+        assert not check_locking(2, 0.499) and not check_locking(1, 0.3)
+    assert any("lock volumetrically" in r.getMessage() for r in caplog.records)
+    E, nu, rho, L = 2.1e11, 0.499, 7850.0, 0.5
+    fe = build_component(CYLINDER, Material(E, nu, rho), mesh_size=0.0125, cache_dir=REF_DIR)
+    f = lowest_frequencies(fe.K, fe.M, 20)
+    f = f[np.abs(f) > 1.0]
+    f_t = math.sqrt(E / (2 * (1 + nu)) / rho) / (2 * L)
+    f_a = math.sqrt(E / rho) / (2 * L)
+    assert np.min(np.abs(f / f_t - 1)) < 0.01
+    assert np.min(np.abs(f / f_a - 1)) < 0.01
