@@ -277,8 +277,12 @@ def build_fe(body, params, options: FlexOptions):  # noqa: ARG001 (body kept for
     if key not in _FE_MEMO:
         if len(_FE_MEMO) >= 8:
             _FE_MEMO.pop(next(iter(_FE_MEMO)))
-        _FE_MEMO[key] = build_component(params, Material(m.E, m.nu, m.rho), mesh_size=size, order=options.order,
-                                        cache_dir=mesh_dir(params, size, options.order))
+        from fe_components.quality import check_quality
+        fe = build_component(params, Material(m.E, m.nu, m.rho), mesh_size=size, order=options.order,
+                             cache_dir=mesh_dir(params, size, options.order))
+        rep = check_quality(fe.mesh.p.T, fe.mesh.t.T)
+        log.info("mesh quality: worst element %d, q = %.3g", rep.worst, rep.worst_quality)
+        _FE_MEMO[key] = fe
     return _FE_MEMO[key]
 
 

@@ -65,3 +65,26 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     f_a = math.sqrt(E / rho) / (2 * L)
     assert np.min(np.abs(f / f_t - 1)) < 0.01
     assert np.min(np.abs(f / f_a - 1)) < 0.01
+
+
+def test_sliver_element_caught_with_worst_element_reported():
+    # Two regular-ish tets and one sliver (fourth vertex 1e-6 m off the base plane).
+    from fe_components.errors import MeshingError
+    from fe_components.quality import check_quality, tet_quality
+    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1e-6], [1, 1, 1]], float)
+    tets = np.array([[0, 1, 2, 3], [1, 2, 3, 5], [0, 1, 2, 4]])
+    regular = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], float)
+    assert tet_quality(regular, np.array([[0, 1, 2, 3]]))[0] == pytest.approx(1.0, rel=1e-12)
+    with pytest.raises(MeshingError) as exc:
+        check_quality(pts, tets)
+    msg = str(exc.value)
+    assert "'worst_element': 2" in msg and "quality" in msg
+
+
+def test_shipped_reference_meshes_pass_quality():
+    from fe_components.meshing import read_mesh
+    from fe_components.quality import MIN_QUALITY, tet_quality
+    from fe_components.reference import REF_DIR
+    for f in sorted(REF_DIR.glob("*.msh")):
+        raw = read_mesh(f)
+        assert tet_quality(raw.points, raw.cells).min() > MIN_QUALITY, f.name
