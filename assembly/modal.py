@@ -161,3 +161,18 @@ def _sparse_lowest(K, M, k):
     # mass-normalise (ARPACK returns M-orthonormal vectors already; enforce to round-off)
     V = V / np.sqrt(np.einsum("im,im->m", V, M @ V))
     return lam, V
+
+
+def mechanisms(result, top: int = 3) -> list:
+    """Plain-language description of each rigid-body (0 Hz) mode: the independent DOFs that
+    carry its kinetic energy, e.g. ``"pinion.z 50 %, wheel.z 50 %"`` -- which names the
+    body and direction left unconstrained when there are more zero modes than expected."""
+    out = []
+    M = result.model.M
+    for i in range(result.n_rigid):
+        q = result.shapes[:, i]
+        e = q * np.asarray(M @ q).ravel()
+        e = np.abs(e) / max(np.abs(e).sum(), 1e-300)
+        idx = np.argsort(-e)[:top]
+        out.append(", ".join(f"{result.model.dof_names[j]} {100 * e[j]:.0f} %" for j in idx if e[j] > 0.01))
+    return out

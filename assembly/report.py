@@ -5,6 +5,7 @@ import numpy as np
 
 from .classify import classify_modes
 from .energy import kinetic_by_body, strain_by_element
+from .modal import mechanisms
 
 
 def modes_table(result, title: str = "") -> str:
@@ -17,6 +18,9 @@ def modes_table(result, title: str = "") -> str:
     for mi in infos:
         dom = ", ".join(f"{b} {100 * s:.0f}%" for b, s in mi.dominant_bodies)
         lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}  {mi.multiplicity:>4}  {mi.mode_class:<13}  {dom}")
+    from .modal import mechanisms
+    for k, text in enumerate(mechanisms(result)):
+        lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
     return "\n".join(lines)
@@ -52,6 +56,7 @@ def modes_json(result) -> dict:
         "dof_names": m.dof_names,
         "frequencies_hz": [float(f) for f in np.sort(result.frequencies_hz)],
         "n_rigid_body_modes": result.n_rigid,
+        "rigid_body_modes": mechanisms(result),
         "max_relative_residual": result.max_residual,
         "solve_time_s": result.solve_time_s,
         "modes": modes,

@@ -1,6 +1,8 @@
 """Hard cases for the multibody solver (issue 7): near-rigid connections, free-free
 assemblies, repeated eigenvalues, extreme scale. Targets are physics limits, not tables."""
 import dataclasses
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import math
 
 import numpy as np
@@ -123,3 +125,30 @@ def test_extreme_scale_matches_independently_scaled_solve():
     assert f[0] < 1e-3
     np.testing.assert_allclose(f[1:], f_ref[1:], rtol=1e-8)
     assert 0.5 < f[1] < 3.0  # first drivetrain torsion mode of a 5 MW turbine: O(1 Hz)
+
+
+def test_under_constrained_body_is_named():
+    # Kahraman pair with the wheel's axial bearing stiffness removed: one extra zero mode,
+    # named as the wheel moving along its axis.
+    from assembly.modal import mechanisms
+    sc = load_scene("kahraman_beta0.toml")
+    brg = tuple(dataclasses.replace(b, k_axial=0.0) if b.body == "wheel" else b for b in sc.bearings)
+    r = solve_modes(assemble(dataclasses.replace(sc, bearings=brg)))
+    assert r.n_rigid == 2
+    text = mechanisms(r)
+    assert any(t.startswith("wheel.z 100 %") for t in text), text
+
+
+@settings(max_examples=200, deadline=None)
+@given(mass=st.floats(allow_nan=True, allow_infinity=True), k=st.floats(allow_nan=True, allow_infinity=True),
+       helix=st.floats(-10, 10), name=st.text(max_size=6))
+def test_python_api_bad_values_raise_scene_error(mass, k, helix, name):
+    # Python API: frozen dataclasses validated at Scene construction, same errors as TOML.
+    from assembly.errors import SceneError
+    try:
+        b1 = Body(name or "a", mass, polar_inertia=1e-3)
+        b2 = Body("b", 1.0, polar_inertia=1e-3, position=(0.1 / math.cos(0.35), 0, 0))
+        Scene("api", bodies=(b1, b2), bearings=(Bearing("b", k, k, k),),
+              meshes=(GearMesh(name or "a", "b", 1e8, 0.05, 0.05, 0.35, helix),))
+    except SceneError as exc:
+        assert exc.path and "\n" not in str(exc)
