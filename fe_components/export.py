@@ -10,12 +10,14 @@ import numpy as np
 from .fe_model import FEModel
 
 
-def write_vtu(path: str | os.PathLike, model: FEModel, point_data: Mapping[str, np.ndarray] | None = None) -> Path:
+def write_vtu(path: str | os.PathLike, model: FEModel, point_data: Mapping[str, np.ndarray] | None = None,
+              interfaces: bool = False) -> Path:
     """Write the model's volume mesh and nodal fields to ``path`` (.vtu), atomically.
 
     P2 meshes are written as VTK quadratic tetrahedra ("tetra10"), P1 as "tetra".
     point_data : {name: array (n_nodes,) or (n_nodes, 3)} in the model's node
         order (``model.nodes``); a full DOF vector (3 n_nodes,) is reshaped to (n_nodes, 3).
+    interfaces : also write one 0/1 field ``interface_<name>`` per interface node set.
     """
     import meshio
 
@@ -33,6 +35,11 @@ def write_vtu(path: str | os.PathLike, model: FEModel, point_data: Mapping[str, 
         if a.shape[0] != n:
             raise ValueError(f"point_data[{name!r}] has {a.shape[0]} rows, the mesh has {n} nodes")
         data[name] = a
+    if interfaces:
+        for name, iface in model.interfaces.items():
+            mask = np.zeros(n)
+            mask[iface.nodes] = 1.0
+            data[f"interface_{name}"] = mask
     mesh = meshio.Mesh(nodes, [(cell_type, cell_nodes)], point_data=data)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.vtu")

@@ -16,13 +16,14 @@ def test_write_vtu_roundtrip(tmp_path):
     f, v = lowest_frequencies(m.K, m.M, 7, return_vectors=True)
     mode = v[:, 6]
     r = np.linalg.norm(m.nodes, axis=1)
-    path = write_vtu(tmp_path / "annulus.vtu", m, {"mode_7": mode, "radius": r})
+    path = write_vtu(tmp_path / "annulus.vtu", m, {"mode_7": mode, "radius": r}, interfaces=True)
     assert path.exists() and not list(tmp_path.glob(".*tmp*"))
     back = meshio.read(path)
     assert back.cells[0].type == "tetra10"
     np.testing.assert_allclose(back.points, m.nodes)
     np.testing.assert_allclose(back.point_data["mode_7"], mode.reshape(-1, 3))
     np.testing.assert_allclose(back.point_data["radius"], r)
+    assert back.point_data["interface_end_a"].sum() == len(m.interfaces["end_a"].nodes)
     # VTK tetra10 order: nodes 4..9 on edges (0,1),(1,2),(0,2),(0,3),(1,3),(2,3); on the straight
     # interior edges the mid node is the edge midpoint
     c = back.cells[0].data
