@@ -14,7 +14,8 @@ log = logging.getLogger("flexgear")
 
 def _user_errors():
     from .errors import MechanismError, SceneError
-    errs = [SceneError, MechanismError]
+    from .pipeline import OutputDirError
+    errs = [SceneError, MechanismError, OutputDirError]
     try:
         from fe_components.errors import GeometryError
         errs.append(GeometryError)

@@ -492,11 +492,7 @@ def cmd_run(args) -> int:
         return 2
     opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
     progress = Progress(enabled=False if args.quiet else None)
-    try:
-        ctx = run_pipeline(args.scene, args.out, opts, progress)
-    except OutputDirError as exc:
-        print(f"flexgear: error: {exc}", file=sys.stderr)
-        return 2
+    ctx = run_pipeline(args.scene, args.out, opts, progress)
     if not args.quiet:
         print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {len(ctx.images)} images -> "
               f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")

@@ -188,7 +188,6 @@ def add_sweep_parser(subparsers) -> None:
 def cmd_sweep(args) -> int:
     """``flexgear sweep``: exit 0 on success, 2 on bad values or output folder (scene errors
     are raised for the CLI's common handler)."""
-    from .pipeline import OutputDirError
     from .progress import Progress
 
     try:
@@ -197,11 +196,7 @@ def cmd_sweep(args) -> int:
         print(f"flexgear: error: {exc}", file=sys.stderr)
         return 2
     progress = Progress(enabled=False if args.quiet else None)
-    try:
-        info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
-    except OutputDirError as exc:
-        print(f"flexgear: error: {exc}", file=sys.stderr)
-        return 2
+    info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
     if not args.quiet:
         print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
               f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")

@@ -179,8 +179,9 @@ def test_refuses_foreign_folder(tmp_path):
     with pytest.raises(OutputDirError):
         run_pipeline("kahraman_beta20.toml", out, RunOptions(images=False))
     assert (out / "thesis.tex").read_text() == "precious"
-    args = _parser().parse_args(["run", "kahraman_beta20.toml", "--out", str(out), "-q"])
-    assert args.func(args) == 2
+    from assembly.cli import main
+    assert main(["run", "kahraman_beta20.toml", "--out", str(out), "-q"]) == 2
+    assert (out / "thesis.tex").read_text() == "precious"
 
 
 def test_cli_subprocess_bad_scene_exit_code(tmp_path):
