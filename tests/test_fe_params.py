@@ -150,3 +150,16 @@ def test_component_kind_refused(kind):
     with pytest.raises(GeometryError) as e:
         component_from_dict({"kind": kind}, "bodies[0].component")
     assert e.value.parameter == "bodies[0].component.kind" and e.value.value == kind
+
+
+def test_material_from_dict_path():
+    assert Material.from_dict({"E": 2.1e11, "nu": 0.3, "rho": 7850.0}) == STEEL
+    with pytest.raises(MaterialError) as e:
+        Material.from_dict({"E": 2.1e11, "nu": 0.7, "rho": 7850.0}, "bodies[1].material")
+    assert e.value.parameter == "bodies[1].material.nu" and e.value.value == 0.7
+
+
+def test_count_rigid_modes():
+    from fe_components.modal import count_rigid_modes
+
+    assert count_rigid_modes([1e-4, -2e-4, 3e-5, 1e-4, 2e-4, 5e-5, 900.0, 901.0]) == 6
