@@ -299,7 +299,8 @@ def _flexible_bodies(ctx) -> list:
 
 
 def _recovery_total(ctx) -> int:
-    return 1 + len(_flexible_bodies(ctx)) * (1 + min(ctx.options.n_modes, len(ctx.elastic_modes())))
+    n_cases = 1 if ctx.scene.load is not None else 0
+    return 1 + len(_flexible_bodies(ctx)) * (n_cases + min(ctx.options.n_modes, len(ctx.elastic_modes())))
 
 
 def step_recovery(ctx: RunContext, bar) -> None:
@@ -335,7 +336,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
             vtu = f"vtu/{b}_{tag}.vtu"
             _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label} (VTU)"))
             collection.append((len(collection), vtu))
-            if k < len(cases) or k == len(cases):  # load case and first elastic mode as images
+            if ctx.options.images:  # von Mises image for the load case and every rendered mode
                 rel = f"images/stress_{b}_{tag}.png"
                 unit = "Pa" if k < len(cases) else "Pa per unit modal coordinate"
                 render_stress_image(bm, zb, ctx.add_file(rel, f"{b} von Mises, {label} (PNG)"),
