@@ -21,7 +21,8 @@ from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, ensure_mesh, read_mesh
-from .params import CarrierParams, CylinderParams, PinionParams, WheelParams
+from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
+                     params_as_flat_dict)
 
 log = logging.getLogger(__name__)
 
@@ -151,7 +152,7 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     k_order = 2 * p - 2 if stiffness_intorder is None else stiffness_intorder
     m_order = 2 * p if mass_intorder is None else mass_intorder
     kb = Basis(mesh, elem, intorder=max(k_order, 1))
-    _check_jacobians(kb, raw)
+    _check_jacobians(kb, raw, params)
     lam, mu = lame_parameters(material.E, material.nu)
     K = asm(linear_elasticity(lam, mu), kb).tocsr()
 
@@ -191,13 +192,14 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
                    mass=mass, center_of_mass=com, inertia=inertia, order=p, timings={"assembly": t_asm})
 
 
-def _check_jacobians(basis, raw: RawMesh) -> None:
+def _check_jacobians(basis, raw: RawMesh, params) -> None:
     """Refuse curved elements whose Jacobian changes sign (inverted) at the quadrature points."""
     d = basis.mapping.detDF(basis.X)
     bad = np.flatnonzero(d.min(axis=1) * d.max(axis=1) <= 0)
     if len(bad):
-        raise MeshingError("mesh", {"cell_type": raw.cell_type, "n_inverted": int(len(bad)),
-                                    "first_inverted_element": int(bad[0])},
+        report = {**params_as_flat_dict(params), "cell_type": raw.cell_type, "n_inverted": int(len(bad)),
+                  "first_inverted_element": int(bad[0])}
+        raise MeshingError(component_kind(params), report,
                            "inverted (negative-Jacobian) elements: use a smaller mesh size or order=1")
 
 

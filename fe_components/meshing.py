@@ -27,7 +27,7 @@ from .params import component_kind, params_as_flat_dict, params_digest
 log = logging.getLogger(__name__)
 
 #: Bump when the geometry or meshing code changes the produced mesh.
-MESHER_VERSION = "1"
+MESHER_VERSION = "2"  # 2: inverted curved P2 elements repaired by gmsh high-order optimisation
 
 DEFAULT_CACHE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "cache"
 
@@ -184,6 +184,8 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
         types, _, _ = gmsh.model.mesh.getElements(3)
         if len(types) == 0:
             raise RuntimeError("gmsh produced no volume elements")
+        if options.order == 2:
+            _repair_inverted(gmsh)
         gmsh.write(os.fspath(path))
     except GeometryError:
         raise
@@ -194,6 +196,27 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
             gmsh.finalize()
         else:
             gmsh.model.remove()
+
+
+def _min_scaled_jacobians(gmsh) -> np.ndarray:
+    _, tags, _ = gmsh.model.mesh.getElements(3)
+    all_tags = np.concatenate([np.asarray(t) for t in tags])
+    return np.asarray(gmsh.model.mesh.getElementQualities(all_tags.tolist(), "minSJ"))
+
+
+def _repair_inverted(gmsh) -> None:
+    """Curving P2 edges onto the CAD can fold coarse elements (minimum scaled Jacobian <= 0):
+    untangle them with gmsh's high-order optimiser; valid meshes are left untouched."""
+    n_bad = int(np.sum(_min_scaled_jacobians(gmsh) <= 0))
+    if not n_bad:
+        return
+    log.info("%d inverted second-order elements: running gmsh high-order optimisation", n_bad)
+    gmsh.option.setNumber("Mesh.HighOrderThresholdMin", 0.1)
+    gmsh.model.mesh.optimize("HighOrder")
+    left = int(np.sum(_min_scaled_jacobians(gmsh) <= 0))
+    if left:
+        raise RuntimeError(f"{left} of {n_bad} inverted second-order elements remain after high-order "
+                           "optimisation: use a smaller mesh size or order=1")
 
 
 def _tooth_refinement(gmsh, params, options: MeshOptions, tooth_tags: list[int]) -> None:

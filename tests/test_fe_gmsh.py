@@ -128,3 +128,13 @@ def test_tooth_refinement(tmp_path):
     assert e.value.parameter == "tooth_size"
     with pytest.raises(GeometryError):
         MeshOptions(size=0.01, tooth_size=0.02)
+
+
+def test_coarse_curved_mesh_is_untangled(tmp_path):
+    # 50 mm elements on a 20-tooth, m_n = 4 mm pinion: curving the P2 edges onto the teeth folds
+    # some elements; the mesher repairs them (gmsh high-order optimisation) instead of failing
+    from fe_components.reference import PINION_INVOLUTE
+
+    m = build_component(PINION_INVOLUTE, options=MeshOptions(size=0.05), cache_dir=tmp_path)
+    f = lowest_frequencies(m.K, m.M, 7)
+    assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
