@@ -100,6 +100,16 @@ def _m_orth(W, V, MV, M, drop=1e-10, MW=None, KW=None, KV=None):
     return (W, MW, KW) if carry_k else (W, MW)
 
 
+def _orth2(W, V, MV, M):
+    """_m_orth with the M-image recomputed: a first pass carries M W through the
+    combinations (cheap), a second pass on the true M W removes the round-off that
+    carrying amplifies when a column is mostly inside span(V)."""
+    W, _ = _m_orth(W, V, MV, M)
+    if W.shape[1] == 0:
+        return W, W.copy()
+    return _m_orth(W, V, MV, M, MW=M @ W)
+
+
 def _residuals(KX, MX, lam, knorm1, sigma, X):
     rn = np.linalg.norm(KX - MX * lam, axis=0)
     scale = np.maximum(np.linalg.norm(KX - sigma * MX, axis=0),
@@ -135,7 +145,8 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     factorization : an existing factorization of ``K - sigma M`` (reused, not redone).
     sigma : shift in (rad/s)^2 (0 for a clamped component, negative for free-free).
     tol : required relative residual eta of every returned pair.
-    block_size, depth : block Krylov block width and number of blocks per cycle.
+    block_size, depth : block width (default 8) and basis size in blocks before a
+        thick restart (default: about 2k + 2b columns).
     method : ``"arpack"`` (default): scipy's ``eigsh`` in shift-invert mode with
         ``OPinv`` = the given factorization (single-vector solves, thread-limited);
         ``"block"``: the block Krylov / Rayleigh-Ritz iteration of this module.
@@ -164,59 +175,55 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     if method != "block":
         raise ReductionError("unknown eigen method", "method", method)
 
-    b = block_size or max(6, math.ceil(k / 2) + 2)
-    p = depth or max(3, math.ceil(3 * k / b) + 1)
+    b = block_size or 8
+    nkeep = min(n - b, k + max(4, k // 4))           # Ritz vectors kept at a restart
+    m_max = min(n, depth * b if depth else max(2 * k + 2 * b, nkeep + 4 * b))
     rng = np.random.default_rng(seed)
     knorm1 = abs(K).sum(axis=0).max()
     X0 = rng.standard_normal((n, b))
-    MX0 = M @ X0
-    KX0 = K @ X0
-    R0 = None   # residual block of the restart vectors (None on the first cycle)
+    V, MV = _orth2(X0, None, None, M)
+    # Block Krylov-Schur for S = (K - sigma M)^{-1} M, self-adjoint in the M inner
+    # product: V is M-orthonormal, SV = S V (the raw block solves), and the Ritz pairs
+    # come from H = V^T M S V (eigenvalues nu = 1 / (lambda - sigma)). With Ritz
+    # vectors of H, S X lies in span(X, next block), so a thick restart that keeps X
+    # and the next block loses nothing.
+    SV = np.zeros((n, 0))      # S-images of V[:, :SV.shape[1]]; newer columns pending
     for cycle in range(max_restarts + 1):
-        V, MV, KV = _m_orth(X0, None, None, M, MW=MX0, KW=KX0, KV=None)
-        MW = MV
-        for j in range(p - 1):
-            if V.shape[1] >= n - 1:
+        while True:
+            pend = slice(SV.shape[1], V.shape[1])
+            raw = factorization.solve(MV[:, pend])   # one block solve: S of the newest block
+            SV = np.hstack([SV, raw])
+            if V.shape[1] + raw.shape[1] > m_max:
                 break
-            if j == 0 and R0 is not None:
-                # Davidson/LOBPCG-style correction (K - sigma M)^{-1} r: same span as S X
-                # in exact arithmetic, but free of the cancellation that stalls
-                # plain Krylov restarts once the Ritz vectors have converged.
-                rhs = R0
-            else:
-                rhs = MW                      # S applied to the last block
-            W = factorization.solve(rhs)      # one block solve
-            MW = M @ W                        # the only sparse product per block
-            KW = rhs + sigma * MW             # (K - sigma M) W = rhs
-            W, MW, KW = _m_orth(W, V, MV, M, MW=MW, KW=KW, KV=KV)
+            W, MW = _orth2(raw, V, MV, M)
             if W.shape[1] == 0:
                 break
-            V = np.hstack([V, W])
-            MV = np.hstack([MV, MW])
-            KV = np.hstack([KV, KW])
-        Kr = V.T @ KV
-        Mr = V.T @ MV
-        theta, Y = sla.eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
-        order = np.argsort(theta - sigma)   # closest to sigma from above
-        theta, Y = theta[order], Y[:, order]
-        lam = theta[:k]
+            V, MV = np.hstack([V, W]), np.hstack([MV, MW])
+        H = MV.T @ SV
+        nu, Y = np.linalg.eigh(0.5 * (H + H.T))
+        order = np.argsort(-nu)                      # largest nu = closest to sigma
+        nu, Y = nu[order], Y[:, order]
         Yk = Y[:, :k]
-        res = _residuals(KV @ Yk, MV @ Yk, lam, knorm1, sigma, V @ Yk)
+        # Rayleigh quotients and residuals with true products (the carried images
+        # K V, M V hold the solves' round-off, which would floor the residual)
+        X = V @ Yk
+        KX, MX = K @ X, M @ X
+        lam = np.einsum("ij,ij->j", X, KX) / np.einsum("ij,ij->j", X, MX)
+        o = np.argsort(lam)
+        lam, X, KX, MX = lam[o], X[:, o], KX[:, o], MX[:, o]
+        res = _residuals(KX, MX, lam, knorm1, sigma, X)
         log.debug("eigen cycle %d: basis %d, max residual %.2e", cycle, V.shape[1], res.max())
         if res.max() <= tol:
-            X = V @ Yk
-            # confirm with true products (the carried images accumulate round-off)
-            res = residual_norms(K, M, lam, X, sigma=sigma)
-            if res.max() <= tol:
-                dt = time.perf_counter() - t0
-                return EigenResult(lam, X, res, factorization.n_solves - solves0,
-                                   factorization.n_rhs - rhs0, dt)
-        # thick restart from the best Ritz vectors (wanted ones + guard)
-        nkeep = min(V.shape[1], k + max(4, k // 2))
-        Yk = Y[:, :nkeep]
-        X0, MX0, KX0 = V @ Yk, MV @ Yk, KV @ Yk
-        R0 = KX0 - MX0 * theta[:nkeep]
-        p = 3
+            X = X / np.sqrt(np.einsum("ij,ij->j", X, MX))[None, :]
+            dt = time.perf_counter() - t0
+            return EigenResult(lam, X, res, factorization.n_solves - solves0,
+                               factorization.n_rhs - rhs0, dt)
+        # thick restart: the next block (S of the newest block, orthogonalised against
+        # the FULL basis) is formed first, then only the best Ritz vectors are kept
+        W, MW = _orth2(raw, V, MV, M)
+        Yr = Y[:, :nkeep]
+        V, MV, SV = V @ Yr, MV @ Yr, SV @ Yr
+        V, MV = np.hstack([V, W]), np.hstack([MV, MW])
     raise EigenSolveError(f"eigen solve did not converge in {max_restarts} restarts",
                           "max relative residual", float(res.max()))
 
