@@ -128,7 +128,7 @@ def test_frequencies_converge_from_above_as_modes_are_added():
     full = sla.eigh(m.K.toarray(), m.M.toarray(), eigvals_only=True,
                     subset_by_index=[6, 11])
     prev = None
-    for k in [0, 4, 8, 16, 32, 64]:
+    for k in [0, 4, 8, 16, 32]:
         se = CraigBamptonReductor(m.K, m.M, b, n_modes=k).reduce()
         lam = sla.eigh(se.K, se.M, eigvals_only=True)[6:12]
         assert np.all(lam >= full * (1 - 1e-10))
@@ -136,7 +136,7 @@ def test_frequencies_converge_from_above_as_modes_are_added():
             assert np.all(lam <= prev * (1 + 1e-10))
             assert lam.sum() < prev.sum()   # and strictly improving overall
         prev = lam
-    assert np.all(prev - full <= 1e-3 * full)   # 64 modes: the first six converged
+    assert np.all(prev - full <= 1e-3 * full)   # 32 modes: the first six within 0.1 %
 
 
 def test_fixed_interface_modes_mass_normalised_and_match_dense():
