@@ -202,16 +202,28 @@ def row(name, n, res):
             f"| {err} | {ex_t} | {ex_r} | {ex_m} | {agree} | {bt} | {br} |")
 
 
-#: mesh sizes (m) giving roughly 30k, 100k and 300k DOFs per component
-DEFAULT_SIZES = {"pinion": (0.0083, 0.0056, 0.003), "wheel": (0.0143, 0.0096, 0.0066),
-                 "carrier": (0.02, 0.013, 0.009)}
+#: mesh sizes (m): about 20-50k, 35-125k and >= 300k coupled DOFs per component
+DEFAULT_SIZES = {"pinion": (0.0083, 0.0056, 0.003), "wheel": (0.0096, 0.0066, 0.004),
+                 "carrier": (0.013, 0.009, 0.0062)}
+
+
+def _sizes_for(name: str, spec: str | None) -> list[float]:
+    """Mesh sizes (m) for ``name`` from ``"0.01,0.005"`` (all components) or
+    ``"pinion=0.003,wheel=0.004"`` (per component); default :data:`DEFAULT_SIZES`."""
+    if not spec:
+        return list(DEFAULT_SIZES[name])
+    if "=" not in spec:
+        return [float(x) for x in spec.split(",")]
+    out = [float(v) for k, v in (item.split("=") for item in spec.split(",")) if k == name]
+    return out
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="flexgear bench cms", description=__doc__.split("\n")[0])
     ap.add_argument("--components", default="pinion,wheel,carrier")
     ap.add_argument("--sizes", default=None,
-                    help="comma-separated mesh sizes in m for every component "
+                    help="mesh sizes in m: '0.01,0.005' for every component or "
+                         "'pinion=0.003,wheel=0.004' per component "
                          "(default: three per component, up to >= 300k DOFs)")
     ap.add_argument("--modes", type=int, default=30)
     ap.add_argument("--no-exudyn", action="store_true")
@@ -237,7 +249,7 @@ def main(argv=None) -> int:
     lines = [HEADER, SEP]
     print(HEADER, SEP, sep="\n", flush=True)
     for name in a.components.split(","):
-        sizes = ([float(s) for s in a.sizes.split(",")] if a.sizes else DEFAULT_SIZES[name])
+        sizes = _sizes_for(name, a.sizes)
         for h in sizes:
             t0 = time.perf_counter()
             model, c, layout, names = build(name, h, a.cache_dir)
