@@ -140,27 +140,18 @@ def solve_modes(model, n_modes: int | None = None) -> ModalResult:
 
 
 def _sparse_lowest(K, M, k):
-    """Lowest ``k`` modes of a large sparse model: one sparse factorization of
-    ``K - sigma M`` (cms.linsolve: CHOLMOD when installed) used by ARPACK shift-invert.
+    """Lowest ``k`` modes of a large sparse model by cms.eigen (ARPACK shift-invert on one
+    sparse factorization, CHOLMOD when installed, residual-checked).
 
     The shift is negative (the model may have rigid-body modes) and small against the
     spectrum: -1e-6 of the median diagonal ratio K_ii / M_ii, i.e. (2 pi f)^2 for an f well
     below any elastic mode, keeping ``K - sigma M`` positive definite.
     """
-    import scipy.sparse.linalg as spla
-    from cms.linsolve import factor, thread_limit
+    from cms.eigen import lowest_modes
     diag_ratio = float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300)))
-    sigma = -1e-6 * diag_ratio
-    F = factor((K - sigma * M).tocsc(), threads=1)
-    op = spla.LinearOperator(K.shape, matvec=F.solve, dtype=float)
-    with thread_limit(1):
-        lam, V = spla.eigsh(K.tocsc(), k=min(k, K.shape[0] - 1), M=M.tocsc(), sigma=sigma, OPinv=op,
-                            which="LM", tol=1e-12)
-    order = np.argsort(lam)
-    lam, V = lam[order], V[:, order]
-    # mass-normalise (ARPACK returns M-orthonormal vectors already; enforce to round-off)
-    V = V / np.sqrt(np.einsum("im,im->m", V, M @ V))
-    return lam, V
+    r = lowest_modes(K.tocsc(), M.tocsc(), min(k, K.shape[0] - 1), sigma=-1e-6 * diag_ratio,
+                     tol=1e-10, threads=1)
+    return np.asarray(r.eigenvalues), np.asarray(r.vectors)
 
 
 def mechanisms(result, top: int = 3) -> list:
