@@ -17,6 +17,7 @@ Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 from __future__ import annotations
 
 import csv
+from contextlib import contextmanager
 import json
 import logging
 import os
@@ -428,6 +429,21 @@ def _move_into_place(work: Path, out_dir: Path) -> None:
         shutil.rmtree(old, ignore_errors=True)
 
 
+@contextmanager
+def staged_output(out_dir: Path):
+    """Yield a fresh work folder next to ``out_dir``; on success it replaces ``out_dir``
+    (checked again just before), on any failure it is deleted: nothing half-written."""
+    check_output_dir(out_dir)
+    work = _new_work_dir(out_dir)
+    try:
+        yield work
+        check_output_dir(out_dir)
+        _move_into_place(work, out_dir)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+
+
 def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=None,
                  steps: list | None = None) -> RunContext:
     """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path or shipped name)
@@ -437,11 +453,9 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
     options = options or RunOptions()
     progress = progress or Progress(enabled=False)
     out_dir = Path(out_dir).absolute()
-    check_output_dir(out_dir)
-    work = _new_work_dir(out_dir)
-    ctx = RunContext(str(scene), out_dir, work, options)
     t_all = time.perf_counter()
-    try:
+    with staged_output(out_dir) as work:
+        ctx = RunContext(str(scene), out_dir, work, options)
         for st in steps or DEFAULT_STEPS:
             t0 = time.perf_counter()
             with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar:
@@ -457,11 +471,6 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
             timings_s={k: round(v, 4) for k, v in ctx.timings.items()},
             notes=ctx.notes, python=sys.version.split()[0])
         (work / MANIFEST).write_text(json.dumps(manifest, indent=1))
-        check_output_dir(out_dir)
-        _move_into_place(work, out_dir)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     ctx.work = out_dir
     log.info("wrote %s in %.2f s", out_dir, ctx.timings["total"])
     return ctx

@@ -22,7 +22,6 @@ import dataclasses
 import json
 import logging
 import math
-import shutil
 import sys
 import time
 from dataclasses import dataclass
@@ -146,15 +145,15 @@ def write_plot(sr: SweepResult, path, max_modes: int | None = None) -> Path:
 
 def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_modes: int | None = None) -> dict:
     """Load the scene, sweep, and write CSV + PNG + manifest into ``out_dir`` atomically."""
-    from .pipeline import MANIFEST, _move_into_place, _new_work_dir, check_output_dir
+    from .pipeline import MANIFEST, staged_output
     from .toml_io import load_scene
 
     out_dir = Path(out_dir).absolute()
-    check_output_dir(out_dir)
     t0 = time.perf_counter()
+    from .pipeline import check_output_dir
+    check_output_dir(out_dir)  # refuse a foreign folder before the (possibly long) sweep
     scene = load_scene(scene_source)
-    work = _new_work_dir(out_dir)
-    try:
+    with staged_output(out_dir) as work:
         sr = run_sweep(scene, param, values, progress)
         write_csv(sr, work / "sweep.csv")
         write_plot(sr, work / "sweep.png", max_modes=max_modes)
@@ -163,11 +162,6 @@ def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_m
                     n_modes=int(sr.frequencies_hz.shape[1]), time_s=round(time.perf_counter() - t0, 4),
                     python=sys.version.split()[0])
         (work / MANIFEST).write_text(json.dumps(info, indent=1))
-        check_output_dir(out_dir)
-        _move_into_place(work, out_dir)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     return info
 
 
