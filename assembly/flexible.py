@@ -12,7 +12,6 @@ MAC pairing and energy bookkeeping. Component placement: a local point ``x`` sit
 from __future__ import annotations
 
 import logging
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -298,7 +297,6 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
     """The flexible model of ``body``: Craig-Bampton superelement (cached) or full FE."""
     from cms.cache import SuperelementCache
     from cms.craig_bampton import CraigBamptonReductor
-    from cms.rigid import master_dof_layout
     from fe_components.coupling import couple
     from fe_components.meshing import MeshOptions, mesh_path
     from fe_components.fe_model import default_mesh_size
@@ -332,8 +330,6 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
 
         def do_reduce():
             c = coupled()
-            pts = np.array([p for _, p, _ in c.masters])
-            layout = master_dof_layout(pts)
             n = c.K_c.shape[0]
             # rigid-body information for the reductor's mechanism check and self-checks
             Rl = _coupled_rigid_basis(c, fe.center_of_mass)
@@ -344,7 +340,6 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
                 metadata={"mass": fe.mass, "center_of_mass": fe.center_of_mass.tolist(),
                           "inertia": fe.inertia.tolist(), "masters": {nm: p.tolist() for nm, p, _ in c.masters},
                           "n_full_dofs": int(fe.n_dofs), "n_coupled_dofs": int(n), "mesh_file": mfile.name})
-            del layout
             return red.reduce()
 
         se = cache.get_or_reduce(key_inputs, do_reduce)

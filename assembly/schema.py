@@ -76,7 +76,7 @@ def convert(tp, value: Any, path: str):
     if origin is tuple:
         args = get_args(tp)
         if not isinstance(value, (list, tuple)):
-            raise SceneError(path, value, f"must be an array")
+            raise SceneError(path, value, "must be an array")
         if len(args) == 2 and args[1] is Ellipsis:
             return tuple(convert(args[0], v, f"{path}[{i}]") for i, v in enumerate(value))
         if len(value) != len(args):
