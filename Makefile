@@ -41,6 +41,7 @@ test: setup
 	$(PY) -m pytest -q
 
 bench: setup
+	$(PY) -m pip install -q -e '.[bench]' || echo "note: exudyn not installed; cms bench runs without the Exudyn columns"
 	$(VENV)/bin/flexgear bench all
 
 clean:

@@ -339,9 +339,9 @@ def step_recovery(ctx: RunContext, bar) -> None:
             collection.append((len(collection), vtu))
             if ctx.options.images:  # von Mises image for the load case and every rendered mode
                 rel = f"images/stress_{b}_{tag}.png"
-                unit = "Pa" if k < len(cases) else "Pa per unit modal coordinate"
+                unit = "MPa" if k < len(cases) else "MPa per unit modal coordinate, modal mass 1 kg"
                 render_stress_image(bm, zb, ctx.add_file(rel, f"{b} von Mises, {label} (PNG)"),
-                                    f"{ctx.scene.name}: {b}, von Mises ({unit}), {label}",
+                                    f"{ctx.scene.name}: {b}, von Mises [{unit}], {label}",
                                     ctx.options.window_size)
                 ctx.plots.append((rel, f"von Mises stress on {b}: {label}"))
             bar.update(1)
@@ -504,6 +504,7 @@ def cmd_run(args) -> int:
     progress = Progress(enabled=False if args.quiet else None)
     ctx = run_pipeline(args.scene, args.out, opts, progress)
     if not args.quiet:
-        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {len(ctx.images)} images -> "
+        n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
+        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
               f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")
     return 0

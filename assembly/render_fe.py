@@ -51,8 +51,9 @@ def render_stress_image(body, zb, path, title: str, window_size=(1200, 900)):
         k = int(np.argmax(st.von_mises))
         pmax = body.origin + body.axes @ st.points[k]
         pl.add_points(np.array([pmax]), color="black", point_size=14, render_points_as_spheres=True)
-        pl.add_text(f"{title}\nmax {st.von_mises[k] / 1e6:.4g} MPa at ({pmax[0]:.4f}, {pmax[1]:.4f}, "
-                    f"{pmax[2]:.4f}) m (black dot)", position="upper_left", font_size=12, color="black")
+        pl.add_text(f"{title}\nmax over all nodes {st.von_mises[k] / 1e6:.4g} MPa at ({pmax[0]:.4f}, "
+                    f"{pmax[1]:.4f}, {pmax[2]:.4f}) m (black dot); colours: outer surface",
+                    position="upper_left", font_size=12, color="black")
         pl.camera_position = "iso"
         pl.reset_camera()
         pl.screenshot(str(path))
