@@ -270,15 +270,30 @@ class CraigBamptonReductor:
             self._check_positive(r.eigenvalues, Kii, Mii)
             return r.eigenvalues, r.vectors, r.residuals
         lam_cut = (2 * math.pi * self.cutoff_hz) ** 2
+        # Batches of modes on the one factorization; each batch deflates the modes already
+        # found (ARPACK only), so nothing is recomputed when the cutoff needs more modes.
+        lams, vecs, ress = [], [], []
         k = min(ni, 12)
         while True:
-            r = lowest_modes(Kii, Mii, k, factorization=F, tol=self.tol, threads=self.threads,
-                             method=self.eigen_method)
+            found = np.hstack(vecs) if vecs else None
+            n_found = 0 if found is None else found.shape[1]
+            k = min(k, ni - n_found)
+            deflate = found if self.eigen_method == "arpack" else None
+            r = lowest_modes(Kii, Mii, k if deflate is not None else n_found + k, factorization=F,
+                             tol=self.tol, threads=self.threads, method=self.eigen_method, deflate=deflate)
+            if deflate is None:  # block method: recompute from scratch, keep the new ones
+                lams, vecs, ress = [], [], []
             self._check_positive(r.eigenvalues, Kii, Mii)
-            if r.eigenvalues[-1] > lam_cut or k == ni:
-                keep = r.eigenvalues <= lam_cut
-                return r.eigenvalues[keep], r.vectors[:, keep], r.residuals[keep]
-            k = min(ni, 2 * k)
+            lams.append(r.eigenvalues)
+            vecs.append(r.vectors)
+            ress.append(r.residuals)
+            n_found = sum(len(x) for x in lams)
+            if r.eigenvalues[-1] > lam_cut or n_found >= ni:
+                lam, X, res = (np.concatenate(lams), np.hstack(vecs), np.concatenate(ress))
+                o = np.argsort(lam)
+                keep = o[lam[o] <= lam_cut]
+                return lam[keep], X[:, keep], res[keep]
+            k = 2 * k
 
     @staticmethod
     def _check_positive(lam, Kii, Mii):
