@@ -11,6 +11,7 @@ MAC pairing and energy bookkeeping. Component placement: a local point ``x`` sit
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -321,7 +322,7 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
     def coupled():
         nonlocal fe, cm
         if cm is None:
-            fe = build_fe(body, params, dataclasses_replace(options, mesh_size=mesh_size))
+            fe = build_fe(body, params, dataclasses.replace(options, mesh_size=mesh_size))
             cm = couple(fe, couplings)
         return cm
 
@@ -366,7 +367,7 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
         se = None
         info = {"n_full_dofs": int(fe.n_dofs), "build_time_s": time.perf_counter() - t0}
     fbm = FlexibleBodyModel(body.name, o + R @ com_l, R, o, mass, R @ inertia @ R.T, K, M, masters, Rl,
-                            reduce, se, info, params, dataclasses_replace(options, mesh_size=mesh_size))
+                            reduce, se, info, params, dataclasses.replace(options, mesh_size=mesh_size))
     if not reduce:
         fbm._coupled = (fe, cm)
     return fbm
@@ -395,11 +396,6 @@ def deflate_rigid(K: np.ndarray, M: np.ndarray, R: np.ndarray, name: str) -> np.
     P = np.eye(K.shape[0]) - R @ G
     Kd = P.T @ K @ P
     return 0.5 * (Kd + Kd.T)
-
-
-def dataclasses_replace(obj, **kw):
-    import dataclasses
-    return dataclasses.replace(obj, **kw)
 
 
 def code_digest() -> str:

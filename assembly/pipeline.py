@@ -134,7 +134,7 @@ def step_compare(ctx: RunContext, bar) -> None:
         bar.update(bar.total - bar.n)
         return
     try:
-        c = compare(ctx.scene)
+        c = compare(ctx.scene, given=ctx.result)  # the scene as given is solved already
     except _user_errors() as exc:
         ctx.notes.append(f"fidelity comparison not possible: {exc}")
         log.warning("comparison failed: %s", exc)

@@ -16,7 +16,7 @@ from typing import Callable
 import numpy as np
 
 from .errors import CacheError
-from .superelement import VERSION, Superelement
+from .superelement import VERSION, Superelement, _json_default
 
 log = logging.getLogger(__name__)
 
@@ -41,16 +41,8 @@ def array_hash(*arrays) -> str:
 def cache_key(**inputs) -> str:
     """Hex key for the JSON-serialisable ``inputs`` (order-independent)."""
     payload = json.dumps({"format_version": VERSION, **inputs}, sort_keys=True,
-                         default=_default, separators=(",", ":"))
+                         default=_json_default, separators=(",", ":"))
     return hashlib.sha256(payload.encode()).hexdigest()
-
-
-def _default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"cache key input not JSON serialisable: {type(o)}")
 
 
 class SuperelementCache:
