@@ -220,8 +220,10 @@ class CraigBamptonReductor:
         self.timings.constraint_modes = time.perf_counter() - t0
 
         t0 = time.perf_counter()
+        solves0, rhs0 = F.n_solves, F.n_rhs
         lam, Phi, res = self._modes(Kii, Mii, F)
         self.timings.eigen = time.perf_counter() - t0
+        eigen_solves, eigen_rhs = F.n_solves - solves0, F.n_rhs - rhs0
         if len(lam):
             checks["eigen_residual_max"] = float(res.max())
 
@@ -236,7 +238,8 @@ class CraigBamptonReductor:
         meta = dict(self.metadata)
         meta.setdefault("mode_selection", {"n_modes": self.n_modes, "cutoff_hz": self.cutoff_hz})
         meta["solver"] = {"backend": F.backend, "threads": self.threads, "tol": self.tol,
-                          "ordering": self.ordering, "eigen_method": self.eigen_method}
+                          "ordering": self.ordering, "eigen_method": self.eigen_method,
+                          "eigen_solves": eigen_solves, "eigen_rhs": eigen_rhs}
         meta["timings_s"] = vars(self.timings).copy()
         meta["self_checks"] = checks
         names = ([self.dof_names[j] for j in b] if self.dof_names is not None
