@@ -5,7 +5,7 @@ sparse eigenproblem), then Craig-Bampton reductions with a given number of fixed
 modes per body, or with the cutoff at a multiple of the scene's band. Columns: modes per
 body, coupled DOFs, max and mean relative error of the first 20 elastic coupled
 frequencies (and of those inside the band), time to reduce (fresh cache), time to solve,
-total vs full-FE time, peak memory. ``flexgear bench flex [--scene S] [--modes 0,4,8,...]
+cold and warm-cache totals vs full-FE time, a design study of bearing variants, peak memory. ``flexgear bench flex [--scene S] [--modes 0,4,8,...]
 [--factors 1,1.5,2,3]``.
 """
 from __future__ import annotations
@@ -35,15 +35,39 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def run(scene_name: str, modes, factors, n_cmp: int = 20, out=sys.stdout) -> list:
+def _cold():
+    """Forget the FE models assembled in this process (mesh files stay cached on disk)."""
     import assembly.flexible as flexible
-    from .flexible import DEFAULT_BAND_HZ
+    flexible._FE_MEMO.clear()
+
+
+def _variants(scene, n: int):
+    """``n`` bearing-stiffness variants (all bearings x 0.25 ... x 4, log-spaced): the kind
+    of design study (Peeters Fig. 11a) that changes springs and leaves every body alone."""
+    from .scene import scale_bearings
+    return [scale_bearings(scene, float(f)) for f in np.logspace(np.log10(0.25), np.log10(4.0), n)]
+
+
+def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, out=sys.stdout) -> list:
+    """Benchmark one scene; prints a table and returns its rows (dicts, times in s).
+
+    Every time includes the component FE assembly from the on-disk mesh cache (the FE
+    models are forgotten before each cold case), so full FE and reduced start equal:
+    - ``cold``: empty superelement cache: FE assembly, coupling, reduction, assembly, solve;
+    - ``warm``: the same scene again with its reductions in the cache (no FE needed);
+    - ``study``: ``n_variants`` bearing-stiffness variants at the default cutoff: full FE
+      assembles its FE models once and re-solves every variant; the reduced model reduces
+      once (cold) and solves every variant from the cache.
+    """
+    import assembly.flexible as flexible
+    from .flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ
     from .modal import solve_modes
     from .model import assemble, build_body_models
     from .toml_io import load_scene
 
     scene = load_scene(scene_name)
     band = scene.band_hz or DEFAULT_BAND_HZ
+    _cold()
     t0 = time.perf_counter()
     full_model = assemble(scene, full_fe=True)
     t_build = time.perf_counter() - t0
@@ -52,11 +76,13 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, out=sys.stdout) -> lis
     f_ref = ref.frequencies_hz[ref.n_rigid:ref.n_rigid + n_cmp]
     in_band = f_ref < band
     rows = []
-    print(f"\n{scene.name}: full FE {full_model.K.shape[0]} DOFs, build {t_build:.1f} s, solve "
-          f"{t_full - t_build:.1f} s, total {t_full:.1f} s, max residual {ref.max_residual:.1e}; "
-          f"band {band:.0f} Hz ({int(in_band.sum())} of the first {n_cmp} elastic modes inside)", file=out)
+    print(f"\n{scene.name}: full FE {full_model.K.shape[0]} DOFs, build {t_build:.1f} s (FE assembly "
+          f"included), solve {t_full - t_build:.1f} s, total {t_full:.1f} s, max residual "
+          f"{ref.max_residual:.1e}; band {band:.0f} Hz ({int(in_band.sum())} of the first {n_cmp} "
+          f"elastic modes inside)", file=out)
     print(f"{'selection':>14} {'DOFs':>6} {'max err %':>9} {'mean err %':>10} {'band max %':>10} "
-          f"{'reduce s':>8} {'solve s':>7} {'total s':>7} {'speed-up':>8} {'peak MB':>8}", file=out)
+          f"{'reduce s':>8} {'solve s':>7} {'cold s':>7} {'speed-up':>8} {'warm s':>7} {'speed-up':>8} "
+          f"{'peak MB':>8}", file=out)
     cases = [("n_modes", m) for m in modes] + [("cutoff", f) for f in factors]
     for kind, val in cases:
         with tempfile.TemporaryDirectory() as cache:
@@ -65,12 +91,18 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, out=sys.stdout) -> lis
             try:
                 sc = _with_flex(scene, n_modes=val, cutoff_hz=None) if kind == "n_modes" else \
                     _with_flex(scene, n_modes=None, cutoff_hz=val * band)
+                _cold()
                 t1 = time.perf_counter()
                 bodies = build_body_models(sc.expanded())
                 t_red = time.perf_counter() - t1
                 m = assemble(sc, bodies=bodies)
                 r = solve_modes(m)
                 t_tot = time.perf_counter() - t1
+                _cold()
+                t2 = time.perf_counter()
+                r_warm = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+                t_warm = time.perf_counter() - t2
+                assert np.allclose(r_warm.frequencies_hz, r.frequencies_hz, rtol=1e-9, atol=1e-6)
             finally:
                 flexible.CMS_CACHE_DIR = old
         f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
@@ -80,13 +112,58 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, out=sys.stdout) -> lis
         label = f"{val} modes" if kind == "n_modes" else f"cutoff {val:g}xband"
         row = dict(scene=scene.name, selection=label, dofs=int(m.K.shape[0]), max_err_pct=float(err.max()),
                    mean_err_pct=float(err.mean()), band_max_err_pct=float(band_err), reduce_s=t_red,
-                   solve_s=r.solve_time_s, total_s=t_tot, full_fe_s=t_full, peak_mb=_peak_mb())
+                   solve_s=r.solve_time_s, total_s=t_tot, warm_s=t_warm, full_fe_s=t_full,
+                   peak_mb=_peak_mb())
         rows.append(row)
         print(f"{label:>14} {row['dofs']:>6} {row['max_err_pct']:>9.3f} {row['mean_err_pct']:>10.3f} "
               f"{row['band_max_err_pct']:>10.3f} {t_red:>8.1f} {r.solve_time_s:>7.3f} {t_tot:>7.1f} "
-              f"{t_full / t_tot:>7.1f}x {row['peak_mb']:>8.0f}", file=out)
+              f"{t_full / t_tot:>7.1f}x {t_warm:>7.2f} {t_full / t_warm:>7.0f}x {row['peak_mb']:>8.0f}",
+              file=out)
         out.flush()
+    if n_variants:
+        rows.append(_study(scene, band, n_variants, CUTOFF_FACTOR, n_cmp, out))
     return rows
+
+
+def _study(scene, band, n, factor, n_cmp, out) -> dict:
+    """Design study: ``n`` bearing variants, full FE vs reduced (default cutoff)."""
+    import assembly.flexible as flexible
+    from .modal import solve_modes
+    from .model import assemble, build_body_models
+    variants = _variants(scene, n)
+    _cold()
+    t0 = time.perf_counter()
+    ref = [solve_modes(assemble(v, full_fe=True), n_modes=n_cmp + 12) for v in variants]
+    t_full = time.perf_counter() - t0
+    errs = []
+    with tempfile.TemporaryDirectory() as cache:
+        old = flexible.CMS_CACHE_DIR
+        flexible.CMS_CACHE_DIR = cache
+        try:
+            _cold()
+            t1 = time.perf_counter()
+            for v, rf in zip(variants, ref):
+                sc = _with_flex(v, n_modes=None, cutoff_hz=factor * band)
+                r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+                f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
+                f0 = rf.frequencies_hz[rf.n_rigid:rf.n_rigid + n_cmp]
+                k = min(len(f), len(f0))
+                sel = f0[:k] < band
+                if sel.any():
+                    errs.append(float(np.max(np.abs(f[:k][sel] / f0[:k][sel] - 1)) * 100))
+            t_red = time.perf_counter() - t1
+        finally:
+            flexible.CMS_CACHE_DIR = old
+    row = dict(scene=scene.name, selection=f"study: {n} bearing variants", dofs=0, max_err_pct=float("nan"),
+               mean_err_pct=float("nan"), band_max_err_pct=max(errs) if errs else float("nan"),
+               reduce_s=float("nan"), solve_s=float("nan"), total_s=t_red, warm_s=float("nan"),
+               full_fe_s=t_full, peak_mb=_peak_mb())
+    print(f"design study, {n} bearing-stiffness variants (x0.25 ... x4), cutoff {factor:g} x band: "
+          f"full FE {t_full:.1f} s, reduced {t_red:.1f} s (one reduction, then the cache): "
+          f"{t_full / t_red:.1f}x; max error in band over all variants {row['band_max_err_pct']:.3f} %",
+          file=out)
+    out.flush()
+    return row
 
 
 def main(argv=None) -> int:
@@ -94,6 +171,8 @@ def main(argv=None) -> int:
     p.add_argument("--scene", action="append", help="scene(s) (default: both flexible demo scenes)")
     p.add_argument("--modes", default="0,4,8,16,32", help="fixed-interface modes per body to try")
     p.add_argument("--factors", default="1,2,4,6", help="cutoff factors (x band) to try")
+    p.add_argument("--variants", type=int, default=10,
+                   help="bearing-stiffness variants in the design-study row (0: skip)")
     p.add_argument("--out", help="folder for speed_vs_error.png and speed_vs_error.csv")
     a = p.parse_args(argv)
     scenes = a.scene or ["hs_parallel_stage.toml", "planetary_flexible_carrier.toml"]
@@ -101,7 +180,7 @@ def main(argv=None) -> int:
     factors = [float(x) for x in a.factors.split(",") if x]
     rows = []
     for s in scenes:
-        rows += run(s, modes, factors)
+        rows += run(s, modes, factors, n_variants=a.variants)
     if a.out:
         write_plot(rows, a.out)
     return 0
@@ -125,7 +204,8 @@ def write_plot(rows: list, out_dir) -> None:
         w.writerows(rows)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for scene in dict.fromkeys(r["scene"] for r in rows):
-        rs = [r for r in rows if r["scene"] == scene and r["selection"].endswith("modes")]
+        rs = [r for r in rows if r["scene"] == scene and r["selection"].endswith("modes")
+              and not r["selection"].startswith("study")]
         if not rs:
             continue
         n = [int(r["selection"].split()[0]) for r in rs]
