@@ -48,7 +48,8 @@ def _variants(scene, n: int):
     return [scale_bearings(scene, float(f)) for f in np.logspace(np.log10(0.25), np.log10(4.0), n)]
 
 
-def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, out=sys.stdout) -> list:
+def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, out=sys.stdout,
+        plain_modes=(), plain_factors=()) -> list:
     """Benchmark one scene; prints a table and returns its rows (dicts, times in s).
 
     Every time includes the component FE assembly from the on-disk mesh cache (the FE
@@ -83,14 +84,16 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
     print(f"{'selection':>14} {'DOFs':>6} {'max err %':>9} {'mean err %':>10} {'band max %':>10} "
           f"{'reduce s':>8} {'solve s':>7} {'cold s':>7} {'speed-up':>8} {'warm s':>7} {'speed-up':>8} "
           f"{'peak MB':>8}", file=out)
-    cases = [("n_modes", m) for m in modes] + [("cutoff", f) for f in factors]
-    for kind, val in cases:
+    cases = ([("n_modes", m, True) for m in modes] + [("cutoff", f, True) for f in factors]
+             + [("n_modes", m, False) for m in plain_modes] + [("cutoff", f, False) for f in plain_factors])
+    for kind, val, rv in cases:
         with tempfile.TemporaryDirectory() as cache:
             old = flexible.CMS_CACHE_DIR
             flexible.CMS_CACHE_DIR = cache
             try:
-                sc = _with_flex(scene, n_modes=val, cutoff_hz=None) if kind == "n_modes" else \
-                    _with_flex(scene, n_modes=None, cutoff_hz=val * band)
+                sc = _with_flex(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
+                    if kind == "n_modes" else \
+                    _with_flex(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
                 _cold()
                 t1 = time.perf_counter()
                 bodies = build_body_models(sc.expanded())
@@ -109,7 +112,7 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
         k = min(len(f), len(f_ref))
         err = np.abs(f[:k] / f_ref[:k] - 1) * 100
         band_err = err[in_band[:k]].max() if in_band[:k].any() else float("nan")
-        label = f"{val} modes" if kind == "n_modes" else f"cutoff {val:g}xband"
+        label = (f"{val} modes" if kind == "n_modes" else f"cutoff {val:g}xband") + (" +rv" if rv else " plain")
         row = dict(scene=scene.name, selection=label, dofs=int(m.K.shape[0]), max_err_pct=float(err.max()),
                    mean_err_pct=float(err.mean()), band_max_err_pct=float(band_err), reduce_s=t_red,
                    solve_s=r.solve_time_s, total_s=t_tot, warm_s=t_warm, full_fe_s=t_full,
@@ -170,7 +173,11 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="flexgear bench flex", description=__doc__.split("\n")[0])
     p.add_argument("--scene", action="append", help="scene(s) (default: both flexible demo scenes)")
     p.add_argument("--modes", default="0,4,8,16,32", help="fixed-interface modes per body to try")
-    p.add_argument("--factors", default="1,2,4,6", help="cutoff factors (x band) to try")
+    p.add_argument("--factors", default="1,1.5,2,4", help="cutoff factors (x band), residual vectors on")
+    p.add_argument("--plain-modes", default="0,8,32",
+                   help="fixed-interface modes per body for plain Craig-Bampton (no residual vectors)")
+    p.add_argument("--plain-factors", default="1.5,4",
+                   help="cutoff factors (x band) for plain Craig-Bampton (no residual vectors)")
     p.add_argument("--variants", type=int, default=10,
                    help="bearing-stiffness variants in the design-study row (0: skip)")
     p.add_argument("--out", help="folder for speed_vs_error.png and speed_vs_error.csv")
@@ -178,9 +185,11 @@ def main(argv=None) -> int:
     scenes = a.scene or ["hs_parallel_stage.toml", "planetary_flexible_carrier.toml"]
     modes = [int(x) for x in a.modes.split(",") if x]
     factors = [float(x) for x in a.factors.split(",") if x]
+    plain = [float(x) for x in a.plain_factors.split(",") if x]
+    plain_modes = [int(x) for x in a.plain_modes.split(",") if x]
     rows = []
     for s in scenes:
-        rows += run(s, modes, factors, n_variants=a.variants)
+        rows += run(s, modes, factors, n_variants=a.variants, plain_modes=plain_modes, plain_factors=plain)
     if a.out:
         write_plot(rows, a.out)
     return 0
@@ -204,14 +213,15 @@ def write_plot(rows: list, out_dir) -> None:
         w.writerows(rows)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for scene in dict.fromkeys(r["scene"] for r in rows):
-        rs = [r for r in rows if r["scene"] == scene and r["selection"].endswith("modes")
-              and not r["selection"].startswith("study")]
-        if not rs:
-            continue
-        n = [int(r["selection"].split()[0]) for r in rs]
-        axes[0].semilogy(n, [max(r["band_max_err_pct"], 1e-4) for r in rs], "o-", label=scene)
-        axes[1].loglog([r["total_s"] for r in rs], [max(r["max_err_pct"], 1e-4) for r in rs], "o-", label=scene)
-        axes[1].axvline(rs[0]["full_fe_s"], ls=":", color=axes[1].lines[-1].get_color())
+        for tag, style in ((" +rv", "o-"), (" plain", "s--")):
+            rs = [r for r in rows if r["scene"] == scene and r["selection"].endswith("modes" + tag)]
+            if not rs:
+                continue
+            n = [int(r["selection"].split()[0]) for r in rs]
+            axes[0].semilogy(n, [max(r["band_max_err_pct"], 1e-6) for r in rs], style, label=scene + tag)
+            axes[1].loglog([r["total_s"] for r in rs], [max(r["max_err_pct"], 1e-6) for r in rs], style,
+                           label=scene + tag)
+            axes[1].axvline(rs[0]["full_fe_s"], ls=":", color=axes[1].lines[-1].get_color())
     axes[0].axhline(0.5, ls="--", color="k", lw=0.8)
     axes[0].set(xlabel="fixed-interface modes per flexible body", ylabel="max error in band vs full FE [%]",
                 title="accuracy against mode count")
