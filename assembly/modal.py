@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as sla
+from threadpoolctl import threadpool_limits
 
 from .errors import SolverError
 
@@ -84,6 +85,8 @@ def _norm1(A) -> float:
 #: Models up to this many DOFs are solved densely (all modes); larger ones by a sparse
 #: shift-invert block solve of the lowest modes (cms.eigen, one sparse factorization).
 DENSE_MAX = 3000
+#: Dense problems up to this size are solved on one BLAS thread.
+SMALL_DENSE = 500
 #: Sparse solves: eigenvalues below this fraction of the median K_ii/M_ii are rigid-body.
 SPARSE_ZERO_RTOL = 1e-10
 #: Default number of modes of a sparse (large) solve.
@@ -110,8 +113,11 @@ def solve_modes(model, n_modes: int | None = None) -> ModalResult:
         sc = 1.0 / np.sqrt(d)
         try:
             subset = None if n_modes is None else (0, min(n_modes, n) - 1)
-            lam, Phi = sla.eigh(sc[:, None] * Kd * sc[None, :], sc[:, None] * Md * sc[None, :],
-                                subset_by_index=subset)
+            # one BLAS thread below SMALL_DENSE: waking OpenBLAS threads for a 100-DOF
+            # reduced model cost 0.1-0.2 s spikes (median 8 ms vs 2 ms measured, n = 118)
+            with threadpool_limits(1 if n <= SMALL_DENSE else None):
+                lam, Phi = sla.eigh(sc[:, None] * Kd * sc[None, :], sc[:, None] * Md * sc[None, :],
+                                    subset_by_index=subset)
         except np.linalg.LinAlgError as exc:
             raise SolverError("M", "not positive definite", f"mass matrix is singular ({exc})") from exc
         Phi = sc[:, None] * Phi
