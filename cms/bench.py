@@ -79,30 +79,29 @@ def _job_cms(model, c, layout, names, n_modes):
             "eigen_rhs": se.metadata["solver"]["eigen_rhs"]}
 
 
-def _job_bare(model, c, layout, names, n_modes):
-    from .linsolve import factor
+def _interior_blocks(c):
+    """(interior DOF count, K_ii as CSC, K_ib dense) of the coupled model."""
     b = c.boundary_dofs
     mask = np.ones(c.K_c.shape[0], bool)
     mask[b] = False
     i = np.flatnonzero(mask)
-    Kii = c.K_c[i][:, i].tocsc()
-    Kib = c.K_c[i][:, b].toarray()
+    return len(i), c.K_c[i][:, i].tocsc(), c.K_c[i][:, b].toarray()
+
+
+def _job_bare(model, c, layout, names, n_modes):
+    from .linsolve import factor
+    ni, Kii, Kib = _interior_blocks(c)
     t0 = time.perf_counter()
     F = factor(Kii)
     F.threads = 1
     F.solve(Kib)
-    F.solve(np.random.default_rng(0).standard_normal((len(i), n_modes)))
+    F.solve(np.random.default_rng(0).standard_normal((ni, n_modes)))
     return {"total": time.perf_counter() - t0, "factorize": F.seconds}
 
 
 def _job_bare_as_solved(model, c, layout, names, n_modes, eigen_solves=0, eigen_rhs=0):
     from .linsolve import factor
-    b = c.boundary_dofs
-    mask = np.ones(c.K_c.shape[0], bool)
-    mask[b] = False
-    i = np.flatnonzero(mask)
-    Kii = c.K_c[i][:, i].tocsc()
-    Kib = c.K_c[i][:, b].toarray()
+    ni, Kii, Kib = _interior_blocks(c)
     rng = np.random.default_rng(0)
     t0 = time.perf_counter()
     F = factor(Kii)
@@ -111,7 +110,7 @@ def _job_bare_as_solved(model, c, layout, names, n_modes, eigen_solves=0, eigen_
     # ARPACK solves one vector per call; a block method would show eigen_rhs > solves
     width = max(1, round(eigen_rhs / max(eigen_solves, 1)))
     for _ in range(eigen_solves):
-        F.solve(rng.standard_normal((len(i), width)) if width > 1 else rng.standard_normal(len(i)))
+        F.solve(rng.standard_normal((ni, width)) if width > 1 else rng.standard_normal(ni))
     return {"total": time.perf_counter() - t0, "factorize": F.seconds}
 
 
@@ -209,7 +208,6 @@ SEP = "|" + "---|" * (HEADER.count("|") - 1)
 
 def row(name, n, res):
     cm, bare, full, ex = (res.get(k) for k in ("cms", "bare", "full", "exudyn"))
-    f = lambda v, fmt="%.1f": (fmt % v) if v is not None else "n/a"
     if cm is None:
         return f"| {name} | {n} | | | | | | failed |" + " |" * (HEADER.count("|") - 9)
     err = "n/a"
