@@ -42,11 +42,14 @@ class Superelement:
     ----------
     K, M : (m, m) reduced stiffness (N/m, N/rad, ...) and mass, symmetric,
         m = n_boundary + n_modes, boundary coordinates first.
-    Phi : (n_interior, n_modes) fixed-interface normal modes, mass-normalised.
+    Phi : (n_interior, n_modes) fixed-interface normal modes, mass-normalised; with
+        residual vectors, the last ``metadata["n_residual_vectors"]`` columns are those
+        (M-orthonormal Ritz vectors, see ``CraigBamptonReductor``).
     Psi : (n_interior, n_boundary) static constraint modes (interior response to a
         unit boundary displacement, others held).
     boundary_dofs, interior_dofs : indices into the full DOF vector.
-    eigenvalues : (n_modes,) omega^2 of the fixed-interface modes, (rad/s)^2.
+    eigenvalues : (n_modes,) omega^2 of the fixed-interface modes (Ritz values for the
+        residual vectors), (rad/s)^2.
     boundary_names : names of the boundary DOFs (e.g. ``"hub:ux"``).
     boundary_points : (n_boundary, 3) location of each boundary DOF (m), or empty.
     boundary_kinds : (n_boundary,) 0..5 = ux, uy, uz, rx, ry, rz, or -1 if unknown.
