@@ -21,9 +21,33 @@ def modes_table(result, title: str = "") -> str:
     from .modal import mechanisms
     for k, text in enumerate(mechanisms(result)):
         lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
+    for name, r in flexible_summary(result.model).items():
+        how = (f"{r['fixed_interface_modes']} fixed-interface modes"
+               + (f" below {r['cutoff_hz']:.0f} Hz" if r["cutoff_hz"] else "")
+               + f" + {r['residual_vectors']} residual vectors" if r["reduced"] else "unreduced (full FE)")
+        src = (" (from cache)" if r["from_cache"] else f" (reduced in {r['reduce_time_s']:.2f} s)") \
+            if r["reduced"] else ""
+        lines.append(f"flexible body {name}: {r['fe_dofs']} FE DOFs, {how}{src}")
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
     return "\n".join(lines)
+
+
+def flexible_summary(model) -> dict:
+    """How each flexible body was modelled: FE DOFs, fixed-interface modes, residual
+    vectors, cutoff (Hz), reduction time (s) and whether it came from the cache."""
+    out = {}
+    for name, bm in model.bodies.items():
+        info = getattr(bm, "info", None) or {}
+        if "n_full_dofs" not in info and "n_modes" not in info:
+            continue
+        reduced = "cache_hits" in info
+        out[name] = {"reduced": reduced, "fe_dofs": info.get("n_full_dofs"),
+                     "fixed_interface_modes": info.get("n_modes"),
+                     "residual_vectors": info.get("n_residual_vectors", 0),
+                     "cutoff_hz": info.get("cutoff_hz"), "reduce_time_s": info.get("reduce_time_s"),
+                     "from_cache": bool(info.get("cache_hits"))}
+    return out
 
 
 def modes_json(result) -> dict:
@@ -59,5 +83,6 @@ def modes_json(result) -> dict:
         "rigid_body_modes": mechanisms(result),
         "max_relative_residual": result.max_residual,
         "solve_time_s": result.solve_time_s,
+        "flexible_bodies": flexible_summary(m),
         "modes": modes,
     }

@@ -100,3 +100,17 @@ def test_compare_json(capsys):
     for v in f.values():
         assert v == sorted(v)
     assert len(f["torsional"]) == 2 and len(f["rigid"]) == 12 and len(f["flexible"]) > 12
+
+
+def test_flexible_summary_counts_match_the_superelements(solved):
+    # reduced coordinates of a body = 6 per interface master + modes + residual vectors
+    from assembly.report import flexible_summary, modes_json
+    r = solved["flexible"]
+    summary = flexible_summary(r.model)
+    assert set(summary) == {"pinion", "wheel"}
+    for name, s in summary.items():
+        bm = r.model.bodies[name]
+        assert s["reduced"] and s["fe_dofs"] > 0
+        assert bm.K.shape[0] == 6 * len(bm.masters) + s["fixed_interface_modes"] + s["residual_vectors"]
+        assert 0 < s["residual_vectors"] <= 6 * len(bm.masters)
+    assert modes_json(r)["flexible_bodies"] == summary
