@@ -283,6 +283,8 @@ def build_report(ctx: RunContext) -> dict:
             f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "
             f"max relative eigen-residual {res.max_residual:.1e}",
             "units: frequency Hz, length m, angle rad; mode shapes mass-normalised (modal mass 1 kg)"]
+    from .report import flexible_lines
+    meta += flexible_lines(ctx.model)
     if ctx.timings:
         meta.append("time: " + ", ".join(f"{k} {v:.2f} s" for k, v in ctx.timings.items()))
     files = list(ctx.files) + [("index.html", "this page"), (MANIFEST, "run manifest (JSON)")]

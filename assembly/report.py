@@ -21,16 +21,23 @@ def modes_table(result, title: str = "") -> str:
     from .modal import mechanisms
     for k, text in enumerate(mechanisms(result)):
         lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
-    for name, r in flexible_summary(result.model).items():
+    lines += flexible_lines(result.model)
+    lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
+                 f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
+    return "\n".join(lines)
+
+
+def flexible_lines(model) -> list:
+    """One line per flexible body: FE DOFs, modes, residual vectors, reduced or cached."""
+    lines = []
+    for name, r in flexible_summary(model).items():
         how = (f"{r['fixed_interface_modes']} fixed-interface modes"
                + (f" below {r['cutoff_hz']:.0f} Hz" if r["cutoff_hz"] else "")
                + f" + {r['residual_vectors']} residual vectors" if r["reduced"] else "unreduced (full FE)")
         src = (" (from cache)" if r["from_cache"] else f" (reduced in {r['reduce_time_s']:.2f} s)") \
             if r["reduced"] else ""
         lines.append(f"flexible body {name}: {r['fe_dofs']} FE DOFs, {how}{src}")
-    lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
-                 f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
-    return "\n".join(lines)
+    return lines
 
 
 def flexible_summary(model) -> dict:

@@ -43,3 +43,15 @@ def test_stress_csv_and_vtu_collection(run_dir):
     m = meshio.read(run_dir / files[0])
     assert {"displacement_m", "von_mises_Pa"} <= set(m.point_data)
     assert missing_references(run_dir / "index.html") == []
+
+
+def test_report_says_how_the_flexible_body_was_reduced(run_dir):
+    # the page and modes.json state FE size, modes and residual vectors of each body
+    import json
+    summary = json.loads((run_dir / "modes.json").read_text())["flexible_bodies"]
+    assert list(summary) == ["shaft"]
+    s = summary["shaft"]
+    html = (run_dir / "index.html").read_text()
+    assert (f"flexible body shaft: {s['fe_dofs']} FE DOFs, {s['fixed_interface_modes']} fixed-interface "
+            f"modes") in html
+    assert f"+ {s['residual_vectors']} residual vectors" in html
