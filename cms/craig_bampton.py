@@ -393,8 +393,7 @@ def _augmentation(G, Phi, Kii, Mii, drop: float = 1e-6):
     if not keep.any():
         return np.zeros((W.shape[0], 0)), np.zeros(0)
     W = W @ (Q[:, keep] / np.sqrt(s[keep]))
-    for _ in range(1):  # re-project: the rotation can reintroduce round-off along Phi
-        W = W - Phi @ (MPhi.T @ W)
+    W = W - Phi @ (MPhi.T @ W)   # re-project: the rotation can reintroduce round-off along Phi
     Kw = W.T @ (Kii @ W)
     Mw = W.T @ (Mii @ W)
     theta, Y = sla.eigh(0.5 * (Kw + Kw.T), 0.5 * (Mw + Mw.T))
