@@ -88,27 +88,20 @@ def _interior_blocks(c):
     return len(i), c.K_c[i][:, i].tocsc(), c.K_c[i][:, b].toarray()
 
 
-def _job_bare(model, c, layout, names, n_modes):
+def _job_bare(model, c, layout, names, n_modes, eigen_solves=1, eigen_rhs=None):
+    """Factorization of K_ii, the constraint-mode block, then ``eigen_solves`` solves of
+    ``eigen_rhs / eigen_solves`` random columns each. Defaults: one block of ``n_modes``
+    (the floor); with cms's counts: the solves its eigen phase made (ARPACK: one vector
+    per call)."""
     from .linsolve import factor
     ni, Kii, Kib = _interior_blocks(c)
-    t0 = time.perf_counter()
-    F = factor(Kii)
-    F.threads = 1
-    F.solve(Kib)
-    F.solve(np.random.default_rng(0).standard_normal((ni, n_modes)))
-    return {"total": time.perf_counter() - t0, "factorize": F.seconds}
-
-
-def _job_bare_as_solved(model, c, layout, names, n_modes, eigen_solves=0, eigen_rhs=0):
-    from .linsolve import factor
-    ni, Kii, Kib = _interior_blocks(c)
+    eigen_rhs = n_modes if eigen_rhs is None else eigen_rhs
+    width = max(1, round(eigen_rhs / max(eigen_solves, 1)))
     rng = np.random.default_rng(0)
     t0 = time.perf_counter()
     F = factor(Kii)
     F.threads = 1
     F.solve(Kib)
-    # ARPACK solves one vector per call; a block method would show eigen_rhs > solves
-    width = max(1, round(eigen_rhs / max(eigen_solves, 1)))
     for _ in range(eigen_solves):
         F.solve(rng.standard_normal((ni, width)) if width > 1 else rng.standard_normal(ni))
     return {"total": time.perf_counter() - t0, "factorize": F.seconds}
@@ -147,7 +140,7 @@ def _job_exudyn(model, c, layout, names, n_modes):
     return {"total": dt, "fixed_hz": np.sqrt(lam) / (2 * np.pi), "reduced_lam": lam_r}
 
 
-JOBS = {"cms": _job_cms, "bare": _job_bare, "bare_as_solved": _job_bare_as_solved,
+JOBS = {"cms": _job_cms, "bare": _job_bare, "bare_as_solved": _job_bare,
         "full": _job_full, "exudyn": _job_exudyn}
 
 
@@ -156,7 +149,8 @@ def _child(job, args, conn, mem_limit_gb):
         if mem_limit_gb:
             lim = int(mem_limit_gb * 2**30)
             resource.setrlimit(resource.RLIMIT_AS, (lim, lim))
-        out = JOBS[job](*args[:5], **(args[5] if len(args) > 5 else {}))
+        *positional, extra = args
+        out = JOBS[job](*positional, **extra)
         out["peak_gb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
         conn.send(("ok", out))
     except BaseException as exc:  # report any failure (MemoryError included) to the parent
