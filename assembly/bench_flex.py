@@ -11,6 +11,7 @@ cold and warm-cache totals vs full-FE time, a design study of bearing variants, 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import resource
 import sys
@@ -33,6 +34,19 @@ def _with_flex(scene, **kw):
 
 def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+@contextlib.contextmanager
+def _empty_cms_cache():
+    """Point the superelement cache at a fresh temporary folder for the block's duration."""
+    import assembly.flexible as flexible
+    old = flexible.CMS_CACHE_DIR
+    with tempfile.TemporaryDirectory() as cache:
+        flexible.CMS_CACHE_DIR = cache
+        try:
+            yield
+        finally:
+            flexible.CMS_CACHE_DIR = old
 
 
 def _cold():
@@ -60,7 +74,6 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
       assembles its FE models once and re-solves every variant; the reduced model reduces
       once (cold) and solves every variant from the cache.
     """
-    import assembly.flexible as flexible
     from .flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ
     from .modal import solve_modes
     from .model import assemble, build_body_models
@@ -87,27 +100,22 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
     cases = ([("n_modes", m, True) for m in modes] + [("cutoff", f, True) for f in factors]
              + [("n_modes", m, False) for m in plain_modes] + [("cutoff", f, False) for f in plain_factors])
     for kind, val, rv in cases:
-        with tempfile.TemporaryDirectory() as cache:
-            old = flexible.CMS_CACHE_DIR
-            flexible.CMS_CACHE_DIR = cache
-            try:
-                sc = _with_flex(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
-                    if kind == "n_modes" else \
-                    _with_flex(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
-                _cold()
-                t1 = time.perf_counter()
-                bodies = build_body_models(sc.expanded())
-                t_red = time.perf_counter() - t1
-                m = assemble(sc, bodies=bodies)
-                r = solve_modes(m)
-                t_tot = time.perf_counter() - t1
-                _cold()
-                t2 = time.perf_counter()
-                r_warm = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
-                t_warm = time.perf_counter() - t2
-                assert np.allclose(r_warm.frequencies_hz, r.frequencies_hz, rtol=1e-9, atol=1e-6)
-            finally:
-                flexible.CMS_CACHE_DIR = old
+        with _empty_cms_cache():
+            sc = _with_flex(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
+                if kind == "n_modes" else \
+                _with_flex(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
+            _cold()
+            t1 = time.perf_counter()
+            bodies = build_body_models(sc.expanded())
+            t_red = time.perf_counter() - t1
+            m = assemble(sc, bodies=bodies)
+            r = solve_modes(m)
+            t_tot = time.perf_counter() - t1
+            _cold()
+            t2 = time.perf_counter()
+            r_warm = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+            t_warm = time.perf_counter() - t2
+            assert np.allclose(r_warm.frequencies_hz, r.frequencies_hz, rtol=1e-9, atol=1e-6)
         f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
         k = min(len(f), len(f_ref))
         err = np.abs(f[:k] / f_ref[:k] - 1) * 100
@@ -130,7 +138,6 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
 
 def _study(scene, band, n, factor, n_cmp, out) -> dict:
     """Design study: ``n`` bearing variants, full FE vs reduced (default cutoff)."""
-    import assembly.flexible as flexible
     from .modal import solve_modes
     from .model import assemble, build_body_models
     variants = _variants(scene, n)
@@ -142,24 +149,18 @@ def _study(scene, band, n, factor, n_cmp, out) -> dict:
         ref.append(r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp])
     t_full = time.perf_counter() - t0
     errs = []
-    with tempfile.TemporaryDirectory() as cache:
-        old = flexible.CMS_CACHE_DIR
-        flexible.CMS_CACHE_DIR = cache
-        try:
-            _cold()
-            t1 = time.perf_counter()
-            for v, rf in zip(variants, ref):
-                sc = _with_flex(v, n_modes=None, cutoff_hz=factor * band)
-                r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
-                f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
-                f0 = rf
-                k = min(len(f), len(f0))
-                sel = f0[:k] < band
-                if sel.any():
-                    errs.append(float(np.max(np.abs(f[:k][sel] / f0[:k][sel] - 1)) * 100))
-            t_red = time.perf_counter() - t1
-        finally:
-            flexible.CMS_CACHE_DIR = old
+    with _empty_cms_cache():
+        _cold()
+        t1 = time.perf_counter()
+        for v, f0 in zip(variants, ref):
+            sc = _with_flex(v, n_modes=None, cutoff_hz=factor * band)
+            r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+            f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
+            k = min(len(f), len(f0))
+            sel = f0[:k] < band
+            if sel.any():
+                errs.append(float(np.max(np.abs(f[:k][sel] / f0[:k][sel] - 1)) * 100))
+        t_red = time.perf_counter() - t1
     row = dict(scene=scene.name, selection=f"study: {n} bearing variants", dofs=0, max_err_pct=float("nan"),
                mean_err_pct=float("nan"), band_max_err_pct=max(errs) if errs else float("nan"),
                reduce_s=float("nan"), solve_s=float("nan"), total_s=t_red, warm_s=float("nan"),
