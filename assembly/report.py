@@ -43,13 +43,13 @@ def flexible_lines(model) -> list:
 def flexible_summary(model) -> dict:
     """How each flexible body was modelled: FE DOFs, fixed-interface modes, residual
     vectors, cutoff (Hz), reduction time (s) and whether it came from the cache."""
+    from .flexible import FlexibleBodyModel
     out = {}
     for name, bm in model.bodies.items():
-        info = getattr(bm, "info", None) or {}
-        if "n_full_dofs" not in info and "n_modes" not in info:
+        if not isinstance(bm, FlexibleBodyModel):
             continue
-        reduced = "cache_hits" in info
-        out[name] = {"reduced": reduced, "fe_dofs": info.get("n_full_dofs"),
+        info = bm.info
+        out[name] = {"reduced": bm.reduced, "fe_dofs": info.get("n_full_dofs"),
                      "fixed_interface_modes": info.get("n_modes"),
                      "residual_vectors": info.get("n_residual_vectors", 0),
                      "cutoff_hz": info.get("cutoff_hz"), "reduce_time_s": info.get("reduce_time_s"),
