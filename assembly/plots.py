@@ -5,6 +5,7 @@ All frequencies in Hz.
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 from pathlib import Path
 
@@ -26,6 +27,20 @@ def _plt():
     return plt
 
 
+@contextlib.contextmanager
+def _figure(path, figsize):
+    """(fig, ax) of a new figure, laid out and written to ``path`` (PNG) when the block
+    ends without an error; always closed."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=figsize, dpi=DPI)
+    try:
+        yield fig, ax
+        fig.tight_layout()
+        fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+
+
 def _elastic(freqs, n_rigid: int) -> np.ndarray:
     return np.asarray(freqs, float)[n_rigid:]
 
@@ -37,9 +52,7 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
     left out. ``pairs``: optional list of ``(col_a, col_b, [(i_a, i_b, mac), ...])`` drawn as
     lines joining paired modes (darker = higher MAC). ``max_hz`` clips the frequency axis.
     """
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(2.2 + 2.0 * len(columns), 6.0), dpi=DPI)
-    try:
+    with _figure(path, (2.2 + 2.0 * len(columns), 6.0)) as (fig, ax):
         tops = []
         for k, (label, f, nr) in enumerate(columns):
             fe = _elastic(f, nr)
@@ -73,10 +86,6 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
         if pairs:
             ax.text(0.01, -0.08, "lines: modes paired by MAC (solid MAC >= 0.8, dashed below)",
                     transform=ax.transAxes, fontsize=7, va="top")
-        fig.tight_layout()
-        fig.savefig(path, dpi=DPI, metadata={"Software": None})
-    finally:
-        plt.close(fig)
     return Path(path)
 
 
@@ -87,14 +96,12 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
     ``F``: (len(x), n_modes) ascending frequencies per parameter value. ``n_rigid``: per-value
     number of rigid-body modes (left out). ``max_modes`` limits the elastic modes drawn.
     """
-    plt = _plt()
     x = np.asarray(x, float)
     F = np.asarray(F, float)
     nr = np.zeros(len(x), int) if n_rigid is None else np.asarray(n_rigid, int)
     start = int(nr.max(initial=0))
     stop = F.shape[1] if max_modes is None else min(F.shape[1], start + max_modes)
-    fig, ax = plt.subplots(figsize=(8.0, 5.5), dpi=DPI)
-    try:
+    with _figure(path, (8.0, 5.5)) as (fig, ax):
         for j in range(start, stop):
             ax.plot(x, F[:, j], "-", marker="o", ms=2.5, lw=1.2, color=f"C{(j - start) % 10}")
         if logx:
@@ -110,8 +117,4 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
             ax.set_ylim(bottom=0)
         ax.text(0.01, 0.99, f"elastic modes {start + 1}-{stop} (mode number by ascending frequency)",
                 transform=ax.transAxes, fontsize=7, va="top")
-        fig.tight_layout()
-        fig.savefig(path, dpi=DPI, metadata={"Software": None})
-    finally:
-        plt.close(fig)
     return Path(path)
