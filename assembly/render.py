@@ -607,7 +607,6 @@ class AssemblyRenderer:
         pv = _pyvista()
         v = self.view
         right = np.cross(v.up, v.direction)
-        aspect = self.window_size[0] / self.window_size[1]
         L = _nice_length(0.2 * v.size)
         W, H = self.window_size
         # Pixel (x, y from bottom-left) -> point in the focal plane (parallel projection).
@@ -615,12 +614,17 @@ class AssemblyRenderer:
                            + v.up * ((y - H / 2) / (H / 2) * v.parallel_scale))
         p0 = px(40, 45)
         p1 = p0 + right * L
-        del aspect
         pl.add_mesh(pv.Line(p0, p1), color="black", line_width=4)
         for q in (p0, p1):
             pl.add_mesh(pv.Line(q - v.up * 0.012 * v.parallel_scale, q + v.up * 0.012 * v.parallel_scale),
                         color="black", line_width=4)
         pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black")
+
+    def _finish(self, pl, path):
+        """Scale bar, the assembly's camera, and the PNG written to ``path``."""
+        self._scale_bar(pl)
+        _camera(pl, self.view)
+        pl.screenshot(str(path))
 
     def _springs(self, pl, shape_of, scale):
         pv = _pyvista()
@@ -654,17 +658,14 @@ class AssemblyRenderer:
             for name, s in self.shapes.items():
                 labels.append(name)
                 pts.append(s.face_center_front if s.kind != "ring" else
-                           s.face_center_front - s.axes[:, 1] * 0.5 * (s.r_inner + s.r_outer)
-                           + s.axes[:, 0] * 0.0)
+                           s.face_center_front - s.axes[:, 1] * 0.5 * (s.r_inner + s.r_outer))
             pl.add_point_labels(np.array(pts), labels, font_size=16, point_size=1, shape_opacity=0.6,
                                 always_visible=True)
             pl.add_text(title or "assembly", position="upper_left", font_size=14, color="black")
             pl.add_text("springs: bearings (dark grey), gear meshes (red, along the line of action), "
                         "shafts (blue); grey cubes = housing", position="lower_right", font_size=9,
                         color="black")
-            self._scale_bar(pl)
-            _camera(pl, self.view)
-            pl.screenshot(str(path))
+            self._finish(pl, path)
         finally:
             pl.close()
         return Path(path)
@@ -688,7 +689,6 @@ class AssemblyRenderer:
 
     def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "") -> Path:
         """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG)."""
-        pv = _pyvista()
         sign = _sign(result.abs_shapes[:, mode])
         scale, dmax = self.mode_scale(result, mode)
 
@@ -725,12 +725,9 @@ class AssemblyRenderer:
             if subtitle:
                 text = subtitle + "\n" + text
             pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
-            self._scale_bar(pl)
-            _camera(pl, self.view)
-            pl.screenshot(str(path))
+            self._finish(pl, path)
         finally:
             pl.close()
-        del pv
         return Path(path)
 
 
