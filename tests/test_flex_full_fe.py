@@ -13,9 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import assembly.flexible as flexible
 from assembly import assemble, load_scene, solve_modes
-from assembly.bench_flex import _with_flex, run
+from assembly.bench_flex import _empty_cms_cache, _with_flex, run
 
 SCENE = Path(__file__).parent / "data" / "flex_pair.toml"
 N_CMP = 12      # elastic coupled modes compared
@@ -40,17 +39,13 @@ def full(scene):
 
 
 @pytest.fixture(scope="module")
-def reduced(scene, tmp_path_factory):
-    old = flexible.CMS_CACHE_DIR
-    flexible.CMS_CACHE_DIR = tmp_path_factory.mktemp("cms")
-    try:
+def reduced(scene):
+    with _empty_cms_cache():
         out = {n: _elastic(solve_modes(assemble(_with_flex(scene, n_modes=n, cutoff_hz=None,
                                                            residual_vectors=False))))
                for n in (0, 4, 12)}
         out["4 +rv"] = _elastic(solve_modes(assemble(_with_flex(scene, n_modes=4, cutoff_hz=None))))
         out["default"] = _elastic(solve_modes(assemble(_with_flex(scene, n_modes=None, cutoff_hz=None))))
-    finally:
-        flexible.CMS_CACHE_DIR = old
     return out
 
 
