@@ -108,7 +108,7 @@ def interface_defs(params) -> list[InterfaceDef]:
         ]
         return out
     if isinstance(params, CylinderParams):
-        r, L = params.diameter / 2, params.length
+        L = params.length
         return [
             InterfaceDef("end_a", (0.0, 0.0, 0.0), "rbe3", (_end_face(0.0),)),
             InterfaceDef("end_b", (0.0, 0.0, L), "rbe3", (_end_face(L),)),
@@ -157,7 +157,7 @@ def _gear_body(occ, teeth: GearTeeth, z0: float, flank_points: int = 7, helix_se
 def _involute_wire(occ, teeth: GearTeeth, z: float, phi0: float, flank_points: int) -> int:
     """Closed curve loop of the full transverse gear outline at height z, rotated by phi0."""
     zt = teeth.n_teeth
-    r_b, r_f, r_a = teeth.base_radius, teeth.root_radius, teeth.tip_radius
+    r_b, r_f = teeth.base_radius, teeth.root_radius
     radii = flank_radii(teeth, flank_points)
     theta = flank_half_angle(teeth, radii)
     radial = r_f < r_b  # radial flank extension below the base circle
