@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .components import component_params, global_masters
 from .errors import SceneError
 
 
 def component_masters(scene, origin: dict) -> dict:
     """Body name -> {interface: global master position (m)} for bodies with a component."""
-    from .flexible import component_params, global_masters
     out = {}
     for b in scene.bodies:
         if b.component is not None:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import axis_frame, rigid_transfer
+from .kinematics import axis_frame, rigid_transfer
 
 ABS_DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 
@@ -27,6 +27,7 @@ class RigidBodyModel:
     axis_point: np.ndarray = None  # a point of the rotation axis (default: the COM)
 
     ndof = 6
+    flexible = False
 
     def __post_init__(self):
         if self.axis_point is None:

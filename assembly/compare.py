@@ -84,28 +84,3 @@ def compare(scene, n_rows: int | None = None, given=None) -> Comparison:
             idx = j
         rows.append(row)
     return Comparison(res, rows, times)
-
-
-def comparison_table(c: Comparison) -> str:
-    cols = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
-    top = cols[-1]
-    head = f"{'mode':>4}  " + "  ".join(f"{k + ' [Hz]':>15}" for k in cols)
-    head += "  " + "  ".join(f"{'shift ' + k[:4] + ' %':>13}" for k in cols[:-1]) + f"  {'MAC':>5}  {'class':<13} dominant"
-    lines = [head]
-    for r in c.rows:
-        cells = []
-        for k in cols:
-            v = r.get(k)
-            cells.append(f"{v:>15.2f}" if v is not None else f"{'-':>15}")
-        shifts = []
-        for k in cols[:-1]:
-            v = r.get(k)
-            ok = v is not None and r["class"] != "rigid-body" and v > 0
-            shifts.append(f"{100 * (r[top] / v - 1):>13.2f}" if ok else f"{'-':>13}")
-        mac = r.get(f"mac_{cols[-2]}") if len(cols) > 1 else None
-        mac_s = "-" if mac is None else f"{mac:.2f}"
-        lines.append(f"{r['mode']:>4}  " + "  ".join(cells) + "  " + "  ".join(shifts)
-                     + f"  {mac_s:>5}  {r['class']:<13} {r['dominant_body']}")
-    t = ", ".join(f"{k}: {v['n_dofs']} DOFs {v['total_s']:.2f} s" for k, v in c.timings.items())
-    lines.append(f"shift = {top} / other - 1; MAC of the {top} mode with its partner one fidelity down. {t}")
-    return "\n".join(lines)

@@ -15,7 +15,7 @@ from typing import Optional
 
 import numpy as np
 
-from .geometry import block_rotation, rigid_transfer, unit
+from .kinematics import block_rotation, rigid_transfer, unit
 
 
 @dataclass(frozen=True)

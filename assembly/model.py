@@ -10,6 +10,7 @@ model with five DOFs per body constrained. Matrices are sparse (CSR) throughout.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -19,9 +20,12 @@ import scipy.sparse as sp
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
+from .components import CacheDirs, component_params, mass_properties
+from .constraints import constrained_dofs, rigidify
 from .elements import Element, gear_mesh, relative_spring
-from .geometry import block_rotation, rigid_transfer
-from .scene import DOF_NAMES, HOUSING, Scene
+from .flexible import DEFAULT_BAND_HZ, flexible_body
+from .kinematics import axis_frame, block_rotation, rigid_transfer
+from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene
 
 log = logging.getLogger(__name__)
 
@@ -100,60 +104,6 @@ def _frame_order(scene: Scene) -> list:
     return order
 
 
-#: A bearing direction stiffer than RIGID_RATIO x the scene's reference stiffness (largest
-#: gear-mesh or shaft stiffness, N/m; times the largest base radius squared for rotations)
-#: is modelled as an exact constraint. Such a spring changes the physical frequencies by
-#: about 1/RIGID_RATIO relative, but as a spring it puts eigenvalues RIGID_RATIO times
-#: above the physics and costs the low modes their accuracy (eps * lambda_max).
-RIGID_RATIO = 1e8
-
-
-def rigidify(scene: Scene) -> tuple[Scene, list]:
-    """Scene with near-rigid bearing directions replaced by ``inf`` (constraints), and the
-    list of (bearing, direction) converted. Only bearings that may carry a constraint (a
-    plain rigid body, at its position, to its own frame) are converted."""
-    import dataclasses
-    import math
-    ks = [m.stiffness for m in scene.meshes] + [max(s.k_axial, s.k_shear) for s in scene.shafts]
-    if not ks or max(ks) <= 0:
-        return scene, []
-    k_ref = max(ks)
-    r = max([abs(m.base_radius1) for m in scene.meshes] + [abs(m.base_radius2) for m in scene.meshes] + [0.0])
-    kr_ref = max([k_ref * r * r] + [max(s.k_torsion, s.k_bending) for s in scene.shafts])
-    by_name = {b.name: b for b in scene.bodies}
-    out, changed = [], []
-    for br in scene.bearings:
-        body = by_name[br.body]
-        eligible = (body.component is None and (br.frame is None or br.frame == body.frame)
-                    and (br.position is None or np.allclose(br.position, body.position, rtol=0, atol=1e-12)))
-        new = {}
-        if eligible:
-            for f, ref in (("k_radial", k_ref), ("k_axial", k_ref), ("k_tilt", kr_ref), ("k_torsion", kr_ref)):
-                v = getattr(br, f)
-                if math.isfinite(v) and v > RIGID_RATIO * ref:
-                    new[f] = math.inf
-                    changed.append((br.name or br.body, f, v))
-        out.append(dataclasses.replace(br, **new) if new else br)
-    if changed:
-        log.info("near-rigid bearing directions modelled as constraints: %s", changed)
-    return dataclasses.replace(scene, bearings=tuple(out)), changed
-
-
-def constrained_dofs(scene: Scene) -> dict:
-    """Local DOF names held at zero, per body (fixed DOFs, rigid bearings, torsional)."""
-    out = {b.name: set() for b in scene.bodies}
-    for f in scene.fixed:
-        out[f.body].update(f.dofs)
-    for br in scene.bearings:
-        for name, ki in zip(DOF_NAMES, br.diagonal()):
-            if np.isinf(ki):
-                out[br.body].add(name)
-    for b in scene.bodies:
-        if b.fidelity == "torsional":
-            out[b.name].update(d for d in DOF_NAMES if d != "rz")
-    return out
-
-
 def build_elements(scene: Scene, bodies: dict, masters: dict) -> list:
     """Bearings, shafts and gear meshes of an (expanded) scene as :class:`Element`s."""
     by_name = {b.name: b for b in scene.bodies}
@@ -182,14 +132,13 @@ def build_elements(scene: Scene, bodies: dict, masters: dict) -> list:
 
 
 def _with_interfaces(el: Element, ifaces) -> Element:
-    import dataclasses
     return dataclasses.replace(el, interfaces=tuple(ifaces))
 
 
-def build_body_models(scene: Scene, full_fe: bool = False, progress=None) -> dict:
-    """Body models in frame order: rigid (plain or from a component's mesh) or flexible."""
-    from .flexible import DEFAULT_BAND_HZ, FlexOptions, component_params, flexible_body, mass_properties
-    from .geometry import axis_frame
+def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches: CacheDirs | None = None) -> dict:
+    """Body models in frame order: rigid (plain or from a component's mesh) or flexible.
+    ``caches``: where meshes and reductions are cached (default :class:`CacheDirs`)."""
+    caches = caches or CacheDirs()
     band = scene.band_hz or DEFAULT_BAND_HZ
     out = {}
     for b in _frame_order(scene):
@@ -199,9 +148,9 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None) -> dic
         params = component_params(b, b.name)
         opts = b.flex or FlexOptions()
         if b.fidelity == "flexible":
-            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe)
+            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe, caches=caches)
         else:
-            mass, com, J, _ = mass_properties(b, params, opts)
+            mass, com, J, _ = mass_properties(b, params, opts, caches)
             out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J,
                                                               axis_point=b.position)
         if progress is not None:
@@ -209,46 +158,59 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None) -> dic
     return out
 
 
-def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) -> AssembledModel:
+def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
+             caches: CacheDirs | None = None) -> AssembledModel:
     """Assemble ``scene`` (stages expanded) into sparse K, M on independent coordinates.
 
     ``full_fe=True`` keeps flexible bodies unreduced (every FE DOF): the reference model.
-    ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants).
+    ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants);
+    ``caches`` says where meshes and reductions are cached.
     """
     t0 = time.perf_counter()
     sc, rigidified = rigidify(scene.expanded())
     order = _frame_order(sc)
-    origin = {b.name: b.name for b in sc.bodies}
-    masters = component_masters(sc, origin)
     if bodies is None:
-        bodies = build_body_models(sc, full_fe=full_fe)
+        bodies = build_body_models(sc, full_fe=full_fe, caches=caches)
     t_bodies = time.perf_counter() - t0
+    model = _absolute_model(sc, order, bodies)
+    model.T, model.dof_names = _independent_coordinates(sc, order, bodies)
+    K = (model.T.T @ model.K_abs @ model.T).tocsr()
+    M = (model.T.T @ model.M_abs @ model.T).tocsr()
+    model.K = ((K + K.T) * 0.5).tocsr()
+    model.M = ((M + M.T) * 0.5).tocsr()
+    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
+    model.rigidified = rigidified
+    log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(model.elements),
+             len(model.dof_names))
+    return model
+
+
+def _absolute_model(sc: Scene, order: list, bodies: dict) -> AssembledModel:
+    """Body mass and stiffness blocks plus every element, on the absolute coordinates z."""
     offsets, n = {}, 0
     for b in order:
         offsets[b.name] = n
         n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies, masters)
-
-    abs_names = []
-    for b in order:
-        abs_names += bodies[b.name].dof_names()
+    elements = build_elements(sc, bodies, component_masters(sc, {b.name: b.name for b in sc.bodies}))
+    abs_names = [name for b in order for name in bodies[b.name].dof_names()]
     M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
     model = AssembledModel(sc, {b.name: bodies[b.name] for b in order}, offsets, elements, K_abs, M_abs,
                            None, [], abs_names, None, None)
-    parts = [K_abs]
-    for el in elements:
-        parts.append(model.element_stiffness_abs(el))
+    parts = [K_abs] + [model.element_stiffness_abs(el) for el in elements]
     model.K_abs = sum(parts[1:], parts[0]).tocsr()
+    return model
 
-    # z = T q: rigid bodies move with their frame plus free relative DOFs (local axes);
-    # flexible bodies (housing frame only) keep all their DOFs.
+
+def _independent_coordinates(sc: Scene, order: list, bodies: dict):
+    """(T, names) with z = T q: rigid bodies move with their frame plus their free relative
+    DOFs (local axes, at the body's axis point); flexible bodies (housing frame only) keep
+    all their DOFs."""
     held = constrained_dofs(sc)
     ncols, col0 = {}, {}
     m = 0
     for b in order:
-        bm = bodies[b.name]
-        k = bm.ndof if b.fidelity == "flexible" else sum(d not in held[b.name] for d in DOF_NAMES)
+        k = bodies[b.name].ndof if b.fidelity == "flexible" else sum(d not in held[b.name] for d in DOF_NAMES)
         col0[b.name], ncols[b.name] = m, k
         m += k
     rows, names = {}, []
@@ -259,26 +221,15 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None) ->
             names += bm.dof_names()
         else:
             free = [i for i, d in enumerate(DOF_NAMES) if d not in held[b.name]]
-            # relative DOFs live at the body's axis point, in its axes (spin about the axis)
             own = sp.csr_matrix(rigid_transfer(bm.position, bm.axis_point) @ block_rotation(bm.axes)[:, free])
             names += [f"{b.name}.{DOF_NAMES[i]}" for i in free]
         blk = sp.hstack([sp.csr_matrix((bm.ndof, col0[b.name])), own,
                          sp.csr_matrix((bm.ndof, m - col0[b.name] - ncols[b.name]))]).tocsr()
         if b.frame != HOUSING:
-            fr = bodies[b.frame]
             iface = _frame_interface(sc, b)
-            blk = blk + sp.csr_matrix(fr.motion_at(bm.position, iface)) @ rows[b.frame]
+            blk = blk + sp.csr_matrix(bodies[b.frame].motion_at(bm.position, iface)) @ rows[b.frame]
         rows[b.name] = blk.tocsr()
-    model.T = sp.vstack([rows[b.name] for b in order]).tocsr()
-    model.dof_names = names
-    K = (model.T.T @ model.K_abs @ model.T).tocsr()
-    M = (model.T.T @ model.M_abs @ model.T).tocsr()
-    model.K = ((K + K.T) * 0.5).tocsr()
-    model.M = ((M + M.T) * 0.5).tocsr()
-    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
-    model.rigidified = rigidified
-    log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(elements), len(names))
-    return model
+    return sp.vstack([rows[b.name] for b in order]).tocsr(), names
 
 
 def _frame_interface(scene: Scene, body) -> str | None:

@@ -1,4 +1,6 @@
-"""Scene model: bodies, bearings, gear meshes, shafts, fixed DOFs and planetary stages.
+"""Scene data types: bodies, bearings, gear meshes, shafts, fixed DOFs, planetary stages,
+flexible-body options and the static load case. Data only: the rules a scene must obey
+live in :mod:`assembly.validate`, the stage builder in :mod:`assembly.planetary`.
 
 All quantities SI: metres, kilograms, newtons, seconds, radians. Stiffnesses: translational
 N/m, rotational N m/rad. ``math.inf`` for a bearing stiffness means "rigid": that relative
@@ -6,11 +8,13 @@ DOF is constrained exactly instead of being modelled as a huge spring.
 
 A body's six DOFs are ``x, y, z, rx, ry, rz`` in its local axes (``z`` = rotation axis),
 measured relative to its reference frame (the housing, or another body: planets live in
-the carrier's frame). Construction validates the whole scene and raises
-:class:`~assembly.errors.SceneError` naming the field path and value.
+the carrier's frame). Constructing a :class:`Scene` validates it once and raises
+:class:`~assembly.errors.SceneError` naming the field path and value; scenes derived
+from a valid one by a change that cannot invalidate it (:func:`derive`) skip that check.
 """
 from __future__ import annotations
 
+import contextvars
 import dataclasses
 import math
 from dataclasses import dataclass, field
@@ -18,13 +22,13 @@ from typing import Literal, Optional
 
 import numpy as np
 
-from .errors import SceneError
-from .flexible import FlexOptions
+from fe_components.material import STEEL, Material
 
 HOUSING = "housing"
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 Fidelity = Literal["torsional", "rigid", "flexible"]
 Vec3 = tuple[float, float, float]
+Support = Literal["bearing", "fixed", "floating"]
 
 
 def angle(default=dataclasses.MISSING):
@@ -32,21 +36,25 @@ def angle(default=dataclasses.MISSING):
     return field(default=default, metadata={"angle": True})
 
 
-def _positive(path, value, what="must be > 0"):
-    if not (value > 0):
-        raise SceneError(path, value, what)
+@dataclass(frozen=True)
+class FlexOptions:
+    """How a component body is meshed and reduced.
 
+    ``mesh_size`` (m; default from the component's thinnest wall), ``order`` (2 = P2
+    tetrahedra), ``n_modes`` or ``cutoff_hz`` (Hz) of fixed-interface modes (default:
+    CUTOFF_FACTOR x the scene's band), ``couplings`` {interface: 'rbe2'|'rbe3'},
+    ``residual_vectors`` (default on): add the static response of the interior to the
+    inertia of the interface motion (``cms.craig_bampton``), which carries the
+    quasi-static part of every truncated mode for one more block solve.
+    """
 
-def _nonneg(path, value):
-    if not (value >= 0):
-        raise SceneError(path, value, "must be >= 0 (N/m or N m/rad; inf = rigid)")
-
-
-def _vector(path, value):
-    v = np.asarray(value, float)
-    if not np.all(np.isfinite(v)):
-        raise SceneError(path, list(value), "must be finite")
-    return v
+    mesh_size: Optional[float] = None
+    order: Literal[1, 2] = 2
+    n_modes: Optional[int] = None
+    cutoff_hz: Optional[float] = None
+    couplings: Optional[dict] = None
+    material: Material = STEEL
+    residual_vectors: bool = True
 
 
 @dataclass(frozen=True)
@@ -83,43 +91,6 @@ class Body:
         jt = self.transverse_inertia if self.transverse_inertia is not None else self.polar_inertia / 2
         return np.diag([jt, jt, self.polar_inertia])
 
-    def check(self, path: str) -> None:
-        if not self.name or self.name == HOUSING or "/" in self.name:
-            raise SceneError(f"{path}.name", self.name, "must be a non-empty name other than 'housing'")
-        if self.component is not None:
-            for f in ("mass", "polar_inertia", "transverse_inertia", "inertia_tensor"):
-                if getattr(self, f) is not None:
-                    raise SceneError(f"{path}.{f}", getattr(self, f),
-                                     "a body with a component takes mass and inertia from its mesh")
-            if self.flex is not None:
-                self.flex.check(f"{path}.flex")
-            _vector(f"{path}.position", self.position)
-            return
-        if self.fidelity == "flexible":
-            raise SceneError(f"{path}.fidelity", self.fidelity,
-                             "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder)")
-        if self.flex is not None:
-            raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
-        if self.mass is None:
-            raise SceneError(f"{path}.mass", None, "missing required field (kg)")
-        _positive(f"{path}.mass", self.mass, "must be > 0 kg")
-        if (self.inertia_tensor is None) == (self.polar_inertia is None):
-            raise SceneError(f"{path}.polar_inertia", self.polar_inertia,
-                             "give exactly one of polar_inertia or inertia_tensor")
-        if self.polar_inertia is not None:
-            _positive(f"{path}.polar_inertia", self.polar_inertia, "must be > 0 kg m^2")
-            if self.transverse_inertia is not None:
-                _positive(f"{path}.transverse_inertia", self.transverse_inertia, "must be > 0 kg m^2")
-        else:
-            J = np.asarray(self.inertia_tensor, float)
-            if not np.allclose(J, J.T, rtol=1e-12, atol=0) or np.linalg.eigvalsh(J).min() <= 0:
-                raise SceneError(f"{path}.inertia_tensor", self.inertia_tensor,
-                                 "must be symmetric positive definite (kg m^2)")
-        _vector(f"{path}.position", self.position)
-        a = _vector(f"{path}.axis", self.axis)
-        if np.linalg.norm(a) == 0:
-            raise SceneError(f"{path}.axis", list(self.axis), "must be a non-zero vector")
-
 
 @dataclass(frozen=True)
 class Bearing:
@@ -145,12 +116,6 @@ class Bearing:
     def diagonal(self) -> np.ndarray:
         return np.array([self.k_radial, self.k_radial, self.k_axial,
                          self.k_tilt, self.k_tilt, self.k_torsion], float)
-
-    def check(self, path: str) -> None:
-        for f in ("k_radial", "k_axial", "k_tilt", "k_torsion"):
-            _nonneg(f"{path}.{f}", getattr(self, f))
-        if self.position is not None:
-            _vector(f"{path}.position", self.position)
 
 
 @dataclass(frozen=True)
@@ -183,28 +148,6 @@ class GearMesh:
     interface1: Optional[str] = None
     interface2: Optional[str] = None
 
-    def check(self, path: str) -> None:
-        if self.gear1 == self.gear2:
-            raise SceneError(f"{path}.gear2", self.gear2, "a gear cannot mesh with itself")
-        _positive(f"{path}.stiffness", self.stiffness, "must be > 0 N/m")
-        if not math.isfinite(self.stiffness):
-            raise SceneError(f"{path}.stiffness", self.stiffness, "must be finite")
-        for f in ("base_radius1", "base_radius2"):
-            v = getattr(self, f)
-            if not (math.isfinite(v) and v != 0):
-                raise SceneError(f"{path}.{f}", v, "must be a non-zero finite radius in m (negative = internal gear)")
-        if self.base_radius1 < 0 and self.base_radius2 < 0:
-            raise SceneError(f"{path}.base_radius2", self.base_radius2, "two internal gears cannot mesh")
-        if self.base_radius1 + self.base_radius2 == 0:
-            raise SceneError(f"{path}.base_radius2", self.base_radius2,
-                             "internal and external base radii are equal: zero centre distance")
-        if not (0 < self.pressure_angle < math.pi / 2):
-            raise SceneError(f"{path}.pressure_angle", self.pressure_angle, "must lie in (0, 90) deg")
-        if not (abs(self.helix_angle) < math.pi / 2):
-            raise SceneError(f"{path}.helix_angle", self.helix_angle, "|helix angle| must be < 90 deg")
-        if self.drive_sign not in (1, -1):
-            raise SceneError(f"{path}.drive_sign", self.drive_sign, "must be +1 or -1")
-
 
 @dataclass(frozen=True)
 class Shaft:
@@ -227,16 +170,6 @@ class Shaft:
         return np.array([self.k_shear, self.k_shear, self.k_axial,
                          self.k_bending, self.k_bending, self.k_torsion], float)
 
-    def check(self, path: str) -> None:
-        if self.body1 == self.body2:
-            raise SceneError(f"{path}.body2", self.body2, "a shaft needs two different bodies")
-        _positive(f"{path}.k_torsion", self.k_torsion, "must be > 0 N m/rad")
-        for f in ("k_torsion", "k_bending", "k_axial", "k_shear"):
-            v = getattr(self, f)
-            _nonneg(f"{path}.{f}", v)
-            if not math.isfinite(v):
-                raise SceneError(f"{path}.{f}", v, "must be finite (use a bearing for a rigid joint)")
-
 
 @dataclass(frozen=True)
 class Fixed:
@@ -245,10 +178,99 @@ class Fixed:
     body: str
     dofs: tuple[str, ...] = DOF_NAMES
 
-    def check(self, path: str) -> None:
-        for i, d in enumerate(self.dofs):
-            if d not in DOF_NAMES:
-                raise SceneError(f"{path}.dofs[{i}]", d, f"must be one of {list(DOF_NAMES)}")
+
+@dataclass(frozen=True)
+class BearingSpec:
+    """Stiffnesses of a member's bearing (N/m, N m/rad; ``inf`` = rigid direction)."""
+
+    k_radial: float
+    k_axial: float
+    k_tilt: float
+    k_torsion: float = 0.0
+
+
+@dataclass(frozen=True)
+class Member:
+    """Sun, ring or carrier. ``support``: 'bearing' (to the housing, stiffness ``bearing``;
+    a ring on a torsional spring is a bearing with k_torsion), 'fixed' (all six DOFs held)
+    or 'floating' (no bearing at all). ``base_radius`` (m, positive) for sun and ring.
+    The carrier may instead be a ``component`` (fe_components carrier without
+    ``planet_angles``/``pin_pitch_radius``: the stage places the pins at its planets) with
+    ``flex`` options; its bearing then acts at the component's ``bearing_interface``."""
+
+    mass: Optional[float] = None
+    polar_inertia: Optional[float] = None
+    transverse_inertia: Optional[float] = None
+    base_radius: Optional[float] = None
+    support: Support = "bearing"
+    bearing: Optional[BearingSpec] = None
+    fidelity: Fidelity = "rigid"
+    component: Optional[dict] = None
+    flex: Optional[FlexOptions] = None
+    bearing_interface: str = "bearing_b"
+
+
+@dataclass(frozen=True)
+class Planets:
+    """N identical planets at ``angles`` (rad; default equally spaced from 0).
+    ``outer_radius`` (m, default the pitch radius) is used for the overlap check."""
+
+    count: int
+    mass: float
+    polar_inertia: float
+    base_radius: float
+    bearing: BearingSpec
+    transverse_inertia: Optional[float] = None
+    angles: Optional[tuple[float, ...]] = angle(None)
+    outer_radius: Optional[float] = None
+    fidelity: Fidelity = "rigid"
+
+
+@dataclass(frozen=True)
+class PlanetaryStage:
+    """A planetary stage. Mesh stiffness N/m; pressure angles transverse, rad."""
+
+    name: str
+    sun: Member
+    ring: Member
+    carrier: Member
+    planets: Planets
+    k_mesh_sun: float
+    k_mesh_ring: float
+    pressure_angle_sun: float = angle()
+    pressure_angle_ring: float = angle()
+    helix_angle: float = angle(0.0)
+    drive_sign: int = 1
+    center: Vec3 = (0.0, 0.0, 0.0)
+    axis: Vec3 = (0.0, 0.0, 1.0)
+    contact_point: Literal["pitch", "tangent"] = "pitch"
+
+    def carrier_radius(self) -> float:
+        """Planet-centre radius (m) from the sun-planet mesh geometry."""
+        return (self.sun.base_radius + self.planets.base_radius) / math.cos(self.pressure_angle_sun)
+
+    def planet_angles(self) -> tuple[float, ...]:
+        n = self.planets.count
+        if self.planets.angles is not None:
+            return tuple(self.planets.angles)
+        return tuple(2 * math.pi * i / n for i in range(n))
+
+
+@dataclass(frozen=True)
+class LoadCase:
+    """Rated-torque load case: ``torque`` (N m) about ``input``'s axis, reacted by holding
+    ``output`` against rotation. ``input_interface`` names where the torque enters a
+    flexible (component) body, e.g. its coupling seat."""
+
+    input: str
+    output: str
+    torque: float
+    input_interface: Optional[str] = None
+    name: str = "rated torque"
+
+
+#: True while :func:`derive` builds a scene from an already validated one.
+_TRUSTED = contextvars.ContextVar("flexgear_trusted_scene", default=False)
 
 
 @dataclass(frozen=True)
@@ -256,7 +278,9 @@ class Scene:
     """A drivetrain: bodies and the springs that join them (SI units throughout).
 
     ``stages`` holds planetary-stage descriptions; :meth:`expanded` turns each into bodies,
-    bearings and meshes. Construction validates everything (``SceneError`` on bad input).
+    bearings and meshes. ``band_hz``: the frequency band of interest (Hz), which sets the
+    Craig-Bampton cutoff of flexible bodies. Construction validates everything
+    (``SceneError`` on bad input).
     """
 
     name: str = "scene"
@@ -266,34 +290,44 @@ class Scene:
     meshes: tuple[GearMesh, ...] = ()
     shafts: tuple[Shaft, ...] = ()
     fixed: tuple[Fixed, ...] = ()
-    stages: tuple["PlanetaryStage", ...] = ()
+    stages: tuple[PlanetaryStage, ...] = ()
     band_hz: Optional[float] = None
-    load: Optional["LoadCase"] = None
+    load: Optional[LoadCase] = None
 
     def __post_init__(self):
-        from .validate import validate_scene
-        validate_scene(self)
+        if not _TRUSTED.get():
+            from .validate import validate_scene  # validate reads these types: import when used
+            validate_scene(self)
 
     def expanded(self) -> "Scene":
-        """The same scene with every planetary stage expanded into plain elements."""
-        from .planetary import expand_stage
+        """The same scene with every planetary stage expanded into plain elements (computed
+        once per scene)."""
         if not self.stages:
             return self
-        parts = [expand_stage(st, f"stages[{i}]") for i, st in enumerate(self.stages)]
-        return dataclasses.replace(
-            self,
-            bodies=self.bodies + sum((p.bodies for p in parts), ()),
-            bearings=self.bearings + sum((p.bearings for p in parts), ()),
-            meshes=self.meshes + sum((p.meshes for p in parts), ()),
-            fixed=self.fixed + sum((p.fixed for p in parts), ()),
-            stages=(),
-        )
+        cached = self.__dict__.get("_expanded")
+        if cached is None:
+            from .planetary import expand_stages  # the builder reads these types
+            cached = derive(self, **expand_stages(self), stages=())
+            object.__setattr__(self, "_expanded", cached)
+        return cached
 
     def body(self, name: str) -> Body:
         for b in self.expanded().bodies:
             if b.name == name:
                 return b
         raise KeyError(name)
+
+
+def derive(scene: Scene, **changes) -> Scene:
+    """``dataclasses.replace(scene, **changes)`` without validating again: for changes
+    that keep a validated scene valid (expanding stages, making a near-rigid bearing
+    direction exact, holding a DOF of a body). Anything a user could get wrong goes
+    through the constructor instead."""
+    token = _TRUSTED.set(True)
+    try:
+        return dataclasses.replace(scene, **changes)
+    finally:
+        _TRUSTED.reset(token)
 
 
 def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
@@ -310,7 +344,3 @@ def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial
     new = tuple(dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
                 for b in sc.bearings)
     return dataclasses.replace(sc, bearings=new)
-
-
-from .loads import LoadCase  # noqa: E402  (dataclass used in annotations above)
-from .planetary import PlanetaryStage  # noqa: E402  (dataclass used in annotations above)

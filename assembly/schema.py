@@ -1,4 +1,6 @@
-"""Typed construction of frozen dataclasses from plain dicts (TOML tables).
+"""Scene files: TOML -> plain dicts -> typed, validated dataclasses.
+
+Typed construction of frozen dataclasses from plain dicts (TOML tables).
 
 One generic converter instead of a hand-written parser per table: every dataclass field is
 read with its annotated type, unknown keys and missing fields are refused, and every error
@@ -11,11 +13,19 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import tomllib
 import types
 import typing
+from pathlib import Path
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
+from fe_components.errors import GeometryError
+
 from .errors import SceneError
+from .scene import Scene
+
+#: Example scenes shipped with the package.
+SCENE_DIR = Path(__file__).parent / "scenes"
 
 
 def _join(path: str, key: str) -> str:
@@ -125,7 +135,10 @@ def from_dict(cls, data: Any, path: str = ""):
     for name, f in fields.items():
         if name not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
             raise SceneError(_join(path, name), None, f"missing required field ({_type_name(hints[name])})")
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except GeometryError as err:  # a data type that checks its own values (e.g. Material)
+        raise SceneError(_join(path, err.parameter), err.value, err.reason) from None
 
 
 def to_dict(obj) -> dict:
@@ -143,3 +156,37 @@ def to_dict(obj) -> dict:
             v = list(v)
         out[f.name] = v
     return out
+
+
+def resolve_scene_path(path) -> Path:
+    """A path as given, or the name of a scene shipped in ``assembly/scenes``."""
+    p = Path(path)
+    if p.exists():
+        return p
+    shipped = SCENE_DIR / p.name
+    if shipped.exists():
+        return shipped
+    raise SceneError("scene", str(path), "no such file (nor a shipped example scene of that name)")
+
+
+def load_scene(path) -> Scene:
+    """Read and validate a scene file; :class:`SceneError` names the offending field path."""
+    p = resolve_scene_path(path)
+    try:
+        with open(p, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(str(p), "<file>", f"not valid TOML: {exc}") from None
+    except OSError as exc:
+        raise SceneError("scene", str(p), f"cannot read: {exc.strerror}") from None
+    return scene_from_dict(data)
+
+
+def scene_from_dict(data: dict) -> Scene:
+    """Build and validate a scene from a plain dict (e.g. parsed TOML)."""
+    return from_dict(Scene, data, "")
+
+
+def shipped_scenes() -> list[Path]:
+    """Example scenes shipped in the package, sorted by name."""
+    return sorted(SCENE_DIR.glob("*.toml"))

@@ -1,4 +1,11 @@
-"""Whole-scene checks: names, references, frames, connectivity (SceneError with paths)."""
+"""The rules a scene must obey, one function each (:class:`SceneError` with the field path).
+
+:func:`validate_scene` runs them in order: first each table on its own (bodies, bearings,
+meshes, shafts, fixed DOFs, planetary stages, flexible options), then the scene as a
+whole on its stages expanded (names, references, frames, attachment points, rigid
+bearings, mesh geometry, load case, connectivity). Error paths name the table the user
+wrote: ``stages[0].planets.count``, ``bearings[2].k_radial``.
+"""
 from __future__ import annotations
 
 import math
@@ -6,11 +13,249 @@ import math
 import numpy as np
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .constraints import can_constrain
 from .errors import SceneError
-from .geometry import unit
+from .kinematics import unit
+from .scene import HOUSING, DOF_NAMES, Bearing, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
 
 
-def _unique(items, path, attr="name"):
+# ---------------------------------------------------------------- value checks
+def _positive(path, value, what="must be > 0"):
+    if not (value > 0):
+        raise SceneError(path, value, what)
+
+
+def _nonneg(path, value):
+    if not (value >= 0):
+        raise SceneError(path, value, "must be >= 0 (N/m or N m/rad; inf = rigid)")
+
+
+def _vector(path, value):
+    v = np.asarray(value, float)
+    if not np.all(np.isfinite(v)):
+        raise SceneError(path, list(value), "must be finite")
+    return v
+
+
+# ---------------------------------------------------------------- one table at a time
+def check_flex(opts: FlexOptions, path: str) -> None:
+    """Meshing and reduction options of a component body."""
+    if opts.mesh_size is not None and not opts.mesh_size > 0:
+        raise SceneError(f"{path}.mesh_size", opts.mesh_size, "must be > 0 m")
+    if opts.n_modes is not None and opts.cutoff_hz is not None:
+        raise SceneError(f"{path}.n_modes", opts.n_modes, "give n_modes or cutoff_hz, not both")
+    if opts.n_modes is not None and opts.n_modes < 0:
+        raise SceneError(f"{path}.n_modes", opts.n_modes, "must be >= 0 (0 = Guyan)")
+    if opts.cutoff_hz is not None and not opts.cutoff_hz > 0:
+        raise SceneError(f"{path}.cutoff_hz", opts.cutoff_hz, "must be > 0 Hz")
+    for k, v in (opts.couplings or {}).items():
+        if v not in ("rbe2", "rbe3"):
+            raise SceneError(f"{path}.couplings.{k}", v, "must be 'rbe2' or 'rbe3'")
+
+
+def check_body(b: Body, path: str) -> None:
+    """Name, mass properties (or a component that supplies them), position and axis."""
+    if not b.name or b.name == HOUSING or "/" in b.name:
+        raise SceneError(f"{path}.name", b.name, "must be a non-empty name other than 'housing'")
+    if b.component is not None:
+        _check_component_body(b, path)
+        return
+    if b.fidelity == "flexible":
+        raise SceneError(f"{path}.fidelity", b.fidelity,
+                         "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder)")
+    if b.flex is not None:
+        raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
+    _check_mass_properties(b, path)
+    _vector(f"{path}.position", b.position)
+    a = _vector(f"{path}.axis", b.axis)
+    if np.linalg.norm(a) == 0:
+        raise SceneError(f"{path}.axis", list(b.axis), "must be a non-zero vector")
+
+
+def _check_component_body(b: Body, path: str) -> None:
+    for f in ("mass", "polar_inertia", "transverse_inertia", "inertia_tensor"):
+        if getattr(b, f) is not None:
+            raise SceneError(f"{path}.{f}", getattr(b, f),
+                             "a body with a component takes mass and inertia from its mesh")
+    if b.flex is not None:
+        check_flex(b.flex, f"{path}.flex")
+    _vector(f"{path}.position", b.position)
+
+
+def _check_mass_properties(b: Body, path: str) -> None:
+    if b.mass is None:
+        raise SceneError(f"{path}.mass", None, "missing required field (kg)")
+    _positive(f"{path}.mass", b.mass, "must be > 0 kg")
+    if (b.inertia_tensor is None) == (b.polar_inertia is None):
+        raise SceneError(f"{path}.polar_inertia", b.polar_inertia,
+                         "give exactly one of polar_inertia or inertia_tensor")
+    if b.polar_inertia is not None:
+        _positive(f"{path}.polar_inertia", b.polar_inertia, "must be > 0 kg m^2")
+        if b.transverse_inertia is not None:
+            _positive(f"{path}.transverse_inertia", b.transverse_inertia, "must be > 0 kg m^2")
+        return
+    J = np.asarray(b.inertia_tensor, float)
+    if not np.allclose(J, J.T, rtol=1e-12, atol=0) or np.linalg.eigvalsh(J).min() <= 0:
+        raise SceneError(f"{path}.inertia_tensor", b.inertia_tensor, "must be symmetric positive definite (kg m^2)")
+
+
+def check_bearing(br: Bearing, path: str) -> None:
+    """Stiffnesses >= 0 (inf = rigid), a finite position if given."""
+    for f in ("k_radial", "k_axial", "k_tilt", "k_torsion"):
+        _nonneg(f"{path}.{f}", getattr(br, f))
+    if br.position is not None:
+        _vector(f"{path}.position", br.position)
+
+
+def check_mesh(m: GearMesh, path: str) -> None:
+    """Stiffness, base radii (negative = internal), pressure and helix angles, flank."""
+    if m.gear1 == m.gear2:
+        raise SceneError(f"{path}.gear2", m.gear2, "a gear cannot mesh with itself")
+    _positive(f"{path}.stiffness", m.stiffness, "must be > 0 N/m")
+    if not math.isfinite(m.stiffness):
+        raise SceneError(f"{path}.stiffness", m.stiffness, "must be finite")
+    for f in ("base_radius1", "base_radius2"):
+        v = getattr(m, f)
+        if not (math.isfinite(v) and v != 0):
+            raise SceneError(f"{path}.{f}", v, "must be a non-zero finite radius in m (negative = internal gear)")
+    if m.base_radius1 < 0 and m.base_radius2 < 0:
+        raise SceneError(f"{path}.base_radius2", m.base_radius2, "two internal gears cannot mesh")
+    if m.base_radius1 + m.base_radius2 == 0:
+        raise SceneError(f"{path}.base_radius2", m.base_radius2,
+                         "internal and external base radii are equal: zero centre distance")
+    _check_angles(m, path, "pressure_angle", "helix_angle", "drive_sign")
+
+
+def _check_angles(obj, path: str, *names: str) -> None:
+    """Pressure angles in (0, 90) deg, |helix angle| < 90 deg, drive sign +-1."""
+    for f in names:
+        v = getattr(obj, f)
+        if f.startswith("pressure_angle") and not 0 < v < math.pi / 2:
+            raise SceneError(f"{path}.{f}", v, "must lie in (0, 90) deg")
+        if f == "helix_angle" and not abs(v) < math.pi / 2:
+            raise SceneError(f"{path}.{f}", v, "|helix angle| must be < 90 deg")
+        if f == "drive_sign" and v not in (1, -1):
+            raise SceneError(f"{path}.{f}", v, "must be +1 or -1")
+
+
+def check_shaft(s: Shaft, path: str) -> None:
+    """Two different bodies; finite stiffnesses, torsion > 0."""
+    if s.body1 == s.body2:
+        raise SceneError(f"{path}.body2", s.body2, "a shaft needs two different bodies")
+    _positive(f"{path}.k_torsion", s.k_torsion, "must be > 0 N m/rad")
+    for f in ("k_torsion", "k_bending", "k_axial", "k_shear"):
+        v = getattr(s, f)
+        _nonneg(f"{path}.{f}", v)
+        if not math.isfinite(v):
+            raise SceneError(f"{path}.{f}", v, "must be finite (use a bearing for a rigid joint)")
+
+
+def check_fixed(f: Fixed, path: str) -> None:
+    """Known DOF names."""
+    for i, d in enumerate(f.dofs):
+        if d not in DOF_NAMES:
+            raise SceneError(f"{path}.dofs[{i}]", d, f"must be one of {list(DOF_NAMES)}")
+
+
+# ---------------------------------------------------------------- planetary stages
+def check_stage(st: PlanetaryStage, path: str) -> None:
+    """A planetary stage: members, planets, meshes, and the geometry that joins them."""
+    if not st.name or "." in st.name:
+        raise SceneError(f"{path}.name", st.name, "must be a non-empty name without '.'")
+    for role in ("sun", "ring", "carrier"):
+        _check_member(getattr(st, role), role, f"{path}.{role}")
+    for role in ("sun", "ring"):
+        r = getattr(st, role).base_radius
+        if r is None or not r > 0:
+            raise SceneError(f"{path}.{role}.base_radius", r, "must be > 0 m (give the ring's as positive)")
+    pl = st.planets
+    if pl.count < 1:
+        raise SceneError(f"{path}.planets.count", pl.count, "must be >= 1")
+    for f in ("mass", "polar_inertia", "base_radius"):
+        if not getattr(pl, f) > 0:
+            raise SceneError(f"{path}.planets.{f}", getattr(pl, f), "must be > 0")
+    for f in ("k_mesh_sun", "k_mesh_ring"):
+        v = getattr(st, f)
+        if not (v > 0 and math.isfinite(v)):
+            raise SceneError(f"{path}.{f}", v, "must be a finite stiffness > 0 N/m")
+    _check_angles(st, path, "pressure_angle_sun", "pressure_angle_ring", "helix_angle", "drive_sign")
+    _check_ring_radius(st, path)
+    _check_planet_spacing(st, path)
+
+
+def _check_member(m, role: str, p: str) -> None:
+    if m.component is not None:
+        if role != "carrier":
+            raise SceneError(f"{p}.component", m.component.get("kind"),
+                             "only the carrier of a planetary stage can be a component so far")
+        for f in ("planet_angles", "pin_pitch_radius", "n_planets"):
+            if f in m.component or f + "_deg" in m.component:
+                raise SceneError(f"{p}.component.{f}", m.component.get(f, m.component.get(f + "_deg")),
+                                 "set by the stage from its planets; remove it")
+        if m.mass is not None or m.polar_inertia is not None:
+            raise SceneError(f"{p}.mass", m.mass, "a component carrier takes mass and inertia from its mesh")
+    else:
+        if m.fidelity == "flexible":
+            raise SceneError(f"{p}.fidelity", m.fidelity, "a flexible member needs a component table")
+        if m.mass is None or not m.mass > 0:
+            raise SceneError(f"{p}.mass", m.mass, "must be > 0 kg")
+        if m.polar_inertia is None or not m.polar_inertia > 0:
+            raise SceneError(f"{p}.polar_inertia", m.polar_inertia, "must be > 0 kg m^2")
+    if m.support == "bearing" and m.bearing is None:
+        raise SceneError(f"{p}.bearing", None, "support = 'bearing' needs a bearing table")
+    if m.support != "bearing" and m.bearing is not None:
+        raise SceneError(f"{p}.support", m.support, "a bearing table is given but support is not 'bearing'")
+
+
+def _check_ring_radius(st: PlanetaryStage, path: str) -> None:
+    """The ring mesh must put the planet centres where the sun mesh does."""
+    pl = st.planets
+    if st.ring.base_radius <= pl.base_radius:
+        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius, "must exceed the planet base radius")
+    Rc = st.carrier_radius()
+    Rc_ring = (st.ring.base_radius - pl.base_radius) / math.cos(st.pressure_angle_ring)
+    if abs(Rc_ring - Rc) > 1e-6 * Rc:
+        want = pl.base_radius + Rc * math.cos(st.pressure_angle_ring)
+        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius,
+                         f"inconsistent with the sun mesh: the planet centre lies at {Rc:.6g} m, "
+                         f"which needs a ring base radius of {want:.9g} m")
+
+
+def _check_planet_spacing(st: PlanetaryStage, path: str) -> None:
+    """One angle per planet, and neighbouring planets must not overlap."""
+    pl = st.planets
+    if pl.angles is not None and len(pl.angles) != pl.count:
+        raise SceneError(f"{path}.planets.angles", list(pl.angles),
+                         f"must list exactly planets.count = {pl.count} angles")
+    if pl.count < 2:
+        return
+    psi = np.sort(np.mod(np.asarray(st.planet_angles()), 2 * math.pi))
+    gaps = np.diff(np.concatenate([psi, psi[:1] + 2 * math.pi]))
+    r_out = pl.outer_radius if pl.outer_radius is not None else pl.base_radius / math.cos(st.pressure_angle_sun)
+    chord = 2 * st.carrier_radius() * np.sin(gaps.min() / 2)
+    if chord <= 2 * r_out:
+        key = "angles" if pl.angles is not None else "count"
+        val = list(pl.angles) if pl.angles is not None else pl.count
+        raise SceneError(f"{path}.planets.{key}", val, f"planets overlap: closest centres {chord:.4g} m apart, "
+                                                       f"planet outer diameter {2 * r_out:.4g} m")
+
+
+# ---------------------------------------------------------------- whole-scene rules
+def check_tables(scene) -> None:
+    """Every table on its own, in the order the user wrote them."""
+    for i, st in enumerate(scene.stages):
+        check_stage(st, f"stages[{i}]")
+    unique_names(scene.stages, "stages")
+    for key, check in (("bodies", check_body), ("bearings", check_bearing), ("meshes", check_mesh),
+                       ("shafts", check_shaft), ("fixed", check_fixed)):
+        for i, item in enumerate(getattr(scene, key)):
+            check(item, f"{key}[{i}]")
+    if scene.band_hz is not None and not (scene.band_hz > 0 and math.isfinite(scene.band_hz)):
+        raise SceneError("band_hz", scene.band_hz, "must be a finite frequency > 0 Hz")
+
+
+def unique_names(items, path, attr="name") -> None:
+    """No two items of one table share a name (unnamed items are skipped)."""
     seen = {}
     for i, it in enumerate(items):
         name = getattr(it, attr)
@@ -21,41 +266,51 @@ def _unique(items, path, attr="name"):
         seen[name] = i
 
 
-def validate_scene(scene) -> None:
-    from .planetary import check_stage
-    from .scene import HOUSING
-
-    for i, st in enumerate(scene.stages):
-        check_stage(st, f"stages[{i}]")
-    _unique(scene.stages, "stages")
-    for i, b in enumerate(scene.bodies):
-        b.check(f"bodies[{i}]")
-    for i, b in enumerate(scene.bearings):
-        b.check(f"bearings[{i}]")
-    for i, m in enumerate(scene.meshes):
-        m.check(f"meshes[{i}]")
-    for i, s in enumerate(scene.shafts):
-        s.check(f"shafts[{i}]")
-    for i, f in enumerate(scene.fixed):
-        f.check(f"fixed[{i}]")
-    if scene.band_hz is not None and not scene.band_hz > 0:
-        raise SceneError("band_hz", scene.band_hz, "must be > 0 Hz")
-
-    sc = scene.expanded()
-    # Where did each expanded body come from (for error paths)?
+def body_origins(scene, expanded) -> dict:
+    """Body name -> the path of the table that made it (``bodies[i]`` or ``stages[i]``)."""
     origin = {b.name: f"bodies[{i}]" for i, b in enumerate(scene.bodies)}
     for i, st in enumerate(scene.stages):
-        for b in sc.bodies:
+        for b in expanded.bodies:
             if b.stage == st.name and b.name not in origin:
                 origin[b.name] = f"stages[{i}]"
+    return origin
+
+
+def element_paths(scene, expanded, key: str, origin: dict, attr: str):
+    """(path, item) of every bearing or mesh of the expanded scene: ``key[i]`` for the
+    user's own tables, the stage that made it otherwise."""
+    own = len(getattr(scene, key))
+    for i, item in enumerate(getattr(expanded, key)):
+        if i < own:
+            yield f"{key}[{i}]", item
+        else:
+            yield origin[getattr(item, attr)] + (" bearing" if key == "bearings" else ""), item
+
+
+def body_table(expanded, origin: dict) -> dict:
+    """Name -> body; duplicate names and an empty scene are errors."""
     names = {}
-    for i, b in enumerate(sc.bodies):
+    for i, b in enumerate(expanded.bodies):
         if b.name in names:
             raise SceneError(f"{origin.get(b.name, f'bodies[{i}]')}.name", b.name, "duplicate body name")
         names[b.name] = b
     if not names:
         raise SceneError("bodies", [], "a scene needs at least one body")
+    return names
 
+
+def stage_elements_valid(scene, expanded, origin: dict) -> None:
+    """The bodies, bearings and meshes a planetary stage made obey the table rules too."""
+    for b in expanded.bodies[len(scene.bodies):]:
+        check_body(b, origin[b.name])
+    for p, br in list(element_paths(scene, expanded, "bearings", origin, "body"))[len(scene.bearings):]:
+        check_bearing(br, p)
+    for p, m in list(element_paths(scene, expanded, "meshes", origin, "gear1"))[len(scene.meshes):]:
+        check_mesh(m, p)
+
+
+def references_exist(scene, names: dict) -> None:
+    """Every body named by a frame, bearing, mesh, shaft or fixed DOF exists."""
     def ref(path, name, allow_housing=False):
         if allow_housing and name == HOUSING:
             return
@@ -64,14 +319,6 @@ def validate_scene(scene) -> None:
 
     for i, b in enumerate(scene.bodies):
         ref(f"bodies[{i}].frame", b.frame, allow_housing=True)
-    # Frames must form a tree rooted at the housing.
-    for b in sc.bodies:
-        seen, cur = {b.name}, b.frame
-        while cur != HOUSING:
-            if cur in seen:
-                raise SceneError(f"{origin[b.name]}.frame", b.frame, "reference frames form a cycle")
-            seen.add(cur)
-            cur = names[cur].frame
     for i, br in enumerate(scene.bearings):
         ref(f"bearings[{i}].body", br.body)
         if br.frame is not None:
@@ -87,39 +334,55 @@ def validate_scene(scene) -> None:
     for i, f in enumerate(scene.fixed):
         ref(f"fixed[{i}].body", f.body)
 
-    masters = component_masters(sc, origin)
-    for b in sc.bodies:
+
+def frames_form_tree(expanded, names: dict, origin: dict) -> None:
+    """Reference frames form a tree rooted at the housing."""
+    for b in expanded.bodies:
+        seen, cur = {b.name}, b.frame
+        while cur != HOUSING:
+            if cur in seen:
+                raise SceneError(f"{origin[b.name]}.frame", b.frame, "reference frames form a cycle")
+            seen.add(cur)
+            cur = names[cur].frame
+
+
+def flexible_bodies_supported(expanded, origin: dict) -> None:
+    """A flexible body lives in the housing frame and is held by springs, not fixed DOFs."""
+    for b in expanded.bodies:
         if b.fidelity == "flexible" and b.frame != HOUSING:
             raise SceneError(f"{origin[b.name]}.frame", b.frame, "a flexible body must live in the housing frame")
-    for i, br in enumerate(sc.bearings):
-        p = f"bearings[{i}]" if i < len(scene.bearings) else origin[br.body] + " bearing"
-        bearing_point(br, names[br.body], masters, p)
-    for i, s in enumerate(sc.shafts):
-        shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
-    for f in sc.fixed:
-        if names[f.body].fidelity == "flexible":
+    flexible = {b.name for b in expanded.bodies if b.fidelity == "flexible"}
+    for f in expanded.fixed:
+        if f.body in flexible:
             raise SceneError(f"{origin[f.body]}.fidelity", "flexible",
                              "fixed DOFs act on rigid bodies; hold a flexible body by a rigid bearing")
 
-    # Infinite bearing stiffness is modelled as a constraint: only for a bearing acting at
-    # the body's own position relative to its own frame.
-    all_bearings = list(enumerate(scene.bearings)) + [(None, b) for b in sc.bearings[len(scene.bearings):]]
-    for i, br in all_bearings:
-        body = names[br.body]
-        p = f"bearings[{i}]" if i is not None else origin[br.body] + " bearing"
-        if np.any(np.isinf(br.diagonal())):
-            if body.fidelity == "flexible" or body.component is not None:
-                raise SceneError(f"{p}.k_radial", br.k_radial, "infinite stiffness is only supported for "
-                                 "plain rigid bodies; give a component body a finite bearing")
-            own_frame = br.frame is None or br.frame == body.frame
-            at_body = br.position is None or np.allclose(br.position, body.position, rtol=0, atol=1e-12)
-            if not (own_frame and at_body):
-                raise SceneError(f"{p}.k_radial", br.k_radial,
-                                 "infinite (rigid) stiffness is only supported for a bearing at the "
-                                 "body's position to its own frame")
 
-    for i, m in enumerate(sc.meshes):
-        p = f"meshes[{i}]" if i < len(scene.meshes) else origin[m.gear1]
+def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
+    """Every bearing and shaft attaches at a body point or a named interface."""
+    for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
+        bearing_point(br, names[br.body], masters, p)
+    for i, s in enumerate(expanded.shafts):
+        shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
+
+
+def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
+    """An infinite bearing stiffness becomes a constraint: only where one can act
+    (:func:`assembly.constraints.can_constrain`)."""
+    for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
+        body = names[br.body]
+        if not np.any(np.isinf(br.diagonal())) or can_constrain(br, body):
+            continue
+        if body.component is not None:
+            raise SceneError(f"{p}.k_radial", br.k_radial, "infinite stiffness is only supported for "
+                             "plain rigid bodies; give a component body a finite bearing")
+        raise SceneError(f"{p}.k_radial", br.k_radial, "infinite (rigid) stiffness is only supported for a "
+                         "bearing at the body's position to its own frame")
+
+
+def mesh_geometry(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
+    """Parallel gear axes and a centre distance of |r1 + r2| / cos(pressure angle)."""
+    for p, m in element_paths(scene, expanded, "meshes", origin, "gear1"):
         b1, b2 = names[m.gear1], names[m.gear2]
         a1, a2 = unit(b1.axis), unit(b2.axis)
         if abs(abs(a1 @ a2) - 1) > 1e-9:
@@ -133,23 +396,56 @@ def validate_scene(scene) -> None:
                              f"centre distance {C:.9g} m between {m.gear1} and {m.gear2} does not "
                              f"match |r1 + r2|/cos(pressure_angle) = {C_want:.9g} m")
 
-    if scene.load is not None:
-        scene.load.check("load", names)
 
-    # Every body must be connected to something.
+def check_load(load: LoadCase, path: str, names: dict) -> None:
+    """The static load case names two different bodies and a finite, non-zero torque."""
+    for f in ("input", "output"):
+        if getattr(load, f) not in names:
+            raise SceneError(f"{path}.{f}", getattr(load, f), "no body of that name")
+    if load.input == load.output:
+        raise SceneError(f"{path}.output", load.output, "input and output must differ")
+    if not (math.isfinite(load.torque) and load.torque != 0):
+        raise SceneError(f"{path}.torque", load.torque, "must be a finite, non-zero torque (N m)")
+    if names[load.output].fidelity == "flexible":
+        raise SceneError(f"{path}.output", load.output, "the reacting body must be rigid or torsional")
+    if names[load.input].component is not None and load.input_interface is None:
+        raise SceneError(f"{path}.input_interface", None, f"{load.input} is a component: name the "
+                                                          "interface the torque enters at")
+
+
+def everything_connected(expanded, names: dict, origin: dict) -> None:
+    """Every body is held by a bearing, mesh, shaft or fixed DOF."""
     linked = set()
-    for br in sc.bearings:
+    for br in expanded.bearings:
         linked.add(br.body)
         other = br.frame or names[br.body].frame
         if other != HOUSING:
             linked.add(other)
-    for m in sc.meshes:
+    for m in expanded.meshes:
         linked.update((m.gear1, m.gear2))
-    for s in sc.shafts:
+    for s in expanded.shafts:
         linked.update((s.body1, s.body2))
-    for f in sc.fixed:
-        linked.add(f.body)
-    for b in sc.bodies:
+    linked.update(f.body for f in expanded.fixed)
+    for b in expanded.bodies:
         if b.name not in linked:
             raise SceneError(f"{origin[b.name]}.name", b.name,
                              "body is connected to nothing (no bearing, mesh, shaft or fixed DOF)")
+
+
+def validate_scene(scene) -> None:
+    """Run every rule on ``scene``; the first one broken raises :class:`SceneError`."""
+    check_tables(scene)
+    expanded = scene.expanded()
+    origin = body_origins(scene, expanded)
+    names = body_table(expanded, origin)
+    stage_elements_valid(scene, expanded, origin)
+    references_exist(scene, names)
+    frames_form_tree(expanded, names, origin)
+    masters = component_masters(expanded, origin)
+    flexible_bodies_supported(expanded, origin)
+    attachments_resolve(scene, expanded, names, masters, origin)
+    rigid_bearings_allowed(scene, expanded, names, origin)
+    mesh_geometry(scene, expanded, names, masters, origin)
+    if scene.load is not None:
+        check_load(scene.load, "load", names)
+    everything_connected(expanded, names, origin)

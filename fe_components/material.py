@@ -13,11 +13,12 @@ class Material:
     """Isotropic linear-elastic material.
 
     E : Young's modulus [Pa]; nu : Poisson's ratio [-]; rho : density [kg/m^3].
+    The defaults are structural steel.
     """
 
-    E: float
-    nu: float
-    rho: float
+    E: float = 2.1e11
+    nu: float = 0.3
+    rho: float = 7850.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.E) and self.E > 0):
@@ -44,4 +45,4 @@ class Material:
 
 
 #: Structural steel, E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.
-STEEL = Material(2.1e11, 0.3, 7850.0)
+STEEL = Material()

@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from assembly.errors import SceneError
-from assembly.toml_io import SCENE_DIR, scene_from_dict
+from assembly.schema import SCENE_DIR, scene_from_dict
 from fe_components.errors import GeometryError
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
@@ -83,7 +83,7 @@ def test_malformed_scene_gives_one_clear_error(tree):
 @given(bad=st.sampled_from([("count = 3", "count = 0"), ("mass = 0.66", "mass = -1.0"),
                             ("k_mesh_sun = 5.0e8", "k_mesh_sun = \"stiff\""), ("count = 3", "count = 3\nfoo = 1")]))
 def test_failed_run_leaves_no_partial_output(bad, tmp_path):
-    from assembly.cli import main
+    from assembly.app.cli import main
     text = (SCENE_DIR / "lin_parker_n3.toml").read_text().replace(*bad)
     f = tmp_path / "bad.toml"
     f.write_text(text)

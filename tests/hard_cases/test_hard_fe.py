@@ -8,7 +8,7 @@ import pytest
 
 from assembly import assemble, load_scene
 
-SCENE = Path(__file__).parent.parent / "data" / "flex_pair.toml"
+SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 
 
 def test_cutoff_below_band_warns(caplog):
@@ -48,12 +48,12 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     # f_t = sqrt(G/rho) / 2L with G = E / 2(1 + nu), f_a = sqrt(E/rho) / 2L (Love's lateral
     # inertia correction ~ (nu pi r / L)^2 / 2 = 0.3 % here, inside the 1 % target).
     import math
-    from assembly.flexible import check_locking
+    from assembly.components import check_locking
     from fe_components.fe_model import build_component
     from fe_components.material import Material
     from fe_components.modal import lowest_frequencies
     from fe_components.reference import CYLINDER, REF_DIR
-    with caplog.at_level(logging.WARNING, logger="assembly.flexible"):
+    with caplog.at_level(logging.WARNING, logger="assembly.components"):
         assert check_locking(1, 0.499)
         assert not check_locking(2, 0.499) and not check_locking(1, 0.3)
     assert any("lock volumetrically" in r.getMessage() for r in caplog.records)

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes, with_fidelity
-from assembly.cli import main
+from assembly.app.cli import main
 from assembly.compare import compare, variants
 
-SCENE = Path(__file__).parent / "data" / "flex_pair.toml"
+SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 
 
 @pytest.fixture(scope="module")
@@ -104,7 +104,7 @@ def test_compare_json(capsys):
 
 def test_flexible_summary_counts_match_the_superelements(solved):
     # reduced coordinates of a body = 6 per interface master + modes + residual vectors
-    from assembly.report import flexible_summary, modes_json
+    from assembly.app.tables import flexible_summary, modes_json
     r = solved["flexible"]
     summary = flexible_summary(r.model)
     assert set(summary) == {"pinion", "wheel"}

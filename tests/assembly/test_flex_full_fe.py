@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, solve_modes
-from assembly.bench_flex import _empty_cms_cache, _with_flex, run
+from assembly.app.bench_flex import _with_flex, empty_superelement_cache, run
 
-SCENE = Path(__file__).parent / "data" / "flex_pair.toml"
+SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 N_CMP = 12      # elastic coupled modes compared
 
 
@@ -40,12 +40,12 @@ def full(scene):
 
 @pytest.fixture(scope="module")
 def reduced(scene):
-    with _empty_cms_cache():
-        out = {n: _elastic(solve_modes(assemble(_with_flex(scene, n_modes=n, cutoff_hz=None,
-                                                           residual_vectors=False))))
-               for n in (0, 4, 12)}
-        out["4 +rv"] = _elastic(solve_modes(assemble(_with_flex(scene, n_modes=4, cutoff_hz=None))))
-        out["default"] = _elastic(solve_modes(assemble(_with_flex(scene, n_modes=None, cutoff_hz=None))))
+    with empty_superelement_cache() as caches:
+        def solve(**kw):
+            return _elastic(solve_modes(assemble(_with_flex(scene, **kw), caches=caches)))
+        out = {n: solve(n_modes=n, cutoff_hz=None, residual_vectors=False) for n in (0, 4, 12)}
+        out["4 +rv"] = solve(n_modes=4, cutoff_hz=None)
+        out["default"] = solve(n_modes=None, cutoff_hz=None)
     return out
 
 

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from assembly.cli import main
-from assembly.toml_io import SCENE_DIR, shipped_scenes
+from assembly.app.cli import main
+from assembly.schema import SCENE_DIR, shipped_scenes
 
 EXPECTED_SCENES = {"peeters_parallel_torsional.toml", "kahraman_beta0.toml", "kahraman_beta20.toml",
                    "lin_parker_n3.toml", "lin_parker_n4.toml", "lin_parker_n5.toml"}
@@ -113,7 +113,7 @@ def test_bad_input_one_line_exit_2(case, tmp_path, capsys):
 def test_bad_input_console_script_exit_code(tmp_path):
     f = tmp_path / "scene.toml"
     f.write_text(BAD["planet count"][0])
-    p = subprocess.run([sys.executable, "-m", "assembly.cli", "modes", str(f)], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-m", "assembly.app.cli", "modes", str(f)], capture_output=True, text=True)
     assert p.returncode == 2
     assert p.stdout == "" and p.stderr.count("\n") == 1
     assert "stages[0].planets.count = 0" in p.stderr

@@ -5,10 +5,9 @@ bodies slot in): load scene, assemble, eigen solve, fidelity comparison (torsion
 variant of the same scene, paired by MAC), tables, mode-shape images, plots, ``index.html``.
 Each step gets a tqdm bar on stderr (off when stderr is not a TTY or with ``--quiet``).
 
-Everything is written into a temporary folder next to DIR and moved into place at the
-end; a failed run removes it, so DIR is either the complete new result, or untouched.
-An existing DIR is replaced only when it is empty or an earlier flexgear run (it holds
-:data:`MANIFEST`); anything else is refused.
+Everything is written into a staged folder (:mod:`assembly.app.output`): DIR is either the
+complete new result, or untouched; an existing DIR is replaced only when it is empty or an
+earlier flexgear run.
 
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
@@ -17,13 +16,10 @@ Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 from __future__ import annotations
 
 import csv
-from contextlib import contextmanager
 import json
 import logging
 import os
-import shutil
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,14 +27,20 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..classify import classify_modes, pair_modes
+from ..compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
+from ..compare import compare
+from ..errors import MechanismError, SceneError, SolverError
+from ..modal import solve_modes
+from ..model import assemble
+from ..schema import load_scene
+from ..static import solve_static
+from .html_report import render_index
+from .output import MANIFEST, staged_output, write_manifest
+from .progress import Progress
+from .tables import dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv, write_modes_csv
+
 log = logging.getLogger(__name__)
-
-MANIFEST = "flexgear_run.json"
-from .compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
-
-
-class OutputDirError(RuntimeError):
-    """The output folder cannot be (re)placed."""
 
 
 @dataclass
@@ -99,36 +101,28 @@ class Step:
 # --------------------------------------------------------------------------------------
 
 def step_load(ctx: RunContext, bar) -> None:
-    from .toml_io import load_scene
 
     ctx.scene = load_scene(ctx.scene_source)
 
 
 def step_assemble(ctx: RunContext, bar) -> None:
-    from .model import assemble
 
     ctx.model = assemble(ctx.scene)
 
 
 def step_solve(ctx: RunContext, bar) -> None:
-    from .classify import classify_modes
-    from .modal import solve_modes
 
     ctx.result = solve_modes(ctx.model)
     ctx.infos = classify_modes(ctx.result)
 
 
 def _user_errors():
-    from .errors import MechanismError, SceneError, SolverError
-
     return (SceneError, MechanismError, SolverError, ValueError, np.linalg.LinAlgError)
 
 
 def step_compare(ctx: RunContext, bar) -> None:
     """Torsional, rigid (and flexible) variants of the scene, paired by MAC ->
     ``ctx.comparison`` (rows of :func:`assembly.compare.compare`)."""
-    from .classify import classify_modes
-    from .compare import compare
 
     if not ctx.options.compare:
         bar.update(bar.total - bar.n)
@@ -152,41 +146,16 @@ def comparison_fields(ctx) -> list:
     return ["mode"] + fids + [f"mac_{f}" for f in fids[:-1]] + ["class", "dominant_body"]
 
 
-def _dominant_text(info) -> str:
-    return "; ".join(f"{b} {100 * s:.0f}%" for b, s in info.dominant_bodies)
-
-
 def step_tables(ctx: RunContext, bar) -> None:
-    from .report import modes_json, modes_table
-
-    res, infos = ctx.result, ctx.infos
-    with open(ctx.add_file("modes.csv", "frequencies and mode table (CSV)"), "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share"])
-        for mi in infos:
-            w.writerow([mi.index + 1, f"{mi.frequency_hz:.9g}", mi.multiplicity, mi.mode_class,
-                        mi.stage or "", _dominant_text(mi)])
-    data = modes_json(res)
+    res = ctx.result
+    write_modes_csv(ctx.infos, ctx.add_file("modes.csv", "frequencies and mode table (CSV)"))
     with open(ctx.add_file("modes.json", "frequencies, classes, energy shares and shapes (JSON)"), "w") as fh:
-        json.dump(data, fh, indent=1)
+        json.dump(modes_json(res), fh, indent=1)
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
         modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     if ctx.comparison:
-        fields = comparison_fields(ctx)
-        with open(ctx.add_file("fidelity_comparison.csv", "fidelities side by side, paired by MAC (CSV; Hz)"),
-                  "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=fields)
-            w.writeheader()
-            for r in ctx.comparison:
-                w.writerow({k: _fmt_csv(r.get(k)) for k in fields})
-
-
-def _fmt_csv(v):
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return f"{v:.9g}"
-    return v
+        write_comparison_csv(ctx.comparison, comparison_fields(ctx),
+                             ctx.add_file("fidelity_comparison.csv", "fidelities side by side, paired by MAC (CSV; Hz)"))
 
 
 def _render_total(ctx: RunContext) -> int:
@@ -212,7 +181,7 @@ def step_render(ctx: RunContext, bar) -> None:
         rel = f"images/mode_{i + 1:03d}.png"
         rnd.render_mode(ctx.result, i, ctx.add_file(rel, f"mode {i + 1} shape (PNG)"),
                         title=mode_title(ctx.scene.name, mi))
-        dom = _dominant_text(mi)
+        dom = dominant_text(mi)
         ctx.images.append((rel, f"mode {i + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}"
                                 + (f" (x{mi.multiplicity})" if mi.multiplicity > 1 else "")
                                 + (f"; kinetic energy: {dom}" if dom else ""), i))
@@ -222,7 +191,6 @@ def step_render(ctx: RunContext, bar) -> None:
 def step_plots(ctx: RunContext, bar) -> None:
     from .plots import plot_fidelity_frequencies
 
-    from .classify import pair_modes
 
     cols, pairs = [], []
     if ctx.variants:
@@ -253,7 +221,7 @@ def build_report(ctx: RunContext) -> dict:
     modes_rows = []
     for mi in ctx.infos:
         modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}", mi.multiplicity, mi.mode_class,
-                           mi.stage or "", _dominant_text(mi),
+                           mi.stage or "", dominant_text(mi),
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
@@ -283,7 +251,6 @@ def build_report(ctx: RunContext) -> dict:
             f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "
             f"max relative eigen-residual {res.max_residual:.1e}",
             "units: frequency Hz, length m, angle rad; mode shapes mass-normalised (modal mass 1 kg)"]
-    from .report import flexible_lines
     meta += flexible_lines(ctx.model)
     if ctx.timings:
         meta.append("time: " + ", ".join(f"{k} {v:.2f} s" for k, v in ctx.timings.items()))
@@ -298,7 +265,7 @@ def build_report(ctx: RunContext) -> dict:
 
 
 def _flexible_bodies(ctx) -> list:
-    return [n for n, bm in ctx.model.bodies.items() if hasattr(bm, "stress")]
+    return [n for n, bm in ctx.model.bodies.items() if bm.flexible]
 
 
 def _recovery_total(ctx) -> int:
@@ -309,7 +276,6 @@ def _recovery_total(ctx) -> int:
 def step_recovery(ctx: RunContext, bar) -> None:
     """Flexible bodies: static load case (if the scene has one) and modal stresses,
     back-expanded to the FE meshes; stress images; VTU files + one .pvd collection."""
-    from .loads import solve_static
     from .render_fe import render_stress_image
 
     flex = _flexible_bodies(ctx)
@@ -375,7 +341,6 @@ def _write_body_vtu(bm, zb, stress, path) -> None:
 
 
 def step_html(ctx: RunContext, bar) -> None:
-    from .html_report import render_index
 
     text = render_index(build_report(ctx))
     (ctx.work / "index.html").write_text(text, encoding="utf-8")
@@ -394,63 +359,10 @@ DEFAULT_STEPS = [
 ]
 
 
-# --------------------------------------------------------------------------------------
-# Output folder handling
-# --------------------------------------------------------------------------------------
-
-def check_output_dir(out_dir: Path) -> None:
-    """Raise :class:`OutputDirError` if ``out_dir`` exists and may not be replaced."""
-    if not out_dir.exists() and not out_dir.is_symlink():
-        return
-    if not out_dir.is_dir() or out_dir.is_symlink():
-        raise OutputDirError(f"--out {out_dir}: exists and is not a folder")
-    if any(out_dir.iterdir()) and not (out_dir / MANIFEST).is_file():
-        raise OutputDirError(f"--out {out_dir}: folder exists, is not empty and holds no earlier flexgear "
-                             f"run ({MANIFEST}); choose a new or empty folder")
-
-
-def _new_work_dir(out_dir: Path) -> Path:
-    parent = out_dir.parent
-    parent.mkdir(parents=True, exist_ok=True)
-    return Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.partial-", dir=parent))
-
-
-def _move_into_place(work: Path, out_dir: Path) -> None:
-    old = None
-    if out_dir.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=out_dir.parent))
-        os.rename(out_dir, old / "previous")
-    try:
-        os.rename(work, out_dir)
-    except OSError:
-        if old is not None:  # put the previous result back
-            os.rename(old / "previous", out_dir)
-            shutil.rmtree(old, ignore_errors=True)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
-@contextmanager
-def staged_output(out_dir: Path):
-    """Yield a fresh work folder next to ``out_dir``; on success it replaces ``out_dir``
-    (checked again just before), on any failure it is deleted: nothing half-written."""
-    check_output_dir(out_dir)
-    work = _new_work_dir(out_dir)
-    try:
-        yield work
-        check_output_dir(out_dir)
-        _move_into_place(work, out_dir)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
-
-
 def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=None,
                  steps: list | None = None) -> RunContext:
     """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path or shipped name)
     and place the results in ``out_dir`` atomically. Returns the final context."""
-    from .progress import Progress
 
     options = options or RunOptions()
     progress = progress or Progress(enabled=False)
@@ -472,41 +384,7 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
             files=[p for p, _ in ctx.files] + ["index.html"],
             timings_s={k: round(v, 4) for k, v in ctx.timings.items()},
             notes=ctx.notes, python=sys.version.split()[0])
-        (work / MANIFEST).write_text(json.dumps(manifest, indent=1))
+        write_manifest(work, manifest)
     ctx.work = out_dir
     log.info("wrote %s in %.2f s", out_dir, ctx.timings["total"])
     return ctx
-
-
-# --------------------------------------------------------------------------------------
-# CLI
-# --------------------------------------------------------------------------------------
-
-def add_run_parser(subparsers) -> None:
-    """Add ``flexgear run`` to an argparse subparsers object."""
-    p = subparsers.add_parser("run", help="whole pipeline: tables, mode-shape images, plots, index.html")
-    p.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
-    p.add_argument("--out", required=True, help="output folder (replaced atomically when the run succeeds)")
-    p.add_argument("--modes", type=int, default=12, metavar="N", help="elastic modes to draw (default 12)")
-    p.add_argument("--no-compare", action="store_true", help="skip the torsional vs rigid comparison")
-    p.add_argument("--no-images", action="store_true", help="skip the mode-shape images")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no summary line")
-    p.set_defaults(func=cmd_run)
-
-
-def cmd_run(args) -> int:
-    """``flexgear run``: exit 0 on success; 2 on a bad output folder (scene errors are
-    raised for the CLI's common handler, which prints one line and exits 2)."""
-    from .progress import Progress
-
-    if args.modes < 0:
-        print(f"flexgear: error: --modes = {args.modes}: must be >= 0", file=sys.stderr)
-        return 2
-    opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
-    progress = Progress(enabled=False if args.quiet else None)
-    ctx = run_pipeline(args.scene, args.out, opts, progress)
-    if not args.quiet:
-        n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
-        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
-              f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")
-    return 0

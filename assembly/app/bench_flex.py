@@ -17,8 +17,16 @@ import resource
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
+
+from ..components import CacheDirs, forget_fe_models
+from ..flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ
+from ..modal import solve_modes
+from ..model import assemble, build_body_models
+from ..scene import FlexOptions, scale_bearings
+from ..schema import load_scene
 
 
 def _with_flex(scene, **kw):
@@ -26,7 +34,6 @@ def _with_flex(scene, **kw):
     bodies = []
     for b in sc.bodies:
         if b.fidelity == "flexible":
-            from .flexible import FlexOptions
             b = dataclasses.replace(b, flex=dataclasses.replace(b.flex or FlexOptions(), **kw))
         bodies.append(b)
     return dataclasses.replace(sc, bodies=tuple(bodies))
@@ -37,28 +44,16 @@ def _peak_mb() -> float:
 
 
 @contextlib.contextmanager
-def _empty_cms_cache():
-    """Point the superelement cache at a fresh temporary folder for the block's duration."""
-    import assembly.flexible as flexible
-    old = flexible.CMS_CACHE_DIR
-    with tempfile.TemporaryDirectory() as cache:
-        flexible.CMS_CACHE_DIR = cache
-        try:
-            yield
-        finally:
-            flexible.CMS_CACHE_DIR = old
-
-
-def _cold():
-    """Forget the FE models assembled in this process (mesh files stay cached on disk)."""
-    import assembly.flexible as flexible
-    flexible._FE_MEMO.clear()
+def empty_superelement_cache():
+    """Cache folders whose superelement folder is fresh (temporary) for the block's
+    duration; meshes stay in the default cache."""
+    with tempfile.TemporaryDirectory() as folder:
+        yield CacheDirs(superelements=Path(folder))
 
 
 def _variants(scene, n: int):
     """``n`` bearing-stiffness variants (all bearings x 0.25 ... x 4, log-spaced): the kind
     of design study (Peeters Fig. 11a) that changes springs and leaves every body alone."""
-    from .scene import scale_bearings
     return [scale_bearings(scene, float(f)) for f in np.logspace(np.log10(0.25), np.log10(4.0), n)]
 
 
@@ -74,14 +69,10 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
       assembles its FE models once and re-solves every variant; the reduced model reduces
       once (cold) and solves every variant from the cache.
     """
-    from .flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ
-    from .modal import solve_modes
-    from .model import assemble, build_body_models
-    from .toml_io import load_scene
 
     scene = load_scene(scene_name)
     band = scene.band_hz or DEFAULT_BAND_HZ
-    _cold()
+    forget_fe_models()
     t0 = time.perf_counter()
     full_model = assemble(scene, full_fe=True)
     t_build = time.perf_counter() - t0
@@ -100,20 +91,20 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
     cases = ([("n_modes", m, True) for m in modes] + [("cutoff", f, True) for f in factors]
              + [("n_modes", m, False) for m in plain_modes] + [("cutoff", f, False) for f in plain_factors])
     for kind, val, rv in cases:
-        with _empty_cms_cache():
+        with empty_superelement_cache() as caches:
             sc = _with_flex(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
                 if kind == "n_modes" else \
                 _with_flex(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
-            _cold()
+            forget_fe_models()
             t1 = time.perf_counter()
-            bodies = build_body_models(sc.expanded())
+            bodies = build_body_models(sc.expanded(), caches=caches)
             t_red = time.perf_counter() - t1
             m = assemble(sc, bodies=bodies)
             r = solve_modes(m)
             t_tot = time.perf_counter() - t1
-            _cold()
+            forget_fe_models()
             t2 = time.perf_counter()
-            r_warm = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+            r_warm = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded(), caches=caches)))
             t_warm = time.perf_counter() - t2
             assert np.allclose(r_warm.frequencies_hz, r.frequencies_hz, rtol=1e-9, atol=1e-6)
         f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
@@ -138,10 +129,8 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
 
 def _study(scene, band, n, factor, n_cmp, out) -> dict:
     """Design study: ``n`` bearing variants, full FE vs reduced (default cutoff)."""
-    from .modal import solve_modes
-    from .model import assemble, build_body_models
     variants = _variants(scene, n)
-    _cold()
+    forget_fe_models()
     t0 = time.perf_counter()
     ref = []
     for v in variants:   # keep the frequencies only: ten full-FE results held 3 GB
@@ -149,12 +138,12 @@ def _study(scene, band, n, factor, n_cmp, out) -> dict:
         ref.append(r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp])
     t_full = time.perf_counter() - t0
     errs = []
-    with _empty_cms_cache():
-        _cold()
+    with empty_superelement_cache() as caches:
+        forget_fe_models()
         t1 = time.perf_counter()
         for v, f0 in zip(variants, ref):
             sc = _with_flex(v, n_modes=None, cutoff_hz=factor * band)
-            r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded())))
+            r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded(), caches=caches)))
             f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
             k = min(len(f), len(f0))
             sel = f0[:k] < band
@@ -203,7 +192,6 @@ def write_plot(rows: list, out_dir) -> None:
     """Speed vs error of the flexible model against mode count (PNG) and the rows (CSV)."""
     import csv
     import os
-    from pathlib import Path
 
     import matplotlib
     matplotlib.use("Agg")

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.render import (AssemblyRenderer, body_shapes, mode_title, pitch_radii, rigid_displacement,
+from assembly.app.render import (AssemblyRenderer, body_shapes, mode_title, pitch_radii, rigid_displacement,
                              spring_glyphs)
 
 SIZE = (480, 360)
@@ -97,7 +97,7 @@ def test_geometry_rules():
 
 
 def test_width_from_transverse_inertia():
-    from assembly.render import _width_from_inertia
+    from assembly.app.render import _width_from_inertia
     from assembly.scene import Body
 
     r, L, mass = 0.05, 0.08, 3.0

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from assembly import load_scene
-from assembly.loads import solve_static, stress_summary
+from assembly.static import solve_static, stress_summary
 from assembly.errors import SceneError
 
-SCENE = Path(__file__).parent / "data" / "shaft_torsion.toml"
+SCENE = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"
 T, D, L = 100.0, 0.05, 0.5   # N m, m, m (scene file)
 
 

@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assembly.cli import main
-from assembly.html_report import missing_references
+from assembly.app.cli import main
+from assembly.app.html_report import missing_references
 
-SCENE = Path(__file__).parent / "data" / "shaft_torsion.toml"
+SCENE = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Static load case on an assembly: a torque into one body, reacted at another.
+"""The static load case: a torque into one body, reacted at another, and its stresses.
 
 The input torque (N m) acts about the input body's axis (at a flexible body, on the
 named interface master); the output body is held against rotation about its own axis
@@ -7,43 +7,13 @@ then back-expanded for stresses.
 """
 from __future__ import annotations
 
-import dataclasses
-import math
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
-from .errors import MechanismError, SceneError
-from .scene import Fixed
-
-
-@dataclass(frozen=True)
-class LoadCase:
-    """Rated-torque load case: ``torque`` (N m) about ``input``'s axis, reacted by holding
-    ``output`` against rotation. ``input_interface`` names where the torque enters a
-    flexible (component) body, e.g. its coupling seat."""
-
-    input: str
-    output: str
-    torque: float
-    input_interface: Optional[str] = None
-    name: str = "rated torque"
-
-    def check(self, path: str, bodies: dict) -> None:
-        for f in ("input", "output"):
-            if getattr(self, f) not in bodies:
-                raise SceneError(f"{path}.{f}", getattr(self, f), "no body of that name")
-        if self.input == self.output:
-            raise SceneError(f"{path}.output", self.output, "input and output must differ")
-        if not (math.isfinite(self.torque) and self.torque != 0):
-            raise SceneError(f"{path}.torque", self.torque, "must be a finite, non-zero torque (N m)")
-        if bodies[self.output].fidelity == "flexible":
-            raise SceneError(f"{path}.output", self.output, "the reacting body must be rigid or torsional")
-        b = bodies[self.input]
-        if b.component is not None and self.input_interface is None:
-            raise SceneError(f"{path}.input_interface", None, f"{self.input} is a component: name the "
-                                                              "interface the torque enters at")
+from .errors import MechanismError
+from .model import assemble
+from .scene import Fixed, LoadCase, derive
 
 
 @dataclass
@@ -58,14 +28,13 @@ class StaticResult:
 
 def solve_static(scene, load: LoadCase, bodies: dict | None = None) -> StaticResult:
     """Static response to ``load``; raises MechanismError if the held scene can still move."""
-    from .model import assemble
     sc = scene.expanded()
-    held = dataclasses.replace(sc, fixed=sc.fixed + (Fixed(load.output, ("rz",)),))
+    held = derive(sc, fixed=sc.fixed + (Fixed(load.output, ("rz",)),))
     m = assemble(held, bodies=bodies)
     bm = m.bodies[load.input]
     F = np.zeros(m.n_abs)
     sl = m.body_slice(load.input)
-    if hasattr(bm, "masters"):
+    if bm.flexible:
         idx = bm.masters[load.input_interface][1]
         Fb = np.zeros(bm.ndof)  # body DOFs are in local axes: z = the body's axis
         Fb[idx[3:]] = [0.0, 0.0, load.torque]
@@ -95,7 +64,7 @@ def stress_summary(model, Z: np.ndarray, names=None) -> dict:
     """Per flexible body: max von Mises (Pa) and its global location for each column of Z."""
     out = {}
     for b, bm in model.bodies.items():
-        if not hasattr(bm, "stress"):
+        if not bm.flexible:
             continue
         rows = []
         Zb = Z[model.body_slice(b)]

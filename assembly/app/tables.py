@@ -1,11 +1,14 @@
-"""Plain-text and JSON views of modal results (no plotting here)."""
+"""Plain-text and JSON views of modal results and fidelity comparisons (no plotting here)."""
 from __future__ import annotations
+
+import csv
 
 import numpy as np
 
-from .classify import classify_modes
-from .energy import kinetic_by_body, strain_by_element
-from .modal import mechanisms
+from ..classify import classify_modes
+from ..energy import kinetic_by_body, strain_by_element
+from ..flexible import FlexibleBodyModel
+from ..modal import mechanisms
 
 
 def modes_table(result, title: str = "") -> str:
@@ -18,7 +21,6 @@ def modes_table(result, title: str = "") -> str:
     for mi in infos:
         dom = ", ".join(f"{b} {100 * s:.0f}%" for b, s in mi.dominant_bodies)
         lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}  {mi.multiplicity:>4}  {mi.mode_class:<13}  {dom}")
-    from .modal import mechanisms
     for k, text in enumerate(mechanisms(result)):
         lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
     lines += flexible_lines(result.model)
@@ -43,7 +45,6 @@ def flexible_lines(model) -> list:
 def flexible_summary(model) -> dict:
     """How each flexible body was modelled: FE DOFs, fixed-interface modes, residual
     vectors, cutoff (Hz), reduction time (s) and whether it came from the cache."""
-    from .flexible import FlexibleBodyModel
     out = {}
     for name, bm in model.bodies.items():
         if not isinstance(bm, FlexibleBodyModel):
@@ -93,3 +94,62 @@ def modes_json(result) -> dict:
         "flexible_bodies": flexible_summary(m),
         "modes": modes,
     }
+
+
+def comparison_table(c) -> str:
+    """Text table of a :class:`assembly.compare.Comparison`: frequencies (Hz) per fidelity,
+    shifts (%), MAC, class and dominant body of each mode."""
+    cols = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
+    top = cols[-1]
+    head = f"{'mode':>4}  " + "  ".join(f"{k + ' [Hz]':>15}" for k in cols)
+    head += "  " + "  ".join(f"{'shift ' + k[:4] + ' %':>13}" for k in cols[:-1]) + f"  {'MAC':>5}  {'class':<13} dominant"
+    lines = [head]
+    for r in c.rows:
+        cells = []
+        for k in cols:
+            v = r.get(k)
+            cells.append(f"{v:>15.2f}" if v is not None else f"{'-':>15}")
+        shifts = []
+        for k in cols[:-1]:
+            v = r.get(k)
+            ok = v is not None and r["class"] != "rigid-body" and v > 0
+            shifts.append(f"{100 * (r[top] / v - 1):>13.2f}" if ok else f"{'-':>13}")
+        mac = r.get(f"mac_{cols[-2]}") if len(cols) > 1 else None
+        mac_s = "-" if mac is None else f"{mac:.2f}"
+        lines.append(f"{r['mode']:>4}  " + "  ".join(cells) + "  " + "  ".join(shifts)
+                     + f"  {mac_s:>5}  {r['class']:<13} {r['dominant_body']}")
+    t = ", ".join(f"{k}: {v['n_dofs']} DOFs {v['total_s']:.2f} s" for k, v in c.timings.items())
+    lines.append(f"shift = {top} / other - 1; MAC of the {top} mode with its partner one fidelity down. {t}")
+    return "\n".join(lines)
+
+
+def dominant_text(info) -> str:
+    """``"pinion 60%; wheel 38%"``: kinetic-energy shares of a mode's dominant bodies."""
+    return "; ".join(f"{b} {100 * s:.0f}%" for b, s in info.dominant_bodies)
+
+
+def write_modes_csv(infos, path) -> None:
+    """Mode table as CSV: index, frequency (Hz), multiplicity, class, stage, dominant bodies."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share"])
+        for mi in infos:
+            w.writerow([mi.index + 1, f"{mi.frequency_hz:.9g}", mi.multiplicity, mi.mode_class,
+                        mi.stage or "", dominant_text(mi)])
+
+
+def write_comparison_csv(rows, fields, path) -> None:
+    """Fidelity comparison rows (see :func:`assembly.compare.compare`) as CSV (Hz)."""
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: _fmt_csv(r.get(k)) for k in fields})
+
+
+def _fmt_csv(v):
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return f"{v:.9g}"
+    return v

@@ -1,5 +1,4 @@
 """`flexgear run`: end to end into tmp_path, index.html links, Chromium page load, atomicity."""
-import argparse
 import csv
 import json
 import os
@@ -12,8 +11,10 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 import pytest
 
-from assembly.html_report import local_references, missing_references
-from assembly.pipeline import (MANIFEST, OutputDirError, RunOptions, add_run_parser, run_pipeline)
+from assembly.app.html_report import local_references, missing_references
+from assembly.app.cli import build_parser
+from assembly.app.output import MANIFEST, OutputDirError
+from assembly.app.pipeline import RunOptions, run_pipeline
 
 SCENE = "lin_parker_n4.toml"
 N_IMAGES = 3
@@ -21,10 +22,7 @@ SIZE = (480, 360)
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="flexgear")
-    sub = p.add_subparsers(dest="cmd", required=True)
-    add_run_parser(sub)
-    return p
+    return build_parser()
 
 
 @pytest.fixture(scope="module")
@@ -155,7 +153,7 @@ def test_bad_scene_leaves_no_output(tmp_path):
 
 
 def test_failure_in_a_late_step_leaves_previous_result(tmp_path):
-    from assembly.pipeline import DEFAULT_STEPS, Step
+    from assembly.app.pipeline import DEFAULT_STEPS, Step
 
     out = tmp_path / "keep"
     run_pipeline("peeters_parallel_torsional.toml", out, RunOptions(n_modes=1, images=False))
@@ -179,20 +177,14 @@ def test_refuses_foreign_folder(tmp_path):
     with pytest.raises(OutputDirError):
         run_pipeline("kahraman_beta20.toml", out, RunOptions(images=False))
     assert (out / "thesis.tex").read_text() == "precious"
-    from assembly.cli import main
+    from assembly.app.cli import main
     assert main(["run", "kahraman_beta20.toml", "--out", str(out), "-q"]) == 2
     assert (out / "thesis.tex").read_text() == "precious"
 
 
 def test_cli_subprocess_bad_scene_exit_code(tmp_path):
-    """Through a parser wired like assembly.cli: SceneError ends in one line, no folder."""
-    code = ("import sys, argparse\n"
-            "from assembly.pipeline import add_run_parser\n"
-            "from assembly.errors import SceneError\n"
-            "p = argparse.ArgumentParser(); s = p.add_subparsers(dest='cmd', required=True)\n"
-            "add_run_parser(s); a = p.parse_args(sys.argv[1:])\n"
-            "try:\n    sys.exit(a.func(a))\n"
-            "except SceneError as e:\n    print('flexgear: error:', e, file=sys.stderr); sys.exit(2)\n")
+    """Through the real entry point: a SceneError ends in one line, exit 2, no folder."""
+    code = "import sys; from assembly.app.cli import main; sys.exit(main(sys.argv[1:]))"
     out = tmp_path / "o"
     r = subprocess.run([sys.executable, "-c", code, "run", str(tmp_path / "nope.toml"), "--out", str(out)],
                        capture_output=True, text=True, timeout=120)

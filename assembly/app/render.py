@@ -23,17 +23,11 @@ the displacement magnitude (m) of the mass-normalised shape (modal mass 1 kg). T
 (parallel projection), window size and colours depend only on the undeformed assembly, so
 images are identical from run to run.
 
-Hook for flexible bodies
-------------------------
-:func:`body_actor` dispatches on the body model. A body model that defines
-``render_mesh(shape, scale) -> pyvista.DataSet`` (its own FE surface, points already moved
-by ``scale * displacement``, with point array ``"displacement_m"`` = unscaled displacement
-magnitude in m, and optionally stress arrays such as ``"von_mises_Pa"``) is drawn with that
-mesh; ``shape`` is the body's slice of ``ModalResult.abs_shapes`` for the mode. It should
-also define ``render_reference() -> pyvista.DataSet`` (undeformed surface, for the ghost
-and the camera). Springs attach through ``motion_at(point)`` which every body model of the
-assembly already provides. Stress images (:func:`render_stress`) will colour by such an
-array; they need flexible bodies and are not available yet.
+Flexible bodies
+---------------
+:func:`body_actor` draws a flexible body (``bm.flexible``) as its own FE surface moved by
+the back-expanded displacement (:func:`assembly.app.render_fe.fe_surface`); springs attach
+through ``motion_at(point)``, which every body model provides.
 
 pyvista/VTK are imported lazily inside the functions (never at import of this module).
 """
@@ -47,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .geometry import axis_frame
+from ..kinematics import axis_frame
 
 log = logging.getLogger(__name__)
 
@@ -275,7 +269,7 @@ def rigid_part(body_model, shape) -> np.ndarray:
     rm = getattr(body_model, "rigid_motion", None)
     if rm is None:
         raise TypeError(f"cannot draw body {getattr(body_model, 'name', '?')!r}: "
-                        f"{z.shape[0]} DOFs and neither render_mesh nor rigid_motion")
+                        f"{z.shape[0]} DOFs and no rigid_motion")
     return np.asarray(rm(z), float)
 
 
@@ -441,14 +435,14 @@ def body_actor(model, name: str, shape, scale: float = 1.0, shapes: dict | None 
     slice of ``ModalResult.abs_shapes``), points moved by ``scale * displacement``, with point
     array ``"displacement_m"`` = unscaled displacement magnitude (m).
 
-    Dispatch: a body model with ``render_mesh(shape, scale)`` (flexible bodies) draws itself;
-    rigid and torsional bodies are solids of their geometry moved rigidly.
+    A flexible body draws its own FE surface; rigid and torsional bodies are solids of their
+    geometry moved rigidly.
     """
     pv = _pyvista()
     bm = model.bodies[name]
-    hook = getattr(bm, "render_mesh", None)
-    if hook is not None:
-        return hook(np.asarray(shape), scale)
+    if bm.flexible:
+        from .render_fe import fe_surface
+        return fe_surface(bm, np.asarray(shape), scale)
     ref = reference_surface(model, name, shapes, _cache)
     d = rigid_displacement(rigid_part(bm, shape), bm.position, np.asarray(ref.points))
     out = pv.PolyData(np.asarray(ref.points) + scale * d, ref.faces)
@@ -462,9 +456,9 @@ def reference_surface(model, name: str, shapes: dict | None = None, _cache: dict
     if _cache is not None and name in _cache:
         return _cache[name]
     bm = model.bodies[name]
-    hook = getattr(bm, "render_reference", None)
-    if hook is not None:
-        surf = hook()
+    if bm.flexible:
+        from .render_fe import fe_surface
+        surf = fe_surface(bm, None, 0.0)
     else:
         shapes = shapes if shapes is not None else body_shapes(model)
         P, F = solid_surface(shapes[name])
@@ -533,7 +527,7 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
         z = res_shape_of(body)
         if z is None:
             return p, 0.0
-        if hasattr(bm, "render_mesh"):  # flexible body drawn with its own mesh
+        if bm.flexible:  # drawn with its own mesh
             try:
                 d = (bm.motion_at(p) @ np.asarray(z, float))[:3]
             except (ValueError, KeyError):  # glyph end is not an interface point
@@ -587,7 +581,7 @@ class AssemblyRenderer:
             pl.add_mesh(self._cache[key], color=GHOST_COLOR, line_width=1, lighting=False)
         pv = _pyvista()
         for name, sh in self.shapes.items():
-            if not hasattr(self.model.bodies[name], "render_mesh"):
+            if not self.model.bodies[name].flexible:
                 pl.add_mesh(pv.Line(*index_mark(sh)), color=GHOST_COLOR, line_width=3)
 
     def _marks(self, pl, shape_of, scale):
@@ -595,7 +589,7 @@ class AssemblyRenderer:
         pv = _pyvista()
         for name, sh in self.shapes.items():
             bm = self.model.bodies[name]
-            if hasattr(bm, "render_mesh"):
+            if bm.flexible:
                 continue
             P = index_mark(sh)
             z = shape_of(name)
@@ -676,7 +670,7 @@ class AssemblyRenderer:
         for name in self.model.bodies:
             z = result.abs_shapes[self.model.body_slice(name), mode]
             ref = reference_surface(self.model, name, self.shapes, self._cache)
-            if hasattr(self.model.bodies[name], "render_mesh"):
+            if self.model.bodies[name].flexible:
                 d = np.asarray(body_actor(self.model, name, z, 0.0).point_data["displacement_m"])
             else:
                 bm = self.model.bodies[name]
@@ -717,11 +711,6 @@ class AssemblyRenderer:
             pl.add_text(title, position="upper_left", font_size=15, color="black")
             text = (f"deformation drawn x {scale:.3g} (largest displacement = "
                     f"{100 * DEFORMATION_FRACTION:.0f} % of assembly size {self.view.size:.3g} m)")
-            approx = [n for n, bm in self.model.bodies.items()
-                      if getattr(bm, "ndof", 6) != 6 and not hasattr(bm, "render_mesh")]
-            if approx:
-                text += ("\nflexible bodies drawn with their rigid-equivalent motion (FE deformation not shown): "
-                         + ", ".join(approx))
             if subtitle:
                 text = subtitle + "\n" + text
             pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
@@ -737,14 +726,6 @@ def _sign(v: np.ndarray) -> float:
         return 1.0
     i = int(np.argmax(np.abs(v)))
     return -1.0 if v[i] < 0 else 1.0
-
-
-def render_stress(*args, **kwargs):
-    """Stress images (von Mises, Pa) of flexible bodies: not available yet.
-
-    Will colour the ``render_mesh`` output of flexible bodies by a stress point array.
-    """
-    raise NotImplementedError("stress images need flexible bodies (not available in this version)")
 
 
 def mode_title(scene_name: str, info) -> str:

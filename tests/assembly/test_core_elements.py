@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from assembly.elements import gear_mesh, line_of_action
-from assembly.geometry import rigid_transfer
+from assembly.kinematics import rigid_transfer
 from assembly.model import assemble
 from assembly.scene import Fixed
-from assembly.toml_io import load_scene
+from assembly.schema import load_scene
 
 rng = np.random.default_rng(7)
 

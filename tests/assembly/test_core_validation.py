@@ -12,7 +12,7 @@ from assembly.classify import classify_modes, pair_modes
 from assembly.modal import solve_modes
 from assembly.model import assemble
 from assembly.scene import scale_bearings, with_fidelity
-from assembly.toml_io import load_scene
+from assembly.schema import load_scene
 import dataclasses
 
 

@@ -1,5 +1,4 @@
 """`flexgear sweep`: helix angle and bearing stiffness factor sweeps into CSV + PNG."""
-import argparse
 import csv
 import math
 
@@ -7,14 +6,12 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes
-from assembly.sweep import add_sweep_parser, parse_values, run_sweep, with_helix_angle
+from assembly.app.cli import build_parser, main
+from assembly.app.sweep import parse_values, run_sweep, with_helix_angle
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="flexgear")
-    sub = p.add_subparsers(dest="cmd", required=True)
-    add_sweep_parser(sub)
-    return p
+    return build_parser()
 
 
 def test_helix_sweep_cli(tmp_path):
@@ -63,6 +60,5 @@ def test_parse_values():
     for bad, param in ((["x"], "helix"), (["95"], "helix"), (["0"], "bearing-factor"), (["1:2"], "helix")):
         with pytest.raises(ValueError):
             parse_values(bad, param)
-    args = _parser().parse_args(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "abc",
-                                 "--out", "/nonexistent/x"])
-    assert args.func(args) == 2
+    assert main(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "abc",
+                 "--out", "/nonexistent/x"]) == 2

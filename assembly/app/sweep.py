@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import json
 import logging
 import math
 import sys
@@ -97,10 +96,10 @@ class SweepResult:
 
 def run_sweep(scene, param: str, values, progress=None) -> SweepResult:
     """Frequencies of ``scene`` (a Scene) for each parameter value."""
-    from .modal import solve_modes
-    from .model import assemble
+    from ..modal import solve_modes
+    from ..model import assemble
     from .progress import Progress
-    from .scene import scale_bearings
+    from ..scene import scale_bearings
 
     if param not in PARAMS:
         raise ValueError(f"--param {param!r}: must be one of {list(PARAMS)}")
@@ -145,12 +144,11 @@ def write_plot(sr: SweepResult, path, max_modes: int | None = None) -> Path:
 
 def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_modes: int | None = None) -> dict:
     """Load the scene, sweep, and write CSV + PNG + manifest into ``out_dir`` atomically."""
-    from .pipeline import MANIFEST, staged_output
-    from .toml_io import load_scene
+    from ..schema import load_scene
+    from .output import check_output_dir, staged_output, write_manifest
 
     out_dir = Path(out_dir).absolute()
     t0 = time.perf_counter()
-    from .pipeline import check_output_dir
     check_output_dir(out_dir)  # refuse a foreign folder before the (possibly long) sweep
     scene = load_scene(scene_source)
     with staged_output(out_dir) as work:
@@ -161,37 +159,5 @@ def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_m
                     values=[float(v) for v in sr.values], files=["sweep.csv", "sweep.png"],
                     n_modes=int(sr.frequencies_hz.shape[1]), time_s=round(time.perf_counter() - t0, 4),
                     python=sys.version.split()[0])
-        (work / MANIFEST).write_text(json.dumps(info, indent=1))
+        write_manifest(work, info)
     return info
-
-
-def add_sweep_parser(subparsers) -> None:
-    """Add ``flexgear sweep`` to an argparse subparsers object."""
-    p = subparsers.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
-    p.add_argument("scene", help="scene TOML file (or the name of a shipped example)")
-    p.add_argument("--param", required=True, choices=PARAMS,
-                   help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
-    p.add_argument("--values", nargs="*", default=[], metavar="V",
-                   help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
-    p.add_argument("--out", required=True, help="output folder (sweep.csv, sweep.png)")
-    p.add_argument("--max-modes", type=int, default=None, metavar="N", help="plot at most N elastic modes")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
-    p.set_defaults(func=cmd_sweep)
-
-
-def cmd_sweep(args) -> int:
-    """``flexgear sweep``: exit 0 on success, 2 on bad values or output folder (scene errors
-    are raised for the CLI's common handler)."""
-    from .progress import Progress
-
-    try:
-        values = parse_values(args.values, args.param)
-    except ValueError as exc:
-        print(f"flexgear: error: {exc}", file=sys.stderr)
-        return 2
-    progress = Progress(enabled=False if args.quiet else None)
-    info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
-    if not args.quiet:
-        print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
-              f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
-    return 0

@@ -1,0 +1,197 @@
+"""``flexgear`` command line: modes, compare, run, sweep, demo, bench.
+
+Every subcommand is parsed here; every error the package raises on bad input ends in
+:func:`main`'s one handler: a single line on stderr naming the field or file and the
+value, exit code 2.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import logging
+import sys
+from pathlib import Path
+
+log = logging.getLogger("flexgear")
+
+SCENE_HELP = "scene TOML file (or the name of a shipped example)"
+BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex"}
+
+
+class UsageError(ValueError):
+    """A command-line value the program cannot use (e.g. ``--modes -5``)."""
+
+
+def user_errors() -> tuple:
+    """Exception types that mean bad input (scene, geometry, coupling, reduction, output
+    folder, command line): reported in one line with exit code 2, never a traceback."""
+    from cms.errors import ReductionError
+    from fe_components.errors import CouplingError, GeometryError
+
+    from ..errors import MechanismError, SceneError
+    from .output import OutputDirError
+    return (SceneError, MechanismError, OutputDirError, GeometryError, CouplingError, ReductionError, UsageError)
+
+
+def _at_least(value: int, flag: str, low: int) -> int:
+    if value < low:
+        raise UsageError(f"{flag} = {value}: must be >= {low}")
+    return value
+
+
+def cmd_modes(args) -> int:
+    from ..modal import solve_modes
+    from ..model import assemble
+    from ..schema import load_scene
+    from .tables import modes_json, modes_table
+
+    scene = load_scene(args.scene)
+    res = solve_modes(assemble(scene))
+    if args.json:
+        json.dump(modes_json(res), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(modes_table(res, title=f"{scene.name}  ({args.scene})"))
+    return 0
+
+
+def cmd_compare(args) -> int:
+    from ..compare import compare
+    from ..schema import load_scene
+    from .tables import comparison_table
+
+    scene = load_scene(args.scene)
+    c = compare(scene, n_rows=args.modes)
+    if args.json:
+        json.dump({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
+                   "pairs": c.rows, "timings": c.timings}, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(f"{scene.name}  ({args.scene})")
+        print(comparison_table(c))
+    return 0
+
+
+def cmd_run(args) -> int:
+    """``flexgear run``: the whole pipeline into ``--out``."""
+    from .pipeline import RunOptions, run_pipeline
+    from .progress import Progress
+
+    opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
+    ctx = run_pipeline(args.scene, args.out, opts, Progress(enabled=False if args.quiet else None))
+    if not args.quiet:
+        n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
+        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
+              f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    """``flexgear sweep``: frequencies against one parameter into ``--out``."""
+    from .progress import Progress
+    from .sweep import parse_values, sweep_to_dir
+
+    try:
+        values = parse_values(args.values, args.param)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    progress = Progress(enabled=False if args.quiet else None)
+    info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
+    if not args.quiet:
+        print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
+              f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from ..modal import solve_modes
+    from ..model import assemble
+    from ..schema import load_scene, shipped_scenes
+    from .tables import modes_table
+
+    for p in shipped_scenes():
+        scene = load_scene(p)
+        print(modes_table(solve_modes(assemble(scene)), title=f"== {scene.name}  ({p.name})"))
+        print()
+    return 0
+
+
+def cmd_bench(args) -> int:
+    names = list(BENCHMARKS) if args.what == "all" else [args.what]
+    for name in names:
+        rc = importlib.import_module(BENCHMARKS[name]).main(args.rest)
+        if rc:
+            return rc
+    return 0
+
+
+def _add_run(sub) -> None:
+    p = sub.add_parser("run", help="whole pipeline: tables, mode-shape images, plots, index.html")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--out", required=True, help="output folder (replaced atomically when the run succeeds)")
+    p.add_argument("--modes", type=int, default=12, metavar="N", help="elastic modes to draw (default 12)")
+    p.add_argument("--no-compare", action="store_true", help="skip the torsional vs rigid comparison")
+    p.add_argument("--no-images", action="store_true", help="skip the mode-shape images")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no summary line")
+    p.set_defaults(func=cmd_run, check=lambda a: _at_least(a.modes, "--modes", 0))
+
+
+def _add_sweep(sub) -> None:
+    from .sweep import PARAMS
+    p = sub.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--param", required=True, choices=PARAMS,
+                   help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
+    p.add_argument("--values", nargs="*", default=[], metavar="V",
+                   help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
+    p.add_argument("--out", required=True, help="output folder (sweep.csv, sweep.png)")
+    p.add_argument("--max-modes", type=int, default=None, metavar="N", help="plot at most N elastic modes")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
+    p.set_defaults(func=cmd_sweep, check=lambda a: a.max_modes is None or _at_least(a.max_modes, "--max-modes", 1))
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug)")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    _add_run(sub)
+    _add_sweep(sub)
+    m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
+    m.add_argument("scene", help=SCENE_HELP)
+    m.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    m.set_defaults(func=cmd_modes)
+    c = sub.add_parser("compare", help="torsional, rigid and flexible variants side by side (MAC-paired)")
+    c.add_argument("scene", help=SCENE_HELP)
+    c.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    c.add_argument("--modes", type=int, default=20, help="rows of the table (default 20)")
+    c.set_defaults(func=cmd_compare, check=lambda a: _at_least(a.modes, "--modes", 0))
+    d = sub.add_parser("demo", help="mode tables of the shipped example scenes")
+    d.set_defaults(func=cmd_demo)
+    b = sub.add_parser("bench", help="benchmarks (print tables; not tests)")
+    b.add_argument("what", choices=[*BENCHMARKS, "all"])
+    b.add_argument("rest", nargs=argparse.REMAINDER, help="arguments passed to the benchmark")
+    b.set_defaults(func=cmd_bench)
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        if getattr(args, "check", None) is not None:
+            args.check(args)
+        return args.func(args)
+    except user_errors() as exc:
+        print(f"flexgear: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
+        sys.stderr.close()
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
