@@ -18,6 +18,7 @@ import numpy as np
 
 from .kinematics import axis_frame
 from .scene import FlexOptions
+from .schema import component_from_table
 
 log = logging.getLogger(__name__)
 
@@ -37,8 +38,7 @@ class CacheDirs:
 
 def component_params(body, path: str):
     """fe_components parameters of a body's ``component`` table (errors name ``path``)."""
-    from fe_components.params import component_from_dict
-    return component_from_dict(dict(body.component), path)
+    return component_from_table(body.component, path)
 
 
 def local_masters(params) -> dict:

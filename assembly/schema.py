@@ -104,9 +104,17 @@ def convert(tp, value: Any, path: str):
 
 
 def from_dict(cls, data: Any, path: str = ""):
-    """Build dataclass ``cls`` from ``data`` (a dict), refusing unknown and missing keys."""
+    """Build dataclass ``cls`` from ``data`` (a dict), refusing unknown and missing keys.
+
+    A dataclass whose fields are all required may also be given as an array of its fields
+    in order (a shaft segment as ``[length, diameter]``)."""
     if isinstance(data, cls):
         return data
+    if isinstance(data, (list, tuple)) and _all_required(cls):
+        names = [f.name for f in dataclasses.fields(cls) if f.init]
+        if len(data) != len(names):
+            raise SceneError(path or cls.__name__, list(data), f"must be a table or an array [{', '.join(names)}]")
+        data = dict(zip(names, data))
     if not isinstance(data, dict):
         raise SceneError(path or cls.__name__, data, f"must be a table of {cls.__name__} fields")
     hints = get_type_hints(cls)
@@ -138,7 +146,47 @@ def from_dict(cls, data: Any, path: str = ""):
     try:
         return cls(**kwargs)
     except GeometryError as err:  # a data type that checks its own values (e.g. Material)
-        raise SceneError(_join(path, err.parameter), err.value, err.reason) from None
+        raise SceneError(f"{path}.{err.parameter}" if path else err.parameter, err.value, err.reason) from None
+
+
+def _all_required(cls) -> bool:
+    return all(f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+               for f in dataclasses.fields(cls) if f.init)
+
+
+def component_from_table(table: Any, path: str):
+    """fe_components parameters from a ``component`` table: ``kind`` (pinion, wheel,
+    carrier, cylinder) picks the parameter class, the other keys are its fields (angles may
+    be given in degrees under ``<name>_deg``). A carrier may give ``n_planets`` (and
+    ``first_planet_angle``) instead of ``planet_angles``."""
+    from fe_components.params import COMPONENT_KINDS, CarrierParams
+    kind = table.get("kind") if isinstance(table, dict) else None
+    if not isinstance(kind, str) or kind not in COMPONENT_KINDS:
+        raise SceneError(f"{path}.kind", kind, f"must be one of {sorted(COMPONENT_KINDS)}")
+    data = {k: v for k, v in table.items() if k != "kind"}
+    cls = COMPONENT_KINDS[kind]
+    if cls is CarrierParams:
+        data = _equally_spaced_planets(data, path)
+    return from_dict(cls, data, path)
+
+
+def _equally_spaced_planets(data: dict, path: str) -> dict:
+    """``n_planets`` (+ ``first_planet_angle`` in rad, or ``_deg``) -> ``planet_angles``."""
+    if "n_planets" not in data:
+        return data
+    data = dict(data)
+    n = data.pop("n_planets")
+    if "planet_angles" in data or "planet_angles_deg" in data:
+        raise SceneError(f"{path}.n_planets", n, "give either n_planets or planet_angles, not both")
+    n = convert(int, n, f"{path}.n_planets")
+    if n < 2:
+        raise SceneError(f"{path}.n_planets", n, "must be an integer >= 2")
+    if "first_planet_angle_deg" in data:
+        first = math.radians(convert(float, data.pop("first_planet_angle_deg"), f"{path}.first_planet_angle_deg"))
+    else:
+        first = convert(float, data.pop("first_planet_angle", 0.0), f"{path}.first_planet_angle")
+    data["planet_angles"] = [first + 2 * math.pi * i / n for i in range(n)]
+    return data
 
 
 def to_dict(obj) -> dict:

@@ -9,12 +9,12 @@ from .export import write_vtu
 from .fe_model import FEModel, Interface, build_component, default_mesh_size
 from .material import STEEL, Material
 from .meshing import MeshOptions
-from .params import (CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment, WheelParams,
-                     component_from_dict)
+from .params import (COMPONENT_KINDS, CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment,
+                     WheelParams)
 
 __all__ = [
     "CarrierParams", "CoupledModel", "CouplingError", "CylinderParams", "FEModel", "GearTeeth",
     "GeometryError", "Interface", "Material", "MaterialError", "MeshOptions", "MeshingError",
-    "PinionParams", "STEEL", "ShaftSegment", "WheelParams", "build_component", "component_from_dict",
+    "PinionParams", "STEEL", "ShaftSegment", "WheelParams", "build_component", "COMPONENT_KINDS",
     "couple", "default_mesh_size", "write_vtu",
 ]

@@ -3,8 +3,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Mapping
-
 from .errors import MaterialError
 
 
@@ -32,16 +30,6 @@ class Material:
     def G(self) -> float:
         """Shear modulus [Pa]."""
         return self.E / (2.0 * (1.0 + self.nu))
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "material") -> "Material":
-        for key in ("E", "nu", "rho"):
-            if key not in d:
-                raise MaterialError(f"{path}.{key}", None, "missing")
-        try:
-            return cls(float(d["E"]), float(d["nu"]), float(d["rho"]))
-        except MaterialError as err:
-            raise err.with_prefix(path) from None
 
 
 #: Structural steel, E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.

@@ -3,8 +3,8 @@
 Every dataclass validates itself in ``__post_init__`` and raises
 :class:`~fe_components.errors.GeometryError` naming the parameter (dotted path
 relative to the object) and the offending value, *before* any meshing.
-``from_dict(d, path)`` builds the objects from TOML-like tables, accepts
-``<name>_deg`` keys for angles and prefixes errors with ``path``.
+Angle fields carry ``metadata={"angle": True}``, so a table reader (the scene schema)
+may accept them in degrees under ``<name>_deg``.
 
 Axis conventions (all components rotate about the global z axis through the
 origin):
@@ -20,8 +20,8 @@ import dataclasses
 import hashlib
 import json
 import math
-from dataclasses import dataclass
-from typing import Any, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 from .errors import GeometryError
 from .involute import check_tooth_shape
@@ -38,43 +38,6 @@ def _positive(name: str, value: float) -> None:
 def _non_negative(name: str, value: float) -> None:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
         raise GeometryError(name, value, "must be a finite number >= 0")
-
-
-def _take(d: Mapping[str, Any], path: str, allowed: Sequence[str], angles: Sequence[str] = ()) -> dict:
-    """Copy ``d`` into a dict of known keys, converting ``<angle>_deg`` keys to rad."""
-    if not isinstance(d, Mapping):
-        raise GeometryError(path, d, "expected a table")
-    out: dict[str, Any] = {}
-    for key, value in d.items():
-        base = key[:-4] if key.endswith("_deg") else None
-        if base is not None and base in angles:
-            if base in d:
-                raise GeometryError(f"{path}.{key}", value, f"give either {base} (rad) or {key}, not both")
-            try:
-                out[base] = _deg_to_rad(value)
-            except (TypeError, ValueError):
-                raise GeometryError(f"{path}.{key}", value, "must be a number (degrees)") from None
-        elif key in allowed:
-            out[key] = value
-        else:
-            where = f"{path}.{key}" if isinstance(key, str) and key.isidentifier() else f"{path}[{key!r}]"
-            raise GeometryError(where, value, f"unknown parameter (known: {', '.join(allowed)})")
-    return out
-
-
-def _deg_to_rad(value: Any) -> Any:
-    if isinstance(value, (list, tuple)):
-        return tuple(math.radians(float(v)) for v in value)
-    return math.radians(float(value))
-
-
-def _build(cls, kwargs: dict, path: str):
-    try:
-        return cls(**kwargs)
-    except GeometryError as err:
-        raise err.with_prefix(path) from None
-    except TypeError as err:  # missing required argument
-        raise GeometryError(path, sorted(kwargs), f"incomplete parameter table: {err}") from None
 
 
 # ---------------------------------------------------------------- teeth
@@ -94,9 +57,9 @@ class GearTeeth:
 
     n_teeth: int
     normal_module: float
-    pressure_angle: float
+    pressure_angle: float = field(metadata={"angle": True})
     face_width: float
-    helix_angle: float = 0.0
+    helix_angle: float = field(default=0.0, metadata={"angle": True})
     fidelity: str = "smooth"
     smooth_radius: float | None = None
     profile_shift: float = 0.0
@@ -171,10 +134,6 @@ class GearTeeth:
         """Radius below which the gear body is solid (root circle, or smooth radius if smaller)."""
         return min(self.root_radius, self.outer_radius)
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "teeth") -> "GearTeeth":
-        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)], angles=("pressure_angle", "helix_angle"))
-        return _build(cls, kw, path)
 
 
 # ---------------------------------------------------------------- pinion
@@ -231,26 +190,6 @@ class PinionParams:
     def length(self) -> float:
         return sum(s.length for s in self.shaft)
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "pinion") -> "PinionParams":
-        kw = _take(d, path, ["teeth", "shaft", "gear_center", "bore_diameter", "kind"])
-        kw.pop("kind", None)
-        if "teeth" in kw:
-            kw["teeth"] = GearTeeth.from_dict(kw["teeth"], f"{path}.teeth")
-        if "shaft" in kw:
-            segs = []
-            if not isinstance(kw["shaft"], (list, tuple)):
-                raise GeometryError(f"{path}.shaft", kw["shaft"], "expected a list of segments")
-            for i, s in enumerate(kw["shaft"]):
-                p = f"{path}.shaft[{i}]"
-                if isinstance(s, Mapping):
-                    segs.append(_build(ShaftSegment, _take(s, p, ["length", "diameter"]), p))
-                elif isinstance(s, (list, tuple)) and len(s) == 2:
-                    segs.append(_build(ShaftSegment, {"length": s[0], "diameter": s[1]}, p))
-                else:
-                    raise GeometryError(p, s, "expected {length, diameter} or [length, diameter]")
-            kw["shaft"] = tuple(segs)
-        return _build(cls, kw, path)
 
 
 # ---------------------------------------------------------------- wheel
@@ -318,13 +257,6 @@ class WheelParams:
             return self.hole_pitch_diameter / 2
         return (self.hub_outer_diameter + self.rim_inner_diameter) / 4
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "wheel") -> "WheelParams":
-        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)] + ["kind"])
-        kw.pop("kind", None)
-        if "teeth" in kw:
-            kw["teeth"] = GearTeeth.from_dict(kw["teeth"], f"{path}.teeth")
-        return _build(cls, kw, path)
 
 
 # ---------------------------------------------------------------- carrier
@@ -343,7 +275,7 @@ class CarrierParams:
     through-hole (e.g. for the sun shaft).  Angles in rad.
     """
 
-    planet_angles: tuple[float, ...]
+    planet_angles: tuple[float, ...] = field(metadata={"angle": True})
     pin_pitch_radius: float
     pin_bore_diameter: float
     cheek_diameter: float
@@ -428,20 +360,6 @@ class CarrierParams:
         nxt = srt[1:] + [srt[0] + 2 * math.pi]
         return tuple((a + b) / 2 for a, b in zip(srt, nxt))
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "carrier") -> "CarrierParams":
-        allowed = [f.name for f in dataclasses.fields(cls)] + ["n_planets", "first_planet_angle", "kind"]
-        kw = _take(d, path, allowed, angles=("planet_angles", "first_planet_angle"))
-        kw.pop("kind", None)
-        n = kw.pop("n_planets", None)
-        first = kw.pop("first_planet_angle", 0.0)
-        if n is not None:
-            if "planet_angles" in kw:
-                raise GeometryError(f"{path}.n_planets", n, "give either n_planets or planet_angles, not both")
-            if isinstance(n, bool) or not isinstance(n, int) or n < 2:
-                raise GeometryError(f"{path}.n_planets", n, "must be an integer >= 2")
-            kw["planet_angles"] = tuple(first + 2 * math.pi * i / n for i in range(n))
-        return _build(cls, kw, path)
 
 
 # ---------------------------------------------------------------- cylinder
@@ -465,28 +383,15 @@ class CylinderParams:
             raise GeometryError("bore_diameter", self.bore_diameter,
                                 f"must be smaller than the diameter {self.diameter} m")
 
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any], path: str = "cylinder") -> "CylinderParams":
-        kw = _take(d, path, [f.name for f in dataclasses.fields(cls)] + ["kind"])
-        kw.pop("kind", None)
-        return _build(cls, kw, path)
 
 
 ComponentParams = PinionParams | WheelParams | CarrierParams | CylinderParams
 
-_KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams, "cylinder": CylinderParams}
-
-
-def component_from_dict(d: Mapping[str, Any], path: str = "component") -> ComponentParams:
-    """Build component parameters from a table with ``kind = "pinion"|"wheel"|"carrier"|"cylinder"``."""
-    kind = d.get("kind") if isinstance(d, Mapping) else None
-    if not isinstance(kind, str) or kind not in _KINDS:
-        raise GeometryError(f"{path}.kind", kind, f"must be one of {sorted(_KINDS)}")
-    return _KINDS[kind].from_dict(d, path)
+COMPONENT_KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams, "cylinder": CylinderParams}
 
 
 def component_kind(params: ComponentParams) -> str:
-    for k, cls in _KINDS.items():
+    for k, cls in COMPONENT_KINDS.items():
         if isinstance(params, cls):
             return k
     raise TypeError(f"not a component parameter object: {type(params).__name__}")
