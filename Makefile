@@ -12,7 +12,7 @@ SYSTEM_PKGS := libglu1-mesa libgl1 libegl1 libxcursor1 libxft2 libxinerama1 libg
                libsuitesparse-dev libopenblas0-pthread build-essential
 STAMP := $(VENV)/.flexgear-installed
 
-.PHONY: setup sysdeps run test bench clean
+.PHONY: setup sysdeps run test test-fast bench clean
 
 sysdeps:
 	@if ! dpkg -s $(SYSTEM_PKGS) >/dev/null 2>&1 || ! $(PYTHON) -c 'import ensurepip' >/dev/null 2>&1; then \
@@ -39,6 +39,10 @@ run: setup
 
 test: setup
 	$(PY) -m pytest -q
+
+# Everything but the tests marked slow (over 5 s each): a quick check while developing.
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
 
 bench: setup
 	$(PY) -m pip install -q -e '.[bench]' || echo "note: exudyn not installed; cms bench runs without the Exudyn columns"

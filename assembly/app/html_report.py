@@ -1,6 +1,6 @@
 """Static ``index.html`` of a run: tables and images with relative links, no server needed.
 
-:func:`render_index` turns a plain report dict (built by :mod:`assembly.pipeline`) into one
+:func:`render_index` turns a plain report dict (built by :mod:`assembly.app.pipeline`) into one
 self-contained HTML page (inline CSS, no scripts, no external resources).
 """
 from __future__ import annotations

@@ -215,7 +215,7 @@ def _fmt(v, spec):
 
 
 def build_report(ctx: RunContext) -> dict:
-    """Plain dict for :func:`assembly.html_report.render_index`."""
+    """Plain dict for :func:`assembly.app.html_report.render_index`."""
     res = ctx.result
     img_of = {i: rel for rel, _, i in ctx.images}
     modes_rows = []

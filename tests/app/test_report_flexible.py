@@ -10,6 +10,9 @@ import pytest
 from assembly.app.cli import main
 from assembly.app.html_report import missing_references
 
+# every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
+pytestmark = pytest.mark.slow
+
 SCENE = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"
 
 

@@ -105,6 +105,7 @@ CHECK_SCRIPT = """<script>window.addEventListener("load", function () {
 });</script></body>"""
 
 
+@pytest.mark.slow
 def test_index_loads_in_headless_chromium(run_dir, tmp_path):
     exe, why = _chromium()
     if exe is None:

@@ -76,7 +76,7 @@ def test_drive_sign_closes_mesh_and_mirrors_line(drive):
 
 @pytest.mark.parametrize("helix_deg", [0.0, 12.0])
 def test_planet_mesh_forces_balance_under_torque(helix_deg):
-    # REFERENCE sec. 2: on a loaded planet the sun- and ring-mesh forces have equal
+    # Peeters, Vandepitte & Sas (2006), planetary rigid model: on a loaded planet the sun- and ring-mesh forces have equal
     # tangential and opposite radial components (net radial force 0), both meshes in
     # compression. For a helical stage the axial components cancel too.
     sc = load_scene("lin_parker_n3.toml")

@@ -1,7 +1,7 @@
 """Torsional and rigid multibody models against published tables and physical limits.
 
 Sources: Peeters, Vandepitte, Sas, Wind Energy 9 (2006) (torsional pair; Kahraman's helical
-pair, Table I; Lin & Parker's planetary systems), digested in shared/REFERENCE.md sec. 1-2.
+pair, Table I; Lin & Parker's planetary systems) and Lin & Parker, J. Vib. Acoust. 121 (1999).
 """
 import math
 
@@ -21,7 +21,7 @@ def freqs(scene):
 
 
 def test_torsional_pair_peeters():
-    # REFERENCE sec. 1: 0 and 2955 Hz; analytically f = sqrt(k r^2 (1/J1 + 1/J2)) / 2 pi.
+    # Peeters, Vandepitte & Sas (2006), torsional pair: 0 and 2955 Hz; analytically f = sqrt(k r^2 (1/J1 + 1/J2)) / 2 pi.
     f = freqs(load_scene("peeters_parallel_torsional.toml"))
     analytic = math.sqrt(2e8 * 0.05**2 * 2 / 2.9e-3) / (2 * math.pi)
     assert f[0] < 1e-6 * f[1]
@@ -62,7 +62,7 @@ def _with_helix(sc, beta_deg):
 
 @pytest.mark.parametrize("contact", ["tangent", "pitch"])
 def test_helix_sweep_moves_only_modes_2_4_8_12(contact):
-    # REFERENCE sec. 2: only modes 2, 4, 8, 12 depend on the helix angle. The others are
+    # Peeters, Vandepitte & Sas (2006), Fig. 7: only modes 2, 4, 8, 12 depend on the helix angle. The others are
     # pure bearing modes (axial of one gear, lateral, tilt) that the mesh does not load.
     sc = load_scene("kahraman_beta0.toml")
     sc = dataclasses.replace(sc, meshes=tuple(dataclasses.replace(m, contact_point=contact) for m in sc.meshes))
@@ -79,7 +79,7 @@ def test_helix_sweep_moves_only_modes_2_4_8_12(contact):
 def test_bearing_factor_sweep_torque_mode_tends_to_torsional(beta):
     # Stiffening every bearing by a common factor sends all frequencies to infinity except
     # the torque mode (mode 4), which tends to the torsional model of the same data
-    # (REFERENCE sec. 2: 2955 Hz at beta = 0; with a helix the mesh acts on rotation with
+    # (Peeters, Vandepitte & Sas (2006): 2955 Hz at beta = 0; with a helix the mesh acts on rotation with
     # cos(beta), so the torsional limit is 2955 cos(beta)).
     sc = load_scene(f"kahraman_beta{beta}.toml")
     torsional = freqs(with_fidelity(sc, "torsional"))[1]
@@ -142,7 +142,7 @@ def test_planet_modes_independent_of_planet_count():
 
 @pytest.mark.parametrize("n", [3, 4, 5])
 def test_lin_parker_stiff_radial_bearings_give_torsional_model(n):
-    # REFERENCE sec. 2: radial bearings x 1e6 -> the lowest six frequencies converge to the
+    # Peeters, Vandepitte & Sas (2006), Fig. 11a: radial bearings x 1e6 -> the lowest six frequencies converge to the
     # torsional model of the same data (0.01 %).
     sc = load_scene(f"lin_parker_n{n}.toml")
     ft = freqs(with_fidelity(sc, "torsional"))

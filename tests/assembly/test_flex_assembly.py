@@ -1,6 +1,6 @@
 """Flexible multibody assembly: consistency between fidelities (physics, no tables).
 
-Scene: tests/data/flex_pair.toml (fe_components' reference pinion and wheel, committed
+Scene: tests/support/data/flex_pair.toml (fe_components' reference pinion and wheel, committed
 meshes). Rayleigh-Ritz: the torsional model's motions lie in the rigid model's space,
 which lies in the Craig-Bampton space of the flexible one (rigid motions are exact
 constraint-mode combinations), with identical mass and springs on the shared motions; so
@@ -74,7 +74,7 @@ def test_reduced_mass_and_inertia_equal_mesh(solved):
 
 def test_flexible_tends_to_rigid_when_stiff(scene, solved, tmp_path):
     # Young's modulus x 1e4: elastic frequencies x 100, so the coupled modes approach the
-    # rigid model's (REFERENCE sec. 3: flexibility lowers frequencies; issue 5: 0.5 %).
+    # rigid model's (Peeters, Vandepitte & Sas (2006), flexible model: flexibility lowers frequencies; at most 0.5 %).
     stiff = dataclasses.replace(scene, bodies=tuple(
         dataclasses.replace(b, flex=dataclasses.replace(
             b.flex, material=dataclasses.replace(b.flex.material, E=b.flex.material.E * 1e4)))
@@ -85,7 +85,7 @@ def test_flexible_tends_to_rigid_when_stiff(scene, solved, tmp_path):
 
 
 def test_stiff_bearings_rigid_tends_to_torsional(scene):
-    # REFERENCE sec. 2: bearings x 1e6 -> the torsional model of the same data.
+    # Peeters, Vandepitte & Sas (2006), Fig. 11a: bearings x 1e6 -> the torsional model of the same data.
     rigid = variants(scene)["rigid"]
     ft = solve_modes(assemble(with_fidelity(rigid, "torsional"))).frequencies_hz
     fr = solve_modes(assemble(scale_bearings(rigid, 1e6))).frequencies_hz

@@ -1,6 +1,6 @@
 """Reduced flexible assembly against its full-FE truth (every FE DOF kept).
 
-Scene: tests/data/flex_pair.toml (committed meshes). The springs attach at the interface
+Scene: tests/support/data/flex_pair.toml (committed meshes). The springs attach at the interface
 master nodes, which Craig-Bampton keeps exactly, so the coupled reduced model is a
 Rayleigh-Ritz projection of the coupled full-FE model onto the span of the constraint
 and fixed-interface modes. Hence (Courant-Fischer minimax):
@@ -15,6 +15,9 @@ import pytest
 
 from assembly import assemble, load_scene, solve_modes
 from assembly.app.bench_flex import _with_flex, empty_superelement_cache, run
+
+# every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
+pytestmark = pytest.mark.slow
 
 SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 N_CMP = 12      # elastic coupled modes compared
@@ -65,7 +68,7 @@ def test_frequencies_decrease_as_modes_are_added(reduced):
 
 
 def test_default_cutoff_within_half_percent_in_band(scene, full, reduced):
-    # issue 5's accuracy target: every coupled mode inside the scene's band within 0.5 %
+    # the product's accuracy target for reduced models: every coupled mode inside the scene's band within 0.5 %
     # of full FE at the default cutoff (CUTOFF_FACTOR x band)
     band = full < scene.band_hz
     assert band.sum() >= 3
@@ -77,7 +80,7 @@ def test_bench_flex_agrees_with_direct_solves(full, reduced):
     # the benchmark is not a test; this keeps its code honest: its error column must be
     # the one computed directly above (same models, same solvers), its warm-cache solve
     # equals the cold one (asserted inside run()), and the design study over bearing
-    # variants x0.25 and x4 must hold issue 5's 0.5 % in-band target at the default cutoff
+    # variants x0.25 and x4 must hold the 0.5 % in-band target at the default cutoff
     buf = io.StringIO()
     rows = run(str(SCENE), [4], [], n_cmp=N_CMP, n_variants=2, out=buf, plain_modes=[4])
     assert [r["selection"] for r in rows] == ["4 modes +rv", "4 modes plain", "study: 2 bearing variants"]

@@ -1,4 +1,4 @@
-"""Property-based fuzzing of scene input (issue 7): every malformed scene ends in one clear
+"""Property-based fuzzing of scene input: every malformed scene ends in one clear
 error naming a field path and the value -- never another exception -- and a failed run
 leaves nothing in the output folder."""
 import copy

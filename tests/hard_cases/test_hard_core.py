@@ -1,4 +1,4 @@
-"""Hard cases for the multibody solver (issue 7): near-rigid connections, free-free
+"""Hard cases for the multibody solver: near-rigid connections, free-free
 assemblies, repeated eigenvalues, extreme scale. Targets are physics limits, not tables."""
 import dataclasses
 from hypothesis import given, settings
@@ -91,7 +91,7 @@ def test_classification_stable_under_tiny_planet_perturbation(n):
 
 
 def _nrel_line(scale_gen=1.0):
-    # NREL 5 MW-like drivetrain (Jonkman et al., NREL/TP-500-38060; REFERENCE sec. 4):
+    # NREL 5 MW-like drivetrain (Jonkman et al., NREL/TP-500-38060, 2009):
     # rotor 38 759 236 kg m^2 -- LSS 867 637 000 N m/rad -- gearbox 97:1 -- generator
     # 534.116 kg m^2. Gearbox: a wheel (r_b 0.97 m) and pinion (r_b 0.01 m) with a stiff
     # mesh; small gear inertias.
