@@ -33,7 +33,7 @@ import scipy.sparse as sp
 
 from . import rigid
 from .eigen import lowest_modes
-from .errors import MechanismError, ReductionError
+from .errors import InteriorMechanismError, ReductionError
 from .linsolve import factor, thread_limit
 from .superelement import Superelement
 
@@ -190,7 +190,7 @@ class CraigBamptonReductor:
         free = rigid.free_rigid_motions(self.R, self.boundary_dofs, length_scale=L)
         if free.shape[1]:
             names = [rigid.describe_motion(free[:, j], L) for j in range(free.shape[1])]
-            raise MechanismError(
+            raise InteriorMechanismError(
                 "boundary DOFs do not hold the component: K_ii is singular; free motion(s): "
                 + "; ".join(names), motion="; ".join(names),
                 components=free[:, 0] / np.linalg.norm(free[:, 0]))
@@ -225,9 +225,9 @@ class CraigBamptonReductor:
             r = np.linalg.norm(Kii @ Psi + Kib_d) / max(np.linalg.norm(Kib_d), 1e-300)
             checks["constraint_mode_residual"] = float(r)
             if not r <= CONSTRAINT_RESIDUAL_TOL:
-                raise MechanismError("constraint-mode solve inaccurate: K_ii is (nearly) "
-                                     f"singular (relative residual {r:.3e})",
-                                     motion="unidentified (ill-conditioned K_ii)", pivot=r)
+                raise InteriorMechanismError("constraint-mode solve inaccurate: K_ii is (nearly) "
+                                             f"singular (relative residual {r:.3e})",
+                                             motion="unidentified (ill-conditioned K_ii)", pivot=r)
         self.timings.constraint_modes = time.perf_counter() - t0
 
         t0 = time.perf_counter()
@@ -324,10 +324,10 @@ class CraigBamptonReductor:
         # omega^2 must be clearly positive: a near-zero one is a non-rigid mechanism
         lam_ref = Kii.diagonal().sum() / Mii.diagonal().sum()
         if lam[0] <= 1e-10 * lam_ref:
-            raise MechanismError("K_ii has a (near) zero-energy mode: omega^2 = "
-                                 f"{lam[0]:.3e} (rad/s)^2", motion="unidentified "
-                                 "non-rigid free motion (zero-frequency fixed-interface mode)",
-                                 pivot=float(lam[0]))
+            raise InteriorMechanismError("K_ii has a (near) zero-energy mode: omega^2 = "
+                                         f"{lam[0]:.3e} (rad/s)^2", motion="unidentified "
+                                         "non-rigid free motion (zero-frequency fixed-interface mode)",
+                                         pivot=float(lam[0]))
 
     @staticmethod
     def _reduced_matrices(Kbb, Mbb, Kib, Mib, Kii, Mii, Psi, Phi):

@@ -11,7 +11,7 @@ import scipy.linalg as sla
 from hypothesis import example, given, settings, strategies as st
 
 from cms.craig_bampton import CraigBamptonReductor, guyan
-from cms.errors import MechanismError, ReductionError
+from cms.errors import InteriorMechanismError, ReductionError
 from cms.linsolve import cholmod_available
 from cms.models import box
 
@@ -196,7 +196,7 @@ def test_boundary_on_a_line_names_the_free_rotation(backend):
     # nodes on the edge y = z = 0 cannot stop rotation about that edge
     m = box(lengths=(0.5, 0.1, 0.1), divisions=(4, 1, 1))
     b = m.dofs_where(lambda x: np.isclose(x[1], 0.0) & np.isclose(x[2], 0.0))
-    with pytest.raises(MechanismError) as ei:
+    with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(m.K, m.M, b, n_modes=2, node_coords=m.node_coords,
                              backend=backend).reduce()
     assert ei.value.motion.startswith("rotation about x through point (")
@@ -208,7 +208,7 @@ def test_partial_boundary_names_every_free_motion():
     m = box(lengths=(0.5, 0.1, 0.1), divisions=(4, 1, 1))
     b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
     b = b[b % 3 == 0]
-    with pytest.raises(MechanismError) as ei:
+    with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(m.K, m.M, b, n_modes=0, node_coords=m.node_coords).reduce()
     assert ei.value.motion.count(";") == 2
     assert "rotation about x" in ei.value.motion
@@ -222,7 +222,7 @@ def test_unidentified_mechanism_raises_without_rigid_info(backend):
     K = sp.block_diag([m.K, m.K]).tocsr()
     M = sp.block_diag([m.M, m.M]).tocsr()
     b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
-    with pytest.raises(MechanismError) as ei:
+    with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(K, M, b, n_modes=2, backend=backend).reduce()
     assert "unidentified" in ei.value.motion
 

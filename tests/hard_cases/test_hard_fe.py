@@ -34,10 +34,10 @@ def test_interface_leaving_a_mechanism_is_named():
     # Boundary = the three translations of one node: the rest of the free body can still
     # rotate about that node, so K_ii is singular; the error names the free motion.
     from cms.craig_bampton import CraigBamptonReductor
-    from cms.errors import MechanismError
+    from cms.errors import InteriorMechanismError
     from cms.models import box
     m = box(divisions=(4, 1, 1), order=1)
-    with pytest.raises(MechanismError) as exc:
+    with pytest.raises(InteriorMechanismError) as exc:
         CraigBamptonReductor(m.K, m.M, np.arange(3), n_modes=2, node_coords=m.node_coords).reduce()
     assert "rotation" in str(exc.value)
 
