@@ -19,7 +19,7 @@ from cms.rbe2 import couple_rigid
 from cms.stress import principal, recover_stress, von_mises
 
 E, NU, RHO = 210e9, 0.3, 7850.0   # steel: Pa, -, kg/m^3
-MESHES = os.path.join(os.path.dirname(__file__), "..", "meshes")
+MESHES = os.path.join(os.path.dirname(__file__), "..", "..", "meshes")
 
 
 def _solve_reduced(m, clamp_dofs, face_dofs, f_face):
