@@ -7,7 +7,8 @@ import scipy.sparse as sp
 
 from cms import linsolve
 from cms.errors import InteriorMechanismError, ReductionError
-from cms.models import box
+
+from tests.support.fe_models import box
 
 
 def _spd():

@@ -3,8 +3,9 @@ import numpy as np
 import scipy.linalg as sla
 
 from cms.craig_bampton import CraigBamptonReductor
-from cms.models import box
 from cms.rbe2 import couple_rigid
+
+from tests.support.fe_models import box
 
 
 def test_rigid_motion_of_masters_moves_the_body_rigidly_and_cb_has_six_rigid_modes():

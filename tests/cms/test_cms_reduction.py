@@ -1,6 +1,6 @@
 """Property tests of the Craig-Bampton reductor (cms.craig_bampton).
 
-Test models: steel blocks meshed with scikit-fem P2 tetrahedra (cms.models.box).
+Test models: steel blocks meshed with scikit-fem P2 tetrahedra (tests.support.fe_models.box).
 Tolerances are round-off bounds: the asserted identities are exact in exact
 arithmetic (references in each test), so they hold to ~1e3 * machine epsilon
 times the condition of the quantity compared.
@@ -13,7 +13,8 @@ from hypothesis import example, given, settings, strategies as st
 from cms.craig_bampton import CraigBamptonReductor, guyan
 from cms.errors import InteriorMechanismError, ReductionError
 from cms.linsolve import cholmod_available
-from cms.models import box
+
+from tests.support.fe_models import box
 
 BACKENDS = ["scipy"] + (["cholmod"] if cholmod_available() else [])
 E, NU, RHO = 210e9, 0.3, 7850.0  # steel: Pa, -, kg/m^3

@@ -14,9 +14,10 @@ from skfem import ElementTetP2, ElementVector, FacetBasis, LinearForm, asm
 from skfem.io.meshio import from_meshio
 
 from cms.craig_bampton import CraigBamptonReductor
-from cms.models import assemble, box
 from cms.rbe2 import couple_rigid
 from cms.stress import principal, recover_stress, von_mises
+
+from tests.support.fe_models import assemble, box
 
 E, NU, RHO = 210e9, 0.3, 7850.0   # steel: Pa, -, kg/m^3
 MESHES = os.path.join(os.path.dirname(__file__), "..", "..", "meshes")

@@ -23,7 +23,7 @@ def test_cutoff_below_band_warns(caplog):
 def test_more_modes_than_dofs_is_an_error():
     from cms.craig_bampton import CraigBamptonReductor
     from cms.errors import ReductionError
-    from cms.models import box
+    from tests.support.fe_models import box
     m = box(divisions=(4, 1, 1), order=1)
     n = m.K.shape[0]
     with pytest.raises(ReductionError, match="n_modes"):
@@ -35,7 +35,7 @@ def test_interface_leaving_a_mechanism_is_named():
     # rotate about that node, so K_ii is singular; the error names the free motion.
     from cms.craig_bampton import CraigBamptonReductor
     from cms.errors import InteriorMechanismError
-    from cms.models import box
+    from tests.support.fe_models import box
     m = box(divisions=(4, 1, 1), order=1)
     with pytest.raises(InteriorMechanismError) as exc:
         CraigBamptonReductor(m.K, m.M, np.arange(3), n_modes=2, node_coords=m.node_coords).reduce()
