@@ -93,18 +93,6 @@ def test_helical_wheel_coarse(tmp_path):
     np.testing.assert_allclose(m.center_of_mass[:2], 0, atol=1e-5)
 
 
-def test_bench_main_prints_table(capsys):
-    from fe_components.bench import main
-
-    assert main(["--components", "carrier", "--target-dofs", "20000", "--levels", "1", "--modes", "6"]) == 0
-    out = capsys.readouterr().out.strip().splitlines()
-    assert out[0].startswith("| component |") and len(out) == 3
-    cells = [x.strip() for x in out[2].strip("|").split("|")]
-    assert cells[0] == "carrier" and int(cells[3]) > 0
-    freqs = [float(f) for f in cells[-1].split(",")]
-    assert len(freqs) == 6 and all(f > 0 for f in freqs) and freqs == sorted(freqs)
-
-
 def test_tooth_refinement(tmp_path):
     from scipy.spatial import cKDTree
 
