@@ -44,6 +44,28 @@ class EigenResult:
         return np.sqrt(np.clip(self.eigenvalues, 0.0, None)) / (2 * np.pi)
 
 
+def free_free_shift(K: sp.spmatrix, M: sp.spmatrix) -> float:
+    """A negative shift sigma [(rad/s)^2] for a free-free (K, M): K - sigma M is positive
+    definite and sigma lies far below the first elastic eigenvalue.
+
+    The median diagonal ratio K_jj / M_jj scales like (c / h)^2 (c wave speed, h element
+    size), far above the lowest modes; 1e-6 of it lies between the rigid-body (~0) and the
+    first elastic eigenvalues for practical meshes.
+    """
+    d = K.diagonal() / np.where(M.diagonal() > 0, M.diagonal(), np.inf)
+    return -1e-6 * float(np.median(d[np.isfinite(d) & (d > 0)]))
+
+
+def count_rigid_modes(freqs: np.ndarray, ratio: float = 1e-3) -> int:
+    """Number of modes with |f| < ratio x (the first frequency above ratio x max |f|):
+    the rigid-body modes of a free-free spectrum ``freqs`` (Hz), counted without
+    assuming how many there should be."""
+    f = np.abs(np.asarray(freqs))
+    elastic = f[f > ratio * f.max()]
+    first = elastic.min() if len(elastic) else np.inf
+    return int(np.sum(f < ratio * first))
+
+
 def _m_orth(W, V, MV, M, drop=1e-10, MW=None, KW=None, KV=None):
     """M-orthonormalise block W against the columns V (with MV = M V) and itself.
 

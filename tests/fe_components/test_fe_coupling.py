@@ -6,11 +6,11 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from cms.eigen import free_free_shift, lowest_modes
 from fe_components.coupling import couple, rbe3_operator, rigid_kinematics
 from fe_components.errors import CouplingError
 from fe_components.fe_model import build_component
 from fe_components.material import STEEL
-from fe_components.modal import lowest_frequencies
 from fe_components.reference import CASES, REF_DIR
 
 
@@ -56,16 +56,16 @@ def test_rbe3_reproduces_rigid_motion_and_resultant():
 def test_rbe3_only_is_exact_change_of_variables(cyl):
     c = couple(cyl, {"end_a": "rbe3", "end_b": "rbe3"})
     assert c.T.shape[0] == c.T.shape[1] == cyl.n_dofs  # square: no DOF removed
-    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    f0 = lowest_modes(cyl.K, cyl.M, 14, sigma=free_free_shift(cyl.K, cyl.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 14, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
     np.testing.assert_allclose(f1[6:], f0[6:], rtol=1e-8)  # RBE3 adds no stiffness
 
 
 def test_rbe2_keeps_six_rigid_modes_and_stiffens(cyl):
     c = couple(cyl, {"end_a": "rbe2", "end_b": "rbe2"})
-    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    f0 = lowest_modes(cyl.K, cyl.M, 14, sigma=free_free_shift(cyl.K, cyl.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 14, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
     # constraints can only raise eigenvalues (Courant-Fischer / Rayleigh's theorem)
     assert np.all(f1[6:] >= f0[6:] * (1 - 1e-9))
@@ -95,8 +95,8 @@ def test_rbe3_on_a_large_patch_stays_sparse():
     row = m.K.nnz / m.n_dofs
     depth = np.log2(n_patch / 3 / 3)
     assert c.K_c.nnz - m.K.nnz < (depth + 1) * row * n_patch < 0.1 * n_patch**2
-    f0 = lowest_frequencies(m.K, m.M, 8)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 8)
+    f0 = lowest_modes(m.K, m.M, 8, sigma=free_free_shift(m.K, m.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 8, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     np.testing.assert_allclose(f1[6:], f0[6:], rtol=1e-8)
 
 
@@ -109,7 +109,7 @@ def test_carrier_default_coupling_conventions(carrier):
     np.testing.assert_array_equal(idx, c.boundary_dofs)
     assert c.boundary_dofs.size == 6 * 6 and c.boundary_dofs[-1] == c.K_c.shape[0] - 1
     assert sp.isspmatrix_csr(c.K_c) and sp.isspmatrix_csr(c.M_c)
-    f = lowest_frequencies(c.K_c, c.M_c, 8)
+    f = lowest_modes(c.K_c, c.M_c, 8, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
 
 

@@ -157,9 +157,3 @@ def test_material_from_dict_path():
     with pytest.raises(MaterialError) as e:
         Material.from_dict({"E": 2.1e11, "nu": 0.7, "rho": 7850.0}, "bodies[1].material")
     assert e.value.parameter == "bodies[1].material.nu" and e.value.value == 0.7
-
-
-def test_count_rigid_modes():
-    from fe_components.modal import count_rigid_modes
-
-    assert count_rigid_modes([1e-4, -2e-4, 3e-5, 1e-4, 2e-4, 5e-5, 900.0, 901.0]) == 6
