@@ -15,11 +15,10 @@ from .craig_bampton import CraigBamptonReductor, guyan
 from .eigen import count_rigid_modes, free_free_shift, lowest_modes
 from .errors import CacheError, EigenSolveError, InteriorMechanismError, ReductionError
 from .linsolve import cholmod_available, factor
-from .rbe2 import couple_rigid
 from .stress import NodalStress, recover_stress
 from .superelement import Superelement
 
 __all__ = ["CraigBamptonReductor", "guyan", "Superelement", "SuperelementCache", "array_hash",
            "cache_key", "lowest_modes", "free_free_shift", "count_rigid_modes", "factor",
-           "cholmod_available", "couple_rigid", "recover_stress", "NodalStress", "ReductionError",
+           "cholmod_available", "recover_stress", "NodalStress", "ReductionError",
            "InteriorMechanismError", "EigenSolveError", "CacheError"]

@@ -14,7 +14,7 @@ Guyan (static) reduction is the case ``n_modes=0``.
 Rigid-body information (optional but recommended), one of:
 ``node_coords`` (n/3 x 3, plain solid DOFs ordered 3*node + xyz, m);
 ``dof_layout = (points (n, 3), kinds (n,))`` for models with 6-DOF master nodes
-(kinds 0..5 = ux, uy, uz, rx, ry, rz; see :mod:`cms.rigid`, :mod:`cms.rbe2`);
+(kinds 0..5 = ux, uy, uz, rx, ry, rz; see :mod:`cms.rigid`);
 or an explicit ``rigid_body_basis`` (n x 6, columns [tx, ty, tz, rx, ry, rz]).
 The first two also give the interface geometry stored in the superelement. With it the reductor names a mechanism before
 factorising, checks K R = 0, and records the reduced vs full rigid-body mass

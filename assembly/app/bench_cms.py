@@ -57,11 +57,7 @@ def build(name: str, size: float, cache_dir: str | None):
     from fe_components.fe_model import build_component
     model = build_component(_components()[name], mesh_size=size, cache_dir=cache_dir)
     c = couple(model, {k: "rbe2" for k in model.interfaces})
-    nodes = model.nodes
-    pts = np.vstack([nodes[c.retained // 3]] + [np.repeat(pos[None], 6, 0) for _, pos, _ in c.masters])
-    kinds = np.concatenate([c.retained % 3] + [np.arange(6)] * len(c.masters))
-    names = [f"{n}:{d}" for n, _, _ in c.masters for d in ("ux", "uy", "uz", "rx", "ry", "rz")]
-    return model, c, (pts, kinds), names
+    return model, c, c.dof_layout(model.nodes), c.boundary_names
 
 
 # ----------------------------------------------------------------- child jobs

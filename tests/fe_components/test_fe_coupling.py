@@ -7,7 +7,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from cms.eigen import free_free_shift, lowest_modes
-from fe_components.coupling import couple, rbe3_operator, rigid_kinematics
+from fe_components.coupling import couple, couple_nodes, rbe3_operator, rigid_kinematics
 from fe_components.errors import CouplingError
 from fe_components.fe_model import build_component
 from fe_components.material import STEEL
@@ -118,3 +118,27 @@ def test_overlapping_or_unknown_interfaces_refused(carrier):
         couple(carrier, {"no_such": "rbe2"})
     with pytest.raises(CouplingError):
         couple(carrier, {"pin_0": "glue"})
+
+
+def test_couple_nodes_refuses_bad_node_sets_with_the_value(cyl):
+    a, b = cyl.interfaces["end_a"], cyl.interfaces["end_b"]
+    with pytest.raises(CouplingError) as e:
+        couple_nodes(cyl.K, cyl.M, cyl.nodes, {"a": (a.nodes, a.master, "rbe2"), "b": (a.nodes[:3], b.master, "rbe2")})
+    assert e.value.parameter == "b" and e.value.value == 3  # three shared nodes
+    with pytest.raises(CouplingError) as e:
+        couple_nodes(cyl.K, cyl.M, cyl.nodes, {"a": (np.r_[a.nodes, cyl.n_nodes], a.master, "rbe2")})
+    assert e.value.parameter == "a" and e.value.value == cyl.n_nodes
+
+
+def test_dof_layout_places_retained_dofs_at_nodes_and_masters_at_masters(cyl):
+    c = couple(cyl, {"end_a": "rbe2", "end_b": "rbe2"})
+    points, kinds = c.dof_layout(cyl.nodes)
+    n_ret = len(c.retained)
+    np.testing.assert_array_equal(points[:n_ret], cyl.nodes[c.retained // 3])
+    np.testing.assert_array_equal(kinds[:n_ret], c.retained % 3)
+    for name, pos, idx in c.masters:
+        np.testing.assert_array_equal(points[idx], np.repeat(pos[None], 6, 0))
+        np.testing.assert_array_equal(kinds[idx], np.arange(6))
+    assert c.boundary_names[:2] == ["end_a:ux", "end_a:uy"] and c.boundary_names[-1] == "end_b:rz"
+    with pytest.raises(CouplingError):  # RBE3 null-space coordinates have no location
+        couple(cyl, {"end_a": "rbe3"}).dof_layout(cyl.nodes)
