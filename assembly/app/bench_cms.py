@@ -62,10 +62,10 @@ def build(name: str, size: float, cache_dir: str | None):
 
 # ----------------------------------------------------------------- child jobs
 def _job_cms(model, c, layout, names, n_modes):
-    from cms.craig_bampton import CraigBamptonReductor
+    from cms.craig_bampton import CraigBamptonReductor, SolverOptions
     red = CraigBamptonReductor(c.K_c, c.M_c, c.boundary_dofs, n_modes=n_modes,
-                               dof_layout=layout, dof_names=names, threads=1,
-                               factor_threads=None)
+                               dof_layout=layout, dof_names=names,
+                               options=SolverOptions(threads=1, factor_threads=None))
     se = red.reduce()
     lam = sla.eigh(se.K, se.M, eigvals_only=True)
     t = red.timings

@@ -10,7 +10,7 @@ import pytest
 import scipy.linalg as sla
 from hypothesis import example, given, settings, strategies as st
 
-from cms.craig_bampton import CraigBamptonReductor, guyan
+from cms.craig_bampton import CraigBamptonReductor, SolverOptions, guyan
 from cms.errors import InteriorMechanismError, ReductionError
 from cms.linsolve import cholmod_available
 
@@ -96,7 +96,7 @@ def test_static_interface_loads_reproduced_exactly(backend, n_modes):
     m = box(lengths=(L, 0.1, 0.1), divisions=(10, 2, 2))
     b = _ends(m, L)
     se = CraigBamptonReductor(m.K, m.M, b, n_modes=n_modes, node_coords=m.node_coords,
-                              backend=backend).reduce()
+                              options=SolverOptions(backend=backend)).reduce()
     clamped = np.isclose(m.node_coords[b // 3, 0], 0.0)   # boundary DOFs on x = 0
     rng = np.random.default_rng(1)
     f_b = np.where(clamped, 0.0, rng.standard_normal(len(b)) * 1e3)   # N
@@ -199,7 +199,7 @@ def test_boundary_on_a_line_names_the_free_rotation(backend):
     b = m.dofs_where(lambda x: np.isclose(x[1], 0.0) & np.isclose(x[2], 0.0))
     with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(m.K, m.M, b, n_modes=2, node_coords=m.node_coords,
-                             backend=backend).reduce()
+                             options=SolverOptions(backend=backend)).reduce()
     assert ei.value.motion.startswith("rotation about x through point (")
     assert np.allclose(np.abs(ei.value.components), [0, 0, 0, 1, 0, 0], atol=1e-9)
 
@@ -224,7 +224,7 @@ def test_unidentified_mechanism_raises_without_rigid_info(backend):
     M = sp.block_diag([m.M, m.M]).tocsr()
     b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
     with pytest.raises(InteriorMechanismError) as ei:
-        CraigBamptonReductor(K, M, b, n_modes=2, backend=backend).reduce()
+        CraigBamptonReductor(K, M, b, n_modes=2, options=SolverOptions(backend=backend)).reduce()
     assert "unidentified" in ei.value.motion
 
 
@@ -238,6 +238,9 @@ def test_bad_inputs_carry_the_value():
     assert ei.value.value == [1]
     with pytest.raises(ReductionError):
         CraigBamptonReductor(m.K, m.M, [0], n_modes=1, cutoff_hz=10.0)
+    with pytest.raises(ReductionError) as ei:
+        CraigBamptonReductor(m.K, m.M, [0], n_modes=1, options={"tol": 1e-8})
+    assert ei.value.quantity == "options" and ei.value.value == {"tol": 1e-8}
 
 
 @pytest.mark.parametrize("method", ["arpack", "block"])
