@@ -1,4 +1,4 @@
-"""FE-side hard cases reachable from a scene (issue 7 item 5)."""
+"""FE-side hard cases reachable from a scene (the FE rows of tests/hard_cases/README.md)."""
 import dataclasses
 import logging
 from pathlib import Path
