@@ -6,6 +6,7 @@ import pytest
 pytestmark = pytest.mark.gmsh
 
 
+@pytest.mark.slow
 def test_bench_fe_main_prints_table(capsys):
     from assembly.app.bench_fe import main
 

@@ -84,6 +84,7 @@ def test_masters_carry_rigid_motion(cyl, kind):
     np.testing.assert_allclose(q[: len(c.retained)], u[c.retained], atol=1e-10)
 
 
+@pytest.mark.slow
 def test_rbe3_on_a_large_patch_stays_sparse():
     m = _model("pinion_involute")
     c = couple(m, {"gear_mesh": "rbe3", "bearing_a": "rbe3", "bearing_b": "rbe3"})

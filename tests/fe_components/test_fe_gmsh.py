@@ -118,6 +118,7 @@ def test_tooth_refinement(tmp_path):
         MeshOptions(size=0.01, tooth_size=0.02)
 
 
+@pytest.mark.slow
 def test_coarse_curved_mesh_is_untangled(tmp_path):
     # 50 mm elements on a 20-tooth, m_n = 4 mm pinion: curving the P2 edges onto the teeth folds
     # some elements; the mesher repairs them (gmsh high-order optimisation) instead of failing
