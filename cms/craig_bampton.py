@@ -60,8 +60,8 @@ class Timings:
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Linear- and eigen-solver settings of a reduction (none changes the result beyond
-    round-off; they trade time and memory).
+    """How a reduction is computed (linear solver, threads, eigen solver and its tolerance),
+    as opposed to what is reduced (the reductor's other arguments).
 
     backend : linear solver backend (``"cholmod"``, ``"scipy"`` or ``None`` = best).
     threads : BLAS/OpenMP thread limit during the solves and the eigen solve (1 was
