@@ -11,15 +11,14 @@ Reduced coordinates: boundary DOFs first (in the given order), then the modal
 coordinates of the mass-normalised fixed-interface modes. SI units throughout.
 """
 from .cache import SuperelementCache, array_hash, cache_key
-from .craig_bampton import CraigBamptonReductor, guyan
-from .eigen import lowest_modes
-from .errors import CacheError, EigenSolveError, MechanismError, ReductionError
+from .craig_bampton import CraigBamptonReductor, SolverOptions, guyan
+from .eigen import count_rigid_modes, free_free_shift, lowest_modes
+from .errors import CacheError, EigenSolveError, InteriorMechanismError, ReductionError
 from .linsolve import cholmod_available, factor
-from .rbe2 import couple_rigid
 from .stress import NodalStress, recover_stress
 from .superelement import Superelement
 
-__all__ = ["CraigBamptonReductor", "guyan", "Superelement", "SuperelementCache", "array_hash",
-           "cache_key", "lowest_modes", "factor", "cholmod_available", "couple_rigid",
-           "recover_stress", "NodalStress", "ReductionError", "MechanismError",
-           "EigenSolveError", "CacheError"]
+__all__ = ["CraigBamptonReductor", "SolverOptions", "guyan", "Superelement", "SuperelementCache",
+           "array_hash", "cache_key", "lowest_modes", "free_free_shift", "count_rigid_modes",
+           "factor", "cholmod_available", "recover_stress", "NodalStress", "ReductionError",
+           "InteriorMechanismError", "EigenSolveError", "CacheError"]

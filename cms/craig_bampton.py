@@ -14,11 +14,15 @@ Guyan (static) reduction is the case ``n_modes=0``.
 Rigid-body information (optional but recommended), one of:
 ``node_coords`` (n/3 x 3, plain solid DOFs ordered 3*node + xyz, m);
 ``dof_layout = (points (n, 3), kinds (n,))`` for models with 6-DOF master nodes
-(kinds 0..5 = ux, uy, uz, rx, ry, rz; see :mod:`cms.rigid`, :mod:`cms.rbe2`);
+(kinds 0..5 = ux, uy, uz, rx, ry, rz; see :mod:`cms.rigid`);
 or an explicit ``rigid_body_basis`` (n x 6, columns [tx, ty, tz, rx, ry, rz]).
-The first two also give the interface geometry stored in the superelement. With it the reductor names a mechanism before
-factorising, checks K R = 0, and records the reduced vs full rigid-body mass
-matrix (mass, first moments, inertia about the origin).
+The first two also give the interface geometry stored in the superelement. With any
+of them the reductor names a mechanism before factorising, checks K R = 0, and records
+the reduced vs full rigid-body mass matrix (mass, first moments, inertia about the
+origin).
+
+Solver settings (backend, threads, tolerance, ordering, eigen method) are one
+:class:`SolverOptions` value.
 """
 from __future__ import annotations
 
@@ -33,7 +37,7 @@ import scipy.sparse as sp
 
 from . import rigid
 from .eigen import lowest_modes
-from .errors import MechanismError, ReductionError
+from .errors import InteriorMechanismError, ReductionError
 from .linsolve import factor, thread_limit
 from .superelement import Superelement
 
@@ -54,18 +58,11 @@ class Timings:
     total: float = 0.0
 
 
-class CraigBamptonReductor:
-    """Reduce (K, M) to a Craig-Bampton superelement.
+@dataclass(frozen=True)
+class SolverOptions:
+    """How a reduction is computed (linear solver, threads, eigen solver and its tolerance),
+    as opposed to what is reduced (the reductor's other arguments).
 
-    Parameters
-    ----------
-    K, M : sparse (n, n) symmetric stiffness and mass (SI units).
-    boundary_dofs : indices of the master DOFs (kept physical, in this order).
-    n_modes : number of fixed-interface modes (0 = Guyan).
-    cutoff_hz : alternatively keep all fixed-interface modes below this frequency (Hz).
-    dof_names : names of all n DOFs, or of the boundary DOFs only (stored in the
-        superelement as ``boundary_names``).
-    node_coords / dof_layout / rigid_body_basis : rigid-body information (module doc).
     backend : linear solver backend (``"cholmod"``, ``"scipy"`` or ``None`` = best).
     threads : BLAS/OpenMP thread limit during the solves and the eigen solve (1 was
         6x faster than 2 for shift-invert ARPACK at 30k DOFs on this 2-core machine);
@@ -75,6 +72,25 @@ class CraigBamptonReductor:
     tol : relative eigen-residual tolerance.
     ordering : CHOLMOD fill-reducing ordering (default METIS).
     eigen_method : ``"arpack"`` or ``"block"`` (see :func:`cms.eigen.lowest_modes`).
+    """
+
+    backend: str | None = None
+    threads: int | None = None
+    factor_threads: int | None = None
+    tol: float = 1e-8
+    ordering: str = "metis"
+    eigen_method: str = "arpack"
+
+
+class CraigBamptonReductor:
+    """Reduce (K, M) to a Craig-Bampton superelement.
+
+    Parameters
+    ----------
+    K, M : sparse (n, n) symmetric stiffness and mass (SI units).
+    boundary_dofs : indices of the master DOFs (kept physical, in this order).
+    n_modes : number of fixed-interface modes (0 = Guyan).
+    cutoff_hz : alternatively keep all fixed-interface modes below this frequency (Hz).
     residual_vectors : also keep the interior's static response to the inertia load of the
         constraint modes, K_ii^-1 (M_ii Psi + M_ib), made M-orthogonal to the kept modes
         (modal truncation augmentation, Dickens, Nakagawa & Wittbrodt 1997; Nastran's
@@ -84,81 +100,37 @@ class CraigBamptonReductor:
         eigenmodes, as Rayleigh-Ritz vectors of (K_ii, M_ii) in their own subspace, with
         their Ritz values in ``eigenvalues`` and their count in
         ``metadata["n_residual_vectors"]``.
+    dof_names : names of all n DOFs, or of the boundary DOFs only (stored in the
+        superelement as ``boundary_names``).
+    node_coords / dof_layout / rigid_body_basis : rigid-body information (module doc).
+    options : :class:`SolverOptions` (backend, threads, tolerance, ordering, eigen method).
     metadata : JSON-serialisable dict stored in the superelement.
     """
 
     def __init__(self, K, M, boundary_dofs, n_modes: int | None = None,
-                 cutoff_hz: float | None = None, dof_names=None, node_coords=None,
-                 dof_layout=None, rigid_body_basis=None, backend: str | None = None,
-                 threads: int | None = None, tol: float = 1e-8, ordering: str = "metis",
-                 eigen_method: str = "arpack", factor_threads: int | None = None,
-                 residual_vectors: bool = False, metadata: dict | None = None):
+                 cutoff_hz: float | None = None, *, residual_vectors: bool = False,
+                 dof_names=None, node_coords=None, dof_layout=None, rigid_body_basis=None,
+                 options: SolverOptions = SolverOptions(), metadata: dict | None = None):
         self.K = sp.csr_matrix(K, dtype=float)
         self.M = sp.csr_matrix(M, dtype=float)
         n = self.K.shape[0]
         if self.K.shape != (n, n) or self.M.shape != (n, n):
             raise ReductionError("K and M must be square and of equal size", "shapes",
                                  (self.K.shape, self.M.shape))
-        b = np.asarray(boundary_dofs, dtype=np.int64).ravel()
-        if b.size and (b.min() < 0 or b.max() >= n):
-            raise ReductionError("boundary DOF index out of range 0..n-1", "boundary_dofs",
-                                 int(b.min() if b.min() < 0 else b.max()))
-        if len(np.unique(b)) != len(b):
-            vals, counts = np.unique(b, return_counts=True)
-            raise ReductionError("boundary DOFs repeated", "boundary_dofs",
-                                 vals[counts > 1].tolist())
-        if (n_modes is None) == (cutoff_hz is None):
-            raise ReductionError("give exactly one of n_modes or cutoff_hz",
-                                 "(n_modes, cutoff_hz)", (n_modes, cutoff_hz))
-        if n_modes is not None and not (0 <= n_modes <= n - len(b)):
-            raise ReductionError("n_modes must be in 0..n_interior", "n_modes", n_modes)
-        if cutoff_hz is not None and not cutoff_hz > 0:
-            raise ReductionError("cutoff frequency must be positive (Hz)", "cutoff_hz",
-                                 cutoff_hz)
+        b = _checked_boundary(boundary_dofs, n)
+        _check_mode_selection(n_modes, cutoff_hz, n - len(b))
+        if not isinstance(options, SolverOptions):
+            raise ReductionError("options must be a cms.SolverOptions", "options", options)
         self.boundary_dofs = b
         mask = np.ones(n, dtype=bool)
         mask[b] = False
         self.interior_dofs = np.flatnonzero(mask)
         self.n_modes = n_modes
         self.cutoff_hz = cutoff_hz
-        self.dof_names = None if dof_names is None else list(dof_names)
-        if self.dof_names is not None and len(self.dof_names) not in (n, len(b)):
-            raise ReductionError("dof_names must name all n DOFs or the boundary DOFs",
-                                 "len(dof_names)", len(self.dof_names))
-        if self.dof_names is not None and len(self.dof_names) == len(b) != n:
-            full = [f"dof{j}" for j in range(n)]
-            for j, name in zip(b, self.dof_names):
-                full[j] = name
-            self.dof_names = full
-        self.points = self.kinds = None
-        if dof_layout is not None:
-            pts, kinds = (np.asarray(a) for a in dof_layout)
-            if pts.shape != (n, 3) or kinds.shape != (n,):
-                raise ReductionError("dof_layout must be (points (n, 3), kinds (n,))",
-                                     "dof_layout shapes", (pts.shape, kinds.shape))
-            self.points, self.kinds = pts.astype(float), kinds.astype(int)
-            R = rigid.rigid_body_basis(self.points, self.kinds)
-        elif rigid_body_basis is not None:
-            R = np.asarray(rigid_body_basis, dtype=float)
-            if R.shape != (n, 6):
-                raise ReductionError("rigid_body_basis must be (n, 6)", "rigid_body_basis.shape",
-                                     R.shape)
-        elif node_coords is not None:
-            X = np.asarray(node_coords, dtype=float).reshape(-1, 3)
-            if 3 * len(X) != n:
-                raise ReductionError("node_coords must have n/3 rows (3 DOFs per node)",
-                                     "node_coords.shape", X.shape)
-            self.points, self.kinds = rigid.solid_dof_layout(X)
-            R = rigid.rigid_body_basis(self.points, self.kinds)
-        else:
-            R = None
-        self.R = R
-        self.backend = backend
-        self.threads = threads
-        self.tol = tol
-        self.ordering = ordering
-        self.eigen_method = eigen_method
-        self.factor_threads = factor_threads
+        self.dof_names = _full_dof_names(dof_names, b, n)
+        self.points, self.kinds, self.R = _rigid_information(n, node_coords, dof_layout,
+                                                             rigid_body_basis)
+        self.options = options
         self.residual_vectors = bool(residual_vectors)
         self.metadata = dict(metadata or {})
         self.timings = Timings()
@@ -190,7 +162,7 @@ class CraigBamptonReductor:
         free = rigid.free_rigid_motions(self.R, self.boundary_dofs, length_scale=L)
         if free.shape[1]:
             names = [rigid.describe_motion(free[:, j], L) for j in range(free.shape[1])]
-            raise MechanismError(
+            raise InteriorMechanismError(
                 "boundary DOFs do not hold the component: K_ii is singular; free motion(s): "
                 + "; ".join(names), motion="; ".join(names),
                 components=free[:, 0] / np.linalg.norm(free[:, 0]))
@@ -213,8 +185,9 @@ class CraigBamptonReductor:
 
         # one factorization serves constraint modes and eigen solve
         t0 = time.perf_counter()
-        F = factor(Kii, backend=self.backend, threads=self.factor_threads, ordering=self.ordering)
-        F.threads = self.threads       # solves (constraint modes, eigen) use ``threads``
+        opt = self.options
+        F = factor(Kii, backend=opt.backend, threads=opt.factor_threads, ordering=opt.ordering)
+        F.threads = opt.threads       # solves (constraint modes, eigen) use ``threads``
         self.factorization = F
         self.timings.factorize = time.perf_counter() - t0
 
@@ -225,9 +198,9 @@ class CraigBamptonReductor:
             r = np.linalg.norm(Kii @ Psi + Kib_d) / max(np.linalg.norm(Kib_d), 1e-300)
             checks["constraint_mode_residual"] = float(r)
             if not r <= CONSTRAINT_RESIDUAL_TOL:
-                raise MechanismError("constraint-mode solve inaccurate: K_ii is (nearly) "
-                                     f"singular (relative residual {r:.3e})",
-                                     motion="unidentified (ill-conditioned K_ii)", pivot=r)
+                raise InteriorMechanismError("constraint-mode solve inaccurate: K_ii is (nearly) "
+                                             f"singular (relative residual {r:.3e})",
+                                             motion="unidentified (ill-conditioned K_ii)", pivot=r)
         self.timings.constraint_modes = time.perf_counter() - t0
 
         t0 = time.perf_counter()
@@ -248,7 +221,7 @@ class CraigBamptonReductor:
             checks["eigen_residual_max"] = float(res.max())
 
         t0 = time.perf_counter()
-        with thread_limit(self.threads):
+        with thread_limit(opt.threads):
             Kr, Mr = self._reduced_matrices(Kbb, Mbb, Kib_d, Mib, Kii, Mii, Psi, Phi)
         self.timings.assemble = time.perf_counter() - t0
 
@@ -257,8 +230,8 @@ class CraigBamptonReductor:
         self.timings.total = time.perf_counter() - t_all
         meta = dict(self.metadata)
         meta.setdefault("mode_selection", {"n_modes": self.n_modes, "cutoff_hz": self.cutoff_hz})
-        meta["solver"] = {"backend": F.backend, "threads": self.threads, "tol": self.tol,
-                          "ordering": self.ordering, "eigen_method": self.eigen_method,
+        meta["solver"] = {"backend": F.backend, "threads": opt.threads, "tol": opt.tol,
+                          "ordering": opt.ordering, "eigen_method": opt.eigen_method,
                           "eigen_solves": eigen_solves, "eigen_rhs": eigen_rhs}
         meta["n_residual_vectors"] = n_rv
         meta["timings_s"] = vars(self.timings).copy()
@@ -285,12 +258,13 @@ class CraigBamptonReductor:
 
     # ------------------------------------------------------------------
     def _modes(self, Kii, Mii, F):
+        opt = self.options
         ni = Kii.shape[0]
         if self.n_modes == 0 or ni == 0:
             return np.zeros(0), np.zeros((ni, 0)), np.zeros(0)
         if self.n_modes is not None:
-            r = lowest_modes(Kii, Mii, self.n_modes, factorization=F, tol=self.tol,
-                             threads=self.threads, method=self.eigen_method)
+            r = lowest_modes(Kii, Mii, self.n_modes, factorization=F, tol=opt.tol,
+                             threads=opt.threads, method=opt.eigen_method)
             self._check_positive(r.eigenvalues, Kii, Mii)
             return r.eigenvalues, r.vectors, r.residuals
         lam_cut = (2 * math.pi * self.cutoff_hz) ** 2
@@ -302,9 +276,9 @@ class CraigBamptonReductor:
             found = np.hstack(vecs) if vecs else None
             n_found = 0 if found is None else found.shape[1]
             k = min(k, ni - n_found)
-            deflate = found if self.eigen_method == "arpack" else None
+            deflate = found if opt.eigen_method == "arpack" else None
             r = lowest_modes(Kii, Mii, k if deflate is not None else n_found + k, factorization=F,
-                             tol=self.tol, threads=self.threads, method=self.eigen_method, deflate=deflate)
+                             tol=opt.tol, threads=opt.threads, method=opt.eigen_method, deflate=deflate)
             if deflate is None:  # block method: recompute from scratch, keep the new ones
                 lams, vecs, ress = [], [], []
             self._check_positive(r.eigenvalues, Kii, Mii)
@@ -324,10 +298,10 @@ class CraigBamptonReductor:
         # omega^2 must be clearly positive: a near-zero one is a non-rigid mechanism
         lam_ref = Kii.diagonal().sum() / Mii.diagonal().sum()
         if lam[0] <= 1e-10 * lam_ref:
-            raise MechanismError("K_ii has a (near) zero-energy mode: omega^2 = "
-                                 f"{lam[0]:.3e} (rad/s)^2", motion="unidentified "
-                                 "non-rigid free motion (zero-frequency fixed-interface mode)",
-                                 pivot=float(lam[0]))
+            raise InteriorMechanismError("K_ii has a (near) zero-energy mode: omega^2 = "
+                                         f"{lam[0]:.3e} (rad/s)^2", motion="unidentified "
+                                         "non-rigid free motion (zero-frequency fixed-interface mode)",
+                                         pivot=float(lam[0]))
 
     @staticmethod
     def _reduced_matrices(Kbb, Mbb, Kib, Mib, Kii, Mii, Psi, Phi):
@@ -374,6 +348,75 @@ class CraigBamptonReductor:
                 "reduced_rigid_energy_residual": float(kr)}
 
 
+def _checked_boundary(boundary_dofs, n: int) -> np.ndarray:
+    """Boundary DOF indices as an int array: in range 0..n-1 and not repeated."""
+    b = np.asarray(boundary_dofs, dtype=np.int64).ravel()
+    if b.size and (b.min() < 0 or b.max() >= n):
+        raise ReductionError("boundary DOF index out of range 0..n-1", "boundary_dofs",
+                             int(b.min() if b.min() < 0 else b.max()))
+    if len(np.unique(b)) != len(b):
+        vals, counts = np.unique(b, return_counts=True)
+        raise ReductionError("boundary DOFs repeated", "boundary_dofs",
+                             vals[counts > 1].tolist())
+    return b
+
+
+def _check_mode_selection(n_modes, cutoff_hz, n_interior: int) -> None:
+    """Exactly one of ``n_modes`` (0..n_interior) or ``cutoff_hz`` (> 0 Hz)."""
+    if (n_modes is None) == (cutoff_hz is None):
+        raise ReductionError("give exactly one of n_modes or cutoff_hz",
+                             "(n_modes, cutoff_hz)", (n_modes, cutoff_hz))
+    if n_modes is not None and not (0 <= n_modes <= n_interior):
+        raise ReductionError("n_modes must be in 0..n_interior", "n_modes", n_modes)
+    if cutoff_hz is not None and not cutoff_hz > 0:
+        raise ReductionError("cutoff frequency must be positive (Hz)", "cutoff_hz",
+                             cutoff_hz)
+
+
+def _full_dof_names(dof_names, b: np.ndarray, n: int) -> list[str] | None:
+    """Names of all n DOFs from names of all of them or of the boundary DOFs only
+    (the others then named ``dof<j>``); ``None`` stays ``None``."""
+    if dof_names is None:
+        return None
+    names = list(dof_names)
+    if len(names) not in (n, len(b)):
+        raise ReductionError("dof_names must name all n DOFs or the boundary DOFs",
+                             "len(dof_names)", len(names))
+    if len(names) == len(b) != n:
+        full = [f"dof{j}" for j in range(n)]
+        for j, name in zip(b, names):
+            full[j] = name
+        names = full
+    return names
+
+
+def _rigid_information(n: int, node_coords, dof_layout, rigid_body_basis):
+    """(DOF points (n, 3) or None, DOF kinds (n,) or None, rigid-body basis (n, 6) or None)
+    from whichever rigid-body information was given (module doc), in the order of
+    precedence dof_layout, rigid_body_basis, node_coords."""
+    if dof_layout is not None:
+        pts, kinds = (np.asarray(a) for a in dof_layout)
+        if pts.shape != (n, 3) or kinds.shape != (n,):
+            raise ReductionError("dof_layout must be (points (n, 3), kinds (n,))",
+                                 "dof_layout shapes", (pts.shape, kinds.shape))
+        points, kinds = pts.astype(float), kinds.astype(int)
+        return points, kinds, rigid.rigid_body_basis(points, kinds)
+    if rigid_body_basis is not None:
+        R = np.asarray(rigid_body_basis, dtype=float)
+        if R.shape != (n, 6):
+            raise ReductionError("rigid_body_basis must be (n, 6)", "rigid_body_basis.shape",
+                                 R.shape)
+        return None, None, R
+    if node_coords is not None:
+        X = np.asarray(node_coords, dtype=float).reshape(-1, 3)
+        if 3 * len(X) != n:
+            raise ReductionError("node_coords must have n/3 rows (3 DOFs per node)",
+                                 "node_coords.shape", X.shape)
+        points, kinds = rigid.solid_dof_layout(X)
+        return points, kinds, rigid.rigid_body_basis(points, kinds)
+    return None, None, None
+
+
 def _augmentation(G, Phi, Kii, Mii, drop: float = 1e-6):
     """Residual vectors from the static responses ``G`` (n_i, n_b): M-orthogonal to the
     modes ``Phi`` and to each other, K-orthogonal among themselves (Rayleigh-Ritz in
@@ -401,5 +444,6 @@ def _augmentation(G, Phi, Kii, Mii, drop: float = 1e-6):
 
 
 def guyan(K, M, boundary_dofs, **kw) -> Superelement:
-    """Guyan (static) reduction = Craig-Bampton with no modes."""
+    """Guyan (static) reduction = Craig-Bampton with no modes; ``kw`` are the reductor's
+    keyword arguments (``dof_names``, ``node_coords``, ..., ``options``)."""
     return CraigBamptonReductor(K, M, boundary_dofs, n_modes=0, **kw).reduce()

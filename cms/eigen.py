@@ -44,6 +44,28 @@ class EigenResult:
         return np.sqrt(np.clip(self.eigenvalues, 0.0, None)) / (2 * np.pi)
 
 
+def free_free_shift(K: sp.spmatrix, M: sp.spmatrix) -> float:
+    """A negative shift sigma [(rad/s)^2] for a free-free (K, M): K - sigma M is positive
+    definite and sigma lies far below the first elastic eigenvalue.
+
+    The median diagonal ratio K_jj / M_jj scales like (c / h)^2 (c wave speed, h element
+    size), far above the lowest modes; 1e-6 of it lies between the rigid-body (~0) and the
+    first elastic eigenvalues for practical meshes.
+    """
+    d = K.diagonal() / np.where(M.diagonal() > 0, M.diagonal(), np.inf)
+    return -1e-6 * float(np.median(d[np.isfinite(d) & (d > 0)]))
+
+
+def count_rigid_modes(freqs: np.ndarray, ratio: float = 1e-3) -> int:
+    """Number of modes with |f| < ratio x (the first frequency above ratio x max |f|):
+    the rigid-body modes of a free-free spectrum ``freqs`` (Hz), counted without
+    assuming how many there should be."""
+    f = np.abs(np.asarray(freqs))
+    elastic = f[f > ratio * f.max()]
+    first = elastic.min() if len(elastic) else np.inf
+    return int(np.sum(f < ratio * first))
+
+
 def _m_orth(W, V, MV, M, drop=1e-10, MW=None, KW=None, KV=None):
     """M-orthonormalise block W against the columns V (with MV = M V) and itself.
 
@@ -174,7 +196,17 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
         raise ReductionError("deflation is implemented for the arpack method only", "method", method)
     if method != "block":
         raise ReductionError("unknown eigen method", "method", method)
+    return _block_krylov_schur(K, M, k, factorization, sigma, tol, block_size, depth, max_restarts, seed,
+                               t0, solves0, rhs0)
 
+
+def _block_krylov_schur(K, M, k, F, sigma, tol, block_size, depth, max_restarts, seed, t0, solves0, rhs0):
+    """Block Krylov-Schur for S = (K - sigma M)^{-1} M, self-adjoint in the M inner
+    product: V is M-orthonormal, SV = S V (the raw block solves), and the Ritz pairs
+    come from H = V^T M S V (eigenvalues nu = 1 / (lambda - sigma)). With Ritz
+    vectors of H, S X lies in span(X, next block), so a thick restart that keeps X
+    and the next block loses nothing."""
+    n = K.shape[0]
     b = block_size or 8
     nkeep = min(n - b, k + max(4, k // 4))           # Ritz vectors kept at a restart
     m_max = min(n, depth * b if depth else max(2 * k + 2 * b, nkeep + 4 * b))
@@ -182,50 +214,62 @@ def lowest_modes(K: sp.spmatrix, M: sp.spmatrix, k: int, *,
     knorm1 = abs(K).sum(axis=0).max()
     X0 = rng.standard_normal((n, b))
     V, MV = _orth2(X0, None, None, M)
-    # Block Krylov-Schur for S = (K - sigma M)^{-1} M, self-adjoint in the M inner
-    # product: V is M-orthonormal, SV = S V (the raw block solves), and the Ritz pairs
-    # come from H = V^T M S V (eigenvalues nu = 1 / (lambda - sigma)). With Ritz
-    # vectors of H, S X lies in span(X, next block), so a thick restart that keeps X
-    # and the next block loses nothing.
     SV = np.zeros((n, 0))      # S-images of V[:, :SV.shape[1]]; newer columns pending
     for cycle in range(max_restarts + 1):
-        while True:
-            pend = slice(SV.shape[1], V.shape[1])
-            raw = factorization.solve(MV[:, pend])   # one block solve: S of the newest block
-            SV = np.hstack([SV, raw])
-            if V.shape[1] + raw.shape[1] > m_max:
-                break
-            W, MW = _orth2(raw, V, MV, M)
-            if W.shape[1] == 0:
-                break
-            V, MV = np.hstack([V, W]), np.hstack([MV, MW])
-        H = MV.T @ SV
-        nu, Y = np.linalg.eigh(0.5 * (H + H.T))
-        order = np.argsort(-nu)                      # largest nu = closest to sigma
-        nu, Y = nu[order], Y[:, order]
-        Yk = Y[:, :k]
-        # Rayleigh quotients and residuals with true products (the carried images
-        # K V, M V hold the solves' round-off, which would floor the residual)
-        X = V @ Yk
-        KX, MX = K @ X, M @ X
-        lam = np.einsum("ij,ij->j", X, KX) / np.einsum("ij,ij->j", X, MX)
-        o = np.argsort(lam)
-        lam, X, KX, MX = lam[o], X[:, o], KX[:, o], MX[:, o]
-        res = _residuals(KX, MX, lam, knorm1, sigma, X)
+        V, MV, SV, raw = _expand_basis(V, MV, SV, F, M, m_max)
+        Y, lam, X, MX, res = _ritz_pairs(K, M, V, MV, SV, k, knorm1, sigma)
         log.debug("eigen cycle %d: basis %d, max residual %.2e", cycle, V.shape[1], res.max())
         if res.max() <= tol:
             X = X / np.sqrt(np.einsum("ij,ij->j", X, MX))[None, :]
             dt = time.perf_counter() - t0
-            return EigenResult(lam, X, res, factorization.n_solves - solves0,
-                               factorization.n_rhs - rhs0, dt)
-        # thick restart: the next block (S of the newest block, orthogonalised against
-        # the FULL basis) is formed first, then only the best Ritz vectors are kept
-        W, MW = _orth2(raw, V, MV, M)
-        Yr = Y[:, :nkeep]
-        V, MV, SV = V @ Yr, MV @ Yr, SV @ Yr
-        V, MV = np.hstack([V, W]), np.hstack([MV, MW])
+            return EigenResult(lam, X, res, F.n_solves - solves0, F.n_rhs - rhs0, dt)
+        V, MV, SV = _thick_restart(raw, V, MV, SV, Y[:, :nkeep], M)
     raise EigenSolveError(f"eigen solve did not converge in {max_restarts} restarts",
                           "max relative residual", float(res.max()))
+
+
+def _expand_basis(V, MV, SV, F, M, m_max):
+    """Grow the Krylov basis block by block until it would exceed ``m_max`` columns (or
+    stops growing). Returns (V, MV, SV, raw) with ``raw`` the last block solve."""
+    while True:
+        pend = slice(SV.shape[1], V.shape[1])
+        raw = F.solve(MV[:, pend])   # one block solve: S of the newest block
+        SV = np.hstack([SV, raw])
+        if V.shape[1] + raw.shape[1] > m_max:
+            break
+        W, MW = _orth2(raw, V, MV, M)
+        if W.shape[1] == 0:
+            break
+        V, MV = np.hstack([V, W]), np.hstack([MV, MW])
+    return V, MV, SV, raw
+
+
+def _ritz_pairs(K, M, V, MV, SV, k, knorm1, sigma):
+    """The ``k`` Ritz pairs closest to sigma. Returns (Y, lam, X, MX, res): all Ritz
+    vectors Y of H, closest to sigma first; then the k eigenvalues ascending with their
+    vectors X = V Y_k, M X and relative residuals."""
+    H = MV.T @ SV
+    nu, Y = np.linalg.eigh(0.5 * (H + H.T))
+    order = np.argsort(-nu)                      # largest nu = closest to sigma
+    nu, Y = nu[order], Y[:, order]
+    Yk = Y[:, :k]
+    # Rayleigh quotients and residuals with true products (the carried images
+    # K V, M V hold the solves' round-off, which would floor the residual)
+    X = V @ Yk
+    KX, MX = K @ X, M @ X
+    lam = np.einsum("ij,ij->j", X, KX) / np.einsum("ij,ij->j", X, MX)
+    o = np.argsort(lam)
+    lam, X, KX, MX = lam[o], X[:, o], KX[:, o], MX[:, o]
+    res = _residuals(KX, MX, lam, knorm1, sigma, X)
+    return Y, lam, X, MX, res
+
+
+def _thick_restart(raw, V, MV, SV, Yr, M):
+    """Keep the Ritz vectors ``V Yr`` plus the next block: S of the newest block,
+    orthogonalised against the FULL basis before it is truncated."""
+    W, MW = _orth2(raw, V, MV, M)
+    V, MV, SV = V @ Yr, MV @ Yr, SV @ Yr
+    return np.hstack([V, W]), np.hstack([MV, MW]), SV
 
 
 def _arpack(K, M, k, F, sigma, tol, threads, t0, solves0, rhs0, deflate=None):

@@ -25,9 +25,12 @@ class ReductionError(ValueError):
         self.value = value
 
 
-class MechanismError(ReductionError):
+class InteriorMechanismError(ReductionError):
     """The interior stiffness K_ii is singular: fixing the boundary DOFs leaves a
     free (zero-energy) motion of the interior.
+
+    A property of one component and its choice of boundary DOFs (the reduction
+    cannot proceed), not of a whole assembled model.
 
     Attributes
     ----------

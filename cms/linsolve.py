@@ -11,7 +11,7 @@ sides (shape ``(n,)`` or ``(n, k)``). Backends:
 
 ``backend=None`` picks CHOLMOD when importable and falls back to SciPy.
 
-Singular matrices raise :class:`cms.errors.MechanismError` (CHOLMOD reports a
+Singular matrices raise :class:`cms.errors.InteriorMechanismError` (CHOLMOD reports a
 non-positive pivot; for SuperLU the smallest |U_jj| relative to the largest is
 checked). Nothing is ever pseudo-inverted.
 """
@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import MechanismError, ReductionError
+from .errors import InteriorMechanismError, ReductionError
 
 log = logging.getLogger(__name__)
 
@@ -106,7 +106,7 @@ def factor(A: sp.spmatrix, backend: str | None = None, threads: int | None = Non
 
     Raises
     ------
-    MechanismError
+    InteriorMechanismError
         If ``A`` is singular / not positive definite.
     """
     _check_square(A)
@@ -145,8 +145,8 @@ def _factor_cholmod(A, ordering):
                 log.warning("CHOLMOD ordering %r failed (%s); using default", ordering, exc)
                 F = cholesky(A, ordering_method="default", mode="supernodal")
     except (CholmodNotPositiveDefiniteError, Warning) as exc:
-        raise MechanismError(f"matrix is not positive definite (CHOLMOD: {exc})",
-                             motion="unidentified (non-positive pivot)") from exc
+        raise InteriorMechanismError(f"matrix is not positive definite (CHOLMOD: {exc})",
+                                     motion="unidentified (non-positive pivot)") from exc
 
     def solve(B):
         return F.solve_A(B)
@@ -159,14 +159,14 @@ def _factor_scipy(A):
         lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                        options={"SymmetricMode": True})
     except RuntimeError as exc:  # "Factor is exactly singular"
-        raise MechanismError(f"matrix is singular (SuperLU: {exc})",
-                             motion="unidentified (zero pivot)") from exc
+        raise InteriorMechanismError(f"matrix is singular (SuperLU: {exc})",
+                                     motion="unidentified (zero pivot)") from exc
     d = np.abs(lu.U.diagonal())
     ratio = d.min() / d.max()
     if not np.isfinite(ratio) or ratio < SINGULAR_PIVOT_RATIO:
-        raise MechanismError("matrix is numerically singular (SuperLU pivot ratio "
-                             f"{ratio:.3e} < {SINGULAR_PIVOT_RATIO:g})",
-                             motion="unidentified (tiny pivot)", pivot=float(ratio))
+        raise InteriorMechanismError("matrix is numerically singular (SuperLU pivot ratio "
+                                     f"{ratio:.3e} < {SINGULAR_PIVOT_RATIO:g})",
+                                     motion="unidentified (tiny pivot)", pivot=float(ratio))
 
     def solve(B):
         return lu.solve(np.asarray(B, dtype=float))

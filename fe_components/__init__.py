@@ -3,7 +3,7 @@
 SI units throughout (m, kg, N, s, rad, Pa; frequencies in Hz).  Importing this
 package does not import gmsh (only meshing a new geometry does).
 """
-from .coupling import CoupledModel, couple
+from .coupling import CoupledModel, couple, couple_nodes
 from .errors import CouplingError, GeometryError, MaterialError, MeshingError
 from .export import write_vtu
 from .fe_model import FEModel, Interface, build_component, default_mesh_size
@@ -16,5 +16,5 @@ __all__ = [
     "CarrierParams", "CoupledModel", "CouplingError", "CylinderParams", "FEModel", "GearTeeth",
     "GeometryError", "Interface", "Material", "MaterialError", "MeshOptions", "MeshingError",
     "PinionParams", "STEEL", "ShaftSegment", "WheelParams", "build_component", "COMPONENT_KINDS",
-    "couple", "default_mesh_size", "write_vtu",
+    "couple", "couple_nodes", "default_mesh_size", "write_vtu",
 ]

@@ -35,6 +35,10 @@ i.e. f_s = W G (G^T W G)^-1 f_m -- the classical RBE3 distribution.
 Reduced coordinates q_c: first the interior coordinates (retained full-model
 DOFs in ascending order, then the RBE3 cluster coordinates), then 6 DOFs per
 master in interface order; ``u_full = T @ q_c``.
+
+Entry points: :func:`couple` for the interfaces of an :class:`FEModel`, and
+:func:`couple_nodes` for node sets of any solid given as arrays (K, M, node
+positions); the first is a thin wrapper over the second.
 """
 from __future__ import annotations
 
@@ -53,6 +57,13 @@ log = logging.getLogger(__name__)
 
 KINDS = ("rbe2", "rbe3")
 
+#: Names of a master node's six coordinates, in their order in q_c.
+MASTER_DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+#: name -> (node indices, master position (3,) [m], kind "rbe2" | "rbe3"): the array-level
+#: description of interfaces taken by :func:`couple_nodes`.
+NodeInterfaces = Mapping[str, tuple]
+
 
 @dataclass
 class CoupledModel:
@@ -65,6 +76,7 @@ class CoupledModel:
     kinds : coupling kind used per interface.
     retained : full-model DOF equal to each of the first len(retained) coordinates (DOFs of
         no interface); the RBE3 null-space coordinates follow them, then the masters.
+    model : the FE model coupled by :func:`couple`; ``None`` from :func:`couple_nodes`.
     """
 
     K_c: sp.csr_matrix
@@ -73,14 +85,33 @@ class CoupledModel:
     boundary_dofs: np.ndarray
     masters: list[tuple[str, np.ndarray, np.ndarray]]
     kinds: dict[str, str]
-    model: FEModel
     retained: np.ndarray
+    model: FEModel | None = None
 
     def master_index(self, name: str) -> np.ndarray:
         for n, _, idx in self.masters:
             if n == name:
                 return idx
         raise KeyError(name)
+
+    @property
+    def boundary_names(self) -> list[str]:
+        """Name of every master DOF, e.g. ``"bore:rz"``, in ``boundary_dofs`` order."""
+        return [f"{name}:{d}" for name, _, _ in self.masters for d in MASTER_DOF_NAMES]
+
+    def dof_layout(self, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(points (n_c, 3) [m], kinds (n_c,)) of every coupled coordinate: a retained DOF
+        lies at its node (``nodes``, the full model's node positions) with kind 0, 1, 2
+        (ux, uy, uz); a master DOF at its master with kind 0..5 (``MASTER_DOF_NAMES``).
+        RBE3 null-space coordinates have no location: with any, raises CouplingError."""
+        n_extra = self.K_c.shape[0] - len(self.retained) - len(self.boundary_dofs)
+        if n_extra:
+            name = next(n for n, k in self.kinds.items() if k == "rbe3")
+            raise CouplingError(name, "rbe3", f"{n_extra} RBE3 null-space coordinates have no DOF location")
+        nodes = np.asarray(nodes, dtype=float)
+        points = np.vstack([nodes[self.retained // 3]] + [np.repeat(pos[None], 6, 0) for _, pos, _ in self.masters])
+        kinds = np.concatenate([self.retained % 3] + [np.arange(6)] * len(self.masters))
+        return points, kinds
 
 
 def rigid_kinematics(points: np.ndarray, master: np.ndarray) -> np.ndarray:
@@ -118,58 +149,99 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
     if unknown:
         name = sorted(unknown)[0]
         raise CouplingError(name, kinds[name], f"no such interface (have {sorted(model.interfaces)})")
-    n_full = model.n_dofs
-    nodes = model.nodes
-    owner = np.full(model.n_nodes, -1)
-    names = list(model.interfaces)
-    for k, name in enumerate(names):
-        iface = model.interfaces[name]
-        clash = owner[iface.nodes] >= 0
-        if np.any(clash):
-            other = names[owner[iface.nodes[clash][0]]]
-            raise CouplingError(name, int(clash.sum()), f"shares nodes with interface {other!r}")
-        owner[iface.nodes] = k
+    interfaces = {name: (iface.nodes, iface.master, kinds.get(name, iface.coupling))
+                  for name, iface in model.interfaces.items()}
+    coupled = couple_nodes(model.K, model.M, model.nodes, interfaces)
+    coupled.model = model
+    return coupled
 
+
+def couple_nodes(K: sp.spmatrix, M: sp.spmatrix, nodes: np.ndarray, interfaces: NodeInterfaces) -> CoupledModel:
+    """Couple node sets of a solid to 6-DOF master nodes (RBE2 or RBE3, module doc).
+
+    K, M : sparse (n, n) stiffness [N/m] and mass [kg], DOF ``3 * node + c`` (c = 0, 1, 2: x, y, z).
+    nodes : (n / 3, 3) node positions [m].
+    interfaces : name -> (node indices, master position (3,) [m], kind "rbe2" | "rbe3");
+        the masters take this order in q_c.  Node sets must not share nodes.
+    Returns a :class:`CoupledModel` with ``model=None``.
+    """
+    nodes = np.asarray(nodes, dtype=float)
+    n_full = K.shape[0]
+    if 3 * len(nodes) != n_full:
+        raise CouplingError("nodes", nodes.shape, f"need K.shape[0] / 3 = {n_full / 3:g} node positions")
+    ifaces = _checked_interfaces(len(nodes), interfaces)
     eliminated = np.zeros(n_full, dtype=bool)  # full DOFs replaced by master coordinates
-    rows, cols, vals = [], [], []  # entries of T: (full dof, "col key", value)
-    # master columns are numbered after the retained DOFs; use provisional negative keys
-    master_blocks = []
+    entries = ([], [], [])  # rows, column keys, values of T
     extra = _ExtraColumns()  # RBE3 cluster coordinates
-    used: dict[str, str] = {}
-    for k, name in enumerate(names):
-        iface = model.interfaces[name]
-        kind = kinds.get(name, iface.coupling)
+    for k, (name, idx, master, kind) in enumerate(ifaces):
+        # master columns are numbered after the interior ones: provisional negative keys
+        mcols = -(6 * k + np.arange(6)) - 1
+        _interface_entries(kind, nodes[idx], master, _node_dofs(idx), mcols, entries, eliminated, extra)
+    T, retained, n_int = _transformation(n_full, entries, eliminated, extra.n, len(ifaces))
+    K_c, M_c = _projected(T, K, M)
+    masters = [(name, master.copy(), n_int + 6 * k + np.arange(6)) for k, (name, _, master, _) in enumerate(ifaces)]
+    boundary = np.arange(n_int, T.shape[1])
+    used = {name: kind for name, _, _, kind in ifaces}
+    log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{k}" for n, k in used.items()),
+             n_full, T.shape[1], len(boundary))
+    return CoupledModel(K_c, M_c, T, boundary, masters, used, retained)
+
+
+def _checked_interfaces(n_nodes: int, interfaces: NodeInterfaces) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
+    """(name, node indices, master (3,), kind) per interface, after checking that node indices
+    are in range, that no node belongs to two interfaces, and that every kind is known."""
+    out = [(name, np.asarray(idx), np.asarray(master, dtype=float), kind)
+           for name, (idx, master, kind) in interfaces.items()]
+    owner = np.full(n_nodes, -1)
+    for k, (name, idx, _, _) in enumerate(out):
+        if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
+            raise CouplingError(name, int(idx.min() if idx.min() < 0 else idx.max()),
+                                f"node index outside 0..{n_nodes - 1}")
+        clash = owner[idx] >= 0
+        if np.any(clash):
+            other = out[owner[idx[clash][0]]][0]
+            raise CouplingError(name, int(clash.sum()), f"shares nodes with interface {other!r}")
+        owner[idx] = k
+    for name, _, _, kind in out:
         if kind not in KINDS:
             raise CouplingError(name, kind, f"coupling kind must be one of {KINDS}")
-        used[name] = kind
-        pts = nodes[iface.nodes]
-        sdofs = iface.dofs().ravel()  # node-major, matches G rows
-        mcols = -(6 * k + np.arange(6)) - 1  # provisional keys for this master's 6 columns
-        if kind == "rbe2":
-            G = rigid_kinematics(pts, iface.master)
-            eliminated[sdofs] = True
-            r, c = np.nonzero(G)
-            rows.append(sdofs[r]); cols.append(mcols[c]); vals.append(G[r, c])
-        else:
-            weights = np.ones(len(pts))
-            tree = _rbe3_tree(pts, iface.master, weights, np.arange(len(pts)))
-            _rbe3_rec(tree, pts, iface.master, weights, sdofs, rows, cols, vals, eliminated, extra)
-            # master columns: the rigid motion of all slaves (A G = I)
-            G = rigid_kinematics(pts, iface.master)
-            r, c = np.nonzero(G)
-            rows.append(sdofs[r]); cols.append(mcols[c]); vals.append(G[r, c])
-        master_blocks.append((name, iface.master.copy(), mcols))
+    return out
 
+
+def _node_dofs(idx: np.ndarray) -> np.ndarray:
+    """Full-model DOFs of nodes ``idx``, node-major (x, y, z per node): the rows of G."""
+    return (3 * idx[:, None] + np.arange(3)[None, :]).ravel()
+
+
+def _interface_entries(kind, pts, master, sdofs, mcols, entries, eliminated, extra) -> None:
+    """Append one interface's entries of T: its master columns (the rigid motion of the slaves,
+    u_s = G q_m) and, for RBE3, the null-space columns that keep the slave DOFs as coordinates."""
+    rows, cols, vals = entries
+    if kind == "rbe2":
+        eliminated[sdofs] = True
+    else:
+        weights = np.ones(len(pts))
+        tree = _rbe3_tree(pts, master, weights, np.arange(len(pts)))
+        _rbe3_rec(tree, pts, master, weights, sdofs, rows, cols, vals, eliminated, extra)
+    G = rigid_kinematics(pts, master)
+    r, c = np.nonzero(G)
+    rows.append(sdofs[r]); cols.append(mcols[c]); vals.append(G[r, c])
+
+
+def _transformation(n_full, entries, eliminated, n_extra, n_masters):
+    """T (CSR, n_full x n_c) from the collected entries plus the identity on the retained DOFs;
+    column keys become q_c indices: retained DOFs, then RBE3 coordinates, then masters.
+    Returns (T, retained full DOFs, number of interior coordinates)."""
+    rows, cols, vals = entries
     retained = np.flatnonzero(~eliminated)
     n_ret = len(retained)
     col_of_full = np.full(n_full, -1)
     col_of_full[retained] = np.arange(n_ret)
-    # identity part for retained DOFs
     rows.append(retained); cols.append(retained); vals.append(np.ones(n_ret))
     R = np.concatenate(rows)
     C = np.concatenate(cols)
     V = np.concatenate(vals)
-    n_int = n_ret + extra.n
+    n_int = n_ret + n_extra
     is_master = C < 0
     is_extra = C >= _EXTRA_BASE
     is_full = ~is_master & ~is_extra
@@ -179,18 +251,19 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
     Cm[is_master] = n_int + (-C[is_master] - 1)
     if np.any(Cm < 0):  # pragma: no cover - internal consistency
         raise RuntimeError("coupling references an eliminated DOF")
-    n_c = n_int + 6 * len(names)
+    n_c = n_int + 6 * n_masters
     T = sp.csr_matrix((V, (R, Cm)), shape=(n_full, n_c))  # duplicates are summed
     T.eliminate_zeros()
-    K_c = (T.T @ model.K @ T).tocsr()
-    M_c = (T.T @ model.M @ T).tocsr()
-    K_c = ((K_c + K_c.T) * 0.5).tocsr()  # remove round-off asymmetry
+    return T, retained, n_int
+
+
+def _projected(T, K, M):
+    """K_c = T^T K T and M_c = T^T M T (CSR), symmetrised to remove round-off asymmetry."""
+    K_c = (T.T @ K @ T).tocsr()
+    M_c = (T.T @ M @ T).tocsr()
+    K_c = ((K_c + K_c.T) * 0.5).tocsr()
     M_c = ((M_c + M_c.T) * 0.5).tocsr()
-    masters = [(name, pos, n_int + 6 * k + np.arange(6)) for k, (name, pos, _) in enumerate(master_blocks)]
-    boundary = np.arange(n_int, n_c)
-    log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{used[n]}" for n in names),
-             n_full, n_c, len(boundary))
-    return CoupledModel(K_c, M_c, T, boundary, masters, used, model, retained)
+    return K_c, M_c
 
 
 # ---------------------------------------------------------------- RBE3 cluster tree

@@ -1,4 +1,4 @@
-"""FE-side hard cases reachable from a scene (issue 7 item 5)."""
+"""FE-side hard cases reachable from a scene (the FE rows of tests/hard_cases/README.md)."""
 import dataclasses
 import logging
 from pathlib import Path
@@ -23,7 +23,7 @@ def test_cutoff_below_band_warns(caplog):
 def test_more_modes_than_dofs_is_an_error():
     from cms.craig_bampton import CraigBamptonReductor
     from cms.errors import ReductionError
-    from cms.models import box
+    from tests.support.fe_models import box
     m = box(divisions=(4, 1, 1), order=1)
     n = m.K.shape[0]
     with pytest.raises(ReductionError, match="n_modes"):
@@ -34,10 +34,10 @@ def test_interface_leaving_a_mechanism_is_named():
     # Boundary = the three translations of one node: the rest of the free body can still
     # rotate about that node, so K_ii is singular; the error names the free motion.
     from cms.craig_bampton import CraigBamptonReductor
-    from cms.errors import MechanismError
-    from cms.models import box
+    from cms.errors import InteriorMechanismError
+    from tests.support.fe_models import box
     m = box(divisions=(4, 1, 1), order=1)
-    with pytest.raises(MechanismError) as exc:
+    with pytest.raises(InteriorMechanismError) as exc:
         CraigBamptonReductor(m.K, m.M, np.arange(3), n_modes=2, node_coords=m.node_coords).reduce()
     assert "rotation" in str(exc.value)
 
@@ -49,9 +49,9 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     # inertia correction ~ (nu pi r / L)^2 / 2 = 0.3 % here, inside the 1 % target).
     import math
     from assembly.components import check_locking
+    from cms.eigen import free_free_shift, lowest_modes
     from fe_components.fe_model import build_component
     from fe_components.material import Material
-    from fe_components.modal import lowest_frequencies
     from fe_components.reference import CYLINDER, REF_DIR
     with caplog.at_level(logging.WARNING, logger="assembly.components"):
         assert check_locking(1, 0.499)
@@ -59,7 +59,7 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     assert any("lock volumetrically" in r.getMessage() for r in caplog.records)
     E, nu, rho, L = 2.1e11, 0.499, 7850.0, 0.5
     fe = build_component(CYLINDER, Material(E, nu, rho), mesh_size=0.0125, cache_dir=REF_DIR)
-    f = lowest_frequencies(fe.K, fe.M, 20)
+    f = lowest_modes(fe.K, fe.M, 20, sigma=free_free_shift(fe.K, fe.M)).frequencies_hz
     f = f[np.abs(f) > 1.0]
     f_t = math.sqrt(E / (2 * (1 + nu)) / rho) / (2 * L)
     f_a = math.sqrt(E / rho) / (2 * L)

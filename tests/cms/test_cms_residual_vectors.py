@@ -5,13 +5,14 @@ lie inside R^n, so by Courant-Fischer (Rayleigh-Ritz on nested subspaces)
     lambda_k(full) <= lambda_k(CB + W) <= lambda_k(CB)    for every k.
 W spans K_ii^-1 (M_ii Psi + M_ib) outside span(Phi): the interior's static response to the
 inertia of the interface motion (Dickens, Nakagawa & Wittbrodt, Comput. Struct. 62 (1997)).
-Test model: steel block, scikit-fem P2 tetrahedra (cms.models.box).
+Test model: steel block, scikit-fem P2 tetrahedra (tests.support.fe_models.box).
 """
 import numpy as np
 import scipy.linalg as sla
 
 from cms.craig_bampton import CraigBamptonReductor
-from cms.models import box
+
+from tests.support.fe_models import box
 
 RTOL = 1e-10   # dense generalized eigh round-off on these small, well-scaled models
 

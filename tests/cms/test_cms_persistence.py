@@ -8,8 +8,9 @@ import pytest
 from cms.cache import SuperelementCache, array_hash, cache_key
 from cms.craig_bampton import CraigBamptonReductor
 from cms.errors import CacheError
-from cms.models import box
 from cms.superelement import Superelement
+
+from tests.support.fe_models import box
 
 MATERIAL = {"E": 210e9, "nu": 0.3, "rho": 7850.0}   # steel, SI
 

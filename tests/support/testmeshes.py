@@ -1,7 +1,7 @@
 """Regenerate the small committed test meshes (meshes/cms_*). Needs gmsh; the tests
 themselves only read the files.
 
-    python -m cms.testmeshes
+    python -m tests.support.testmeshes
 """
 from __future__ import annotations
 
@@ -31,5 +31,5 @@ def make_shaft_mesh(path: str, radius: float = 0.025, length: float = 0.1,
 
 
 if __name__ == "__main__":
-    here = os.path.join(os.path.dirname(__file__), "..", "meshes")
+    here = os.path.join(os.path.dirname(__file__), "..", "..", "meshes")
     make_shaft_mesh(os.path.join(here, "cms_shaft.msh"))

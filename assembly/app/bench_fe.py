@@ -2,8 +2,8 @@
 
 Usage (wired as ``flexgear bench fe``)::
 
-    python -m fe_components.bench                       # quick: 3 sizes, finest ~60k DOFs
-    python -m fe_components.bench --target-dofs 300000  # README table: 3 sizes, finest ~300k DOFs (P2)
+    python -m assembly.app.bench_fe                       # quick: 3 sizes, finest ~60k DOFs
+    python -m assembly.app.bench_fe --target-dofs 300000  # README table: 3 sizes, finest ~300k DOFs (P2)
 
 Frequencies are computed for cases up to ``--max-modal-dofs`` (default 120k):
 the sparse Cholesky of K - sigma M dominates above that (CHOLMOD on the
@@ -31,22 +31,22 @@ COMPONENTS = ("pinion", "wheel", "carrier")
 
 
 def _params(component: str):
-    from . import reference as ref
+    from fe_components import reference as ref
 
     return {"pinion": ref.PINION_INVOLUTE, "wheel": ref.WHEEL_SMOOTH, "carrier": ref.CARRIER}[component]
 
 
 def _coarse_size(component: str) -> float:
-    from . import reference as ref
+    from fe_components import reference as ref
 
     key = {"pinion": "pinion_involute", "wheel": "wheel_smooth", "carrier": "carrier"}[component]
     return ref.CASES[key][1].size
 
 
 def _run_case(component: str, size: float, order: int, n_modes: int, max_modal_dofs: int, queue) -> None:
-    from .fe_model import build_component
-    from .meshing import MeshOptions
-    from .modal import count_rigid_modes, lowest_frequencies
+    from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
+    from fe_components.fe_model import build_component
+    from fe_components.meshing import MeshOptions
 
     import gmsh  # noqa: F401  warm imports, so that the timings below exclude module loading
     import meshio  # noqa: F401
@@ -58,7 +58,7 @@ def _run_case(component: str, size: float, order: int, n_modes: int, max_modal_d
     freqs, t_modes = [], float("nan")
     if n_modes > 0 and model.n_dofs <= max_modal_dofs:
         t0 = time.perf_counter()
-        f = lowest_frequencies(model.K, model.M, 6 + n_modes)
+        f = lowest_modes(model.K, model.M, 6 + n_modes, sigma=free_free_shift(model.K, model.M)).frequencies_hz
         t_modes = time.perf_counter() - t0
         n_rigid = count_rigid_modes(f)
         if n_rigid != 6:
@@ -82,7 +82,7 @@ def run_case(component: str, size: float, order: int = 2, n_modes: int = 6, max_
 
 def probe_dofs(component: str, size: float, order: int) -> int:
     """DOFs of the mesh of ``component`` at ``size`` (gmsh run only, no assembly)."""
-    from .meshing import MeshOptions, ensure_mesh, read_mesh
+    from fe_components.meshing import MeshOptions, ensure_mesh, read_mesh
 
     with tempfile.TemporaryDirectory() as cache:
         raw = read_mesh(ensure_mesh(_params(component), MeshOptions(size=size, order=order), cache))

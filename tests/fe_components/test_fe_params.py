@@ -8,8 +8,7 @@ import pytest
 
 from fe_components.errors import GeometryError, MaterialError
 from fe_components.material import STEEL, Material
-from fe_components.params import (CarrierParams, GearTeeth, PinionParams, ShaftSegment, WheelParams,
-                                  component_from_dict, params_digest)
+from fe_components.params import GearTeeth, PinionParams, ShaftSegment, WheelParams, params_digest
 from fe_components.reference import CARRIER, PINION_SMOOTH, WHEEL_SMOOTH
 
 DEG20 = math.radians(20)
@@ -95,38 +94,6 @@ def test_wheel_holes_must_fit():
     assert e.value.parameter == "hole_diameter"
 
 
-def test_from_dict_paths_and_degrees():
-    d = {"kind": "pinion", "gear_center": 0.12,
-         "shaft": [[0.03, 0.03], {"length": 0.05, "diameter": 0.04}, [0.08, 0.05], [0.05, 0.04], [0.03, 0.03]],
-         "teeth": {"n_teeth": 20, "normal_module": 0.004, "pressure_angle_deg": 20.0, "face_width": 0.04,
-                   "helix_angle_deg": 0.0}}
-    p = component_from_dict(d, "bodies[2].component")
-    assert p.teeth.pressure_angle == pytest.approx(DEG20)
-    assert p == PINION_SMOOTH
-    d["teeth"]["n_teeth"] = 12
-    with pytest.raises(GeometryError) as e:
-        component_from_dict(d, "bodies[2].component")
-    assert e.value.parameter == "bodies[2].component.teeth.n_teeth" and e.value.value == 12
-    d["teeth"]["n_teeth"] = 20
-    d["shaft"][1]["diameter"] = -1
-    with pytest.raises(GeometryError) as e:
-        component_from_dict(d, "bodies[2].component")
-    assert e.value.parameter == "bodies[2].component.shaft[1].diameter"
-    with pytest.raises(GeometryError) as e:
-        component_from_dict({"kind": "pinion", "colour": "red"}, "x")
-    assert e.value.parameter == "x.colour"
-
-
-def test_carrier_from_dict_n_planets():
-    d = {f.name: getattr(CARRIER, f.name) for f in dataclasses.fields(CARRIER) if f.name != "planet_angles"}
-    d["n_planets"] = 3
-    c = CarrierParams.from_dict(d, "carrier")
-    assert c.planet_angles == pytest.approx(CARRIER.planet_angles)
-    d.pop("n_planets")
-    d["planet_angles_deg"] = [0, 120, 240]
-    assert CarrierParams.from_dict(d).planet_angles == pytest.approx(CARRIER.planet_angles)
-
-
 def test_digest_covers_every_input():
     a = params_digest(PINION_SMOOTH)
     assert a == params_digest(PINION_SMOOTH)
@@ -143,23 +110,3 @@ def test_wheel_params_type_check():
                     hub_length=0.05, bore_diameter=0.05)
     with pytest.raises(GeometryError):
         PinionParams(PINION_SMOOTH.teeth, (ShaftSegment(0.1, 0.03),), gear_center=0.05)
-
-
-@pytest.mark.parametrize("kind", [None, "gearbox", ["pinion"], 3])
-def test_component_kind_refused(kind):
-    with pytest.raises(GeometryError) as e:
-        component_from_dict({"kind": kind}, "bodies[0].component")
-    assert e.value.parameter == "bodies[0].component.kind" and e.value.value == kind
-
-
-def test_material_from_dict_path():
-    assert Material.from_dict({"E": 2.1e11, "nu": 0.3, "rho": 7850.0}) == STEEL
-    with pytest.raises(MaterialError) as e:
-        Material.from_dict({"E": 2.1e11, "nu": 0.7, "rho": 7850.0}, "bodies[1].material")
-    assert e.value.parameter == "bodies[1].material.nu" and e.value.value == 0.7
-
-
-def test_count_rigid_modes():
-    from fe_components.modal import count_rigid_modes
-
-    assert count_rigid_modes([1e-4, -2e-4, 3e-5, 1e-4, 2e-4, 5e-5, 900.0, 901.0]) == 6

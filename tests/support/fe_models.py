@@ -1,4 +1,5 @@
-"""Small linear-elastic example components (scikit-fem) for tests and the benchmark.
+"""Small linear-elastic example components (scikit-fem): test fixtures of the cms tests
+and the Craig-Bampton benchmark.
 
 DOF order is scikit-fem's ``ElementVector``: for P1/P2 tetrahedra the vector
 basis numbers DOFs 3*node + xyz, where "node" runs over ``basis.doflocs[:, ::3]``

@@ -3,7 +3,8 @@ result must equal one solve of the same number of modes (exact linear algebra, n
 import numpy as np
 
 from cms.craig_bampton import CraigBamptonReductor
-from cms.models import box
+
+from tests.support.fe_models import box
 
 
 def test_cutoff_continuation_equals_single_solve():

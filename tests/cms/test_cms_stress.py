@@ -14,12 +14,13 @@ from skfem import ElementTetP2, ElementVector, FacetBasis, LinearForm, asm
 from skfem.io.meshio import from_meshio
 
 from cms.craig_bampton import CraigBamptonReductor
-from cms.models import assemble, box
-from cms.rbe2 import couple_rigid
 from cms.stress import principal, recover_stress, von_mises
+from fe_components.coupling import couple_nodes
+
+from tests.support.fe_models import assemble, box
 
 E, NU, RHO = 210e9, 0.3, 7850.0   # steel: Pa, -, kg/m^3
-MESHES = os.path.join(os.path.dirname(__file__), "..", "meshes")
+MESHES = os.path.join(os.path.dirname(__file__), "..", "..", "meshes")
 
 
 def _solve_reduced(m, clamp_dofs, face_dofs, f_face):
@@ -49,19 +50,16 @@ def test_shaft_in_pure_torsion_tau_equals_T_r_over_J():
     # end face z = L tied rigidly to a master on the axis: pure torsion of a circular
     # shaft keeps cross-sections plane and rigid, so the tie adds no constraint.
     face_nodes = np.flatnonzero(np.isclose(m.node_coords[:, 2], L))
-    c = couple_rigid(m.K, m.M, m.node_coords, [face_nodes], master_points=[[0, 0, L]],
-                     names=["flange"])
+    c = couple_nodes(m.K, m.M, m.node_coords, {"flange": (face_nodes, [0, 0, L], "rbe2")})
     clamped_full = m.dofs_where(lambda x: np.isclose(x[2], 0.0))
-    nc = c.K.shape[0]
-    # coupled index of each clamped solid DOF: identity columns of T
-    Tcoo = c.T.tocoo()
-    ident = Tcoo.col < nc - 6
-    col_of = dict(zip(Tcoo.row[ident], Tcoo.col[ident]))
-    clamp_c = np.array([col_of[j] for j in clamped_full])
+    nc = c.K_c.shape[0]
+    # coupled index of each clamped solid DOF: the first coordinates are the retained DOFs
+    clamp_c = np.flatnonzero(np.isin(c.retained, clamped_full))
+    assert len(clamp_c) == len(clamped_full)
     free = np.setdiff1d(np.arange(nc), clamp_c)
     where = -np.ones(nc, dtype=int)
     where[free] = np.arange(len(free))
-    red = CraigBamptonReductor(c.K[free][:, free], c.M[free][:, free], where[c.boundary_dofs],
+    red = CraigBamptonReductor(c.K_c[free][:, free], c.M_c[free][:, free], where[c.boundary_dofs],
                                n_modes=4, dof_names=c.boundary_names)
     se = red.reduce()
     assert se.boundary_names[5] == "flange:rz"

@@ -1,6 +1,6 @@
 """Property tests of the Craig-Bampton reductor (cms.craig_bampton).
 
-Test models: steel blocks meshed with scikit-fem P2 tetrahedra (cms.models.box).
+Test models: steel blocks meshed with scikit-fem P2 tetrahedra (tests.support.fe_models.box).
 Tolerances are round-off bounds: the asserted identities are exact in exact
 arithmetic (references in each test), so they hold to ~1e3 * machine epsilon
 times the condition of the quantity compared.
@@ -10,10 +10,11 @@ import pytest
 import scipy.linalg as sla
 from hypothesis import example, given, settings, strategies as st
 
-from cms.craig_bampton import CraigBamptonReductor, guyan
-from cms.errors import MechanismError, ReductionError
+from cms.craig_bampton import CraigBamptonReductor, SolverOptions, guyan
+from cms.errors import InteriorMechanismError, ReductionError
 from cms.linsolve import cholmod_available
-from cms.models import box
+
+from tests.support.fe_models import box
 
 BACKENDS = ["scipy"] + (["cholmod"] if cholmod_available() else [])
 E, NU, RHO = 210e9, 0.3, 7850.0  # steel: Pa, -, kg/m^3
@@ -95,7 +96,7 @@ def test_static_interface_loads_reproduced_exactly(backend, n_modes):
     m = box(lengths=(L, 0.1, 0.1), divisions=(10, 2, 2))
     b = _ends(m, L)
     se = CraigBamptonReductor(m.K, m.M, b, n_modes=n_modes, node_coords=m.node_coords,
-                              backend=backend).reduce()
+                              options=SolverOptions(backend=backend)).reduce()
     clamped = np.isclose(m.node_coords[b // 3, 0], 0.0)   # boundary DOFs on x = 0
     rng = np.random.default_rng(1)
     f_b = np.where(clamped, 0.0, rng.standard_normal(len(b)) * 1e3)   # N
@@ -196,9 +197,9 @@ def test_boundary_on_a_line_names_the_free_rotation(backend):
     # nodes on the edge y = z = 0 cannot stop rotation about that edge
     m = box(lengths=(0.5, 0.1, 0.1), divisions=(4, 1, 1))
     b = m.dofs_where(lambda x: np.isclose(x[1], 0.0) & np.isclose(x[2], 0.0))
-    with pytest.raises(MechanismError) as ei:
+    with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(m.K, m.M, b, n_modes=2, node_coords=m.node_coords,
-                             backend=backend).reduce()
+                             options=SolverOptions(backend=backend)).reduce()
     assert ei.value.motion.startswith("rotation about x through point (")
     assert np.allclose(np.abs(ei.value.components), [0, 0, 0, 1, 0, 0], atol=1e-9)
 
@@ -208,7 +209,7 @@ def test_partial_boundary_names_every_free_motion():
     m = box(lengths=(0.5, 0.1, 0.1), divisions=(4, 1, 1))
     b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
     b = b[b % 3 == 0]
-    with pytest.raises(MechanismError) as ei:
+    with pytest.raises(InteriorMechanismError) as ei:
         CraigBamptonReductor(m.K, m.M, b, n_modes=0, node_coords=m.node_coords).reduce()
     assert ei.value.motion.count(";") == 2
     assert "rotation about x" in ei.value.motion
@@ -222,8 +223,8 @@ def test_unidentified_mechanism_raises_without_rigid_info(backend):
     K = sp.block_diag([m.K, m.K]).tocsr()
     M = sp.block_diag([m.M, m.M]).tocsr()
     b = m.dofs_where(lambda x: np.isclose(x[0], 0.0))
-    with pytest.raises(MechanismError) as ei:
-        CraigBamptonReductor(K, M, b, n_modes=2, backend=backend).reduce()
+    with pytest.raises(InteriorMechanismError) as ei:
+        CraigBamptonReductor(K, M, b, n_modes=2, options=SolverOptions(backend=backend)).reduce()
     assert "unidentified" in ei.value.motion
 
 
@@ -237,6 +238,9 @@ def test_bad_inputs_carry_the_value():
     assert ei.value.value == [1]
     with pytest.raises(ReductionError):
         CraigBamptonReductor(m.K, m.M, [0], n_modes=1, cutoff_hz=10.0)
+    with pytest.raises(ReductionError) as ei:
+        CraigBamptonReductor(m.K, m.M, [0], n_modes=1, options={"tol": 1e-8})
+    assert ei.value.quantity == "options" and ei.value.value == {"tol": 1e-8}
 
 
 @pytest.mark.parametrize("method", ["arpack", "block"])

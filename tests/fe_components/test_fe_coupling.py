@@ -6,11 +6,11 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fe_components.coupling import couple, rbe3_operator, rigid_kinematics
+from cms.eigen import free_free_shift, lowest_modes
+from fe_components.coupling import couple, couple_nodes, rbe3_operator, rigid_kinematics
 from fe_components.errors import CouplingError
 from fe_components.fe_model import build_component
 from fe_components.material import STEEL
-from fe_components.modal import lowest_frequencies
 from fe_components.reference import CASES, REF_DIR
 
 
@@ -56,16 +56,16 @@ def test_rbe3_reproduces_rigid_motion_and_resultant():
 def test_rbe3_only_is_exact_change_of_variables(cyl):
     c = couple(cyl, {"end_a": "rbe3", "end_b": "rbe3"})
     assert c.T.shape[0] == c.T.shape[1] == cyl.n_dofs  # square: no DOF removed
-    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    f0 = lowest_modes(cyl.K, cyl.M, 14, sigma=free_free_shift(cyl.K, cyl.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 14, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
     np.testing.assert_allclose(f1[6:], f0[6:], rtol=1e-8)  # RBE3 adds no stiffness
 
 
 def test_rbe2_keeps_six_rigid_modes_and_stiffens(cyl):
     c = couple(cyl, {"end_a": "rbe2", "end_b": "rbe2"})
-    f0 = lowest_frequencies(cyl.K, cyl.M, 14)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 14)
+    f0 = lowest_modes(cyl.K, cyl.M, 14, sigma=free_free_shift(cyl.K, cyl.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 14, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f1[:6]) < 1e-3 * f1[6])
     # constraints can only raise eigenvalues (Courant-Fischer / Rayleigh's theorem)
     assert np.all(f1[6:] >= f0[6:] * (1 - 1e-9))
@@ -84,6 +84,7 @@ def test_masters_carry_rigid_motion(cyl, kind):
     np.testing.assert_allclose(q[: len(c.retained)], u[c.retained], atol=1e-10)
 
 
+@pytest.mark.slow
 def test_rbe3_on_a_large_patch_stays_sparse():
     m = _model("pinion_involute")
     c = couple(m, {"gear_mesh": "rbe3", "bearing_a": "rbe3", "bearing_b": "rbe3"})
@@ -95,8 +96,8 @@ def test_rbe3_on_a_large_patch_stays_sparse():
     row = m.K.nnz / m.n_dofs
     depth = np.log2(n_patch / 3 / 3)
     assert c.K_c.nnz - m.K.nnz < (depth + 1) * row * n_patch < 0.1 * n_patch**2
-    f0 = lowest_frequencies(m.K, m.M, 8)
-    f1 = lowest_frequencies(c.K_c, c.M_c, 8)
+    f0 = lowest_modes(m.K, m.M, 8, sigma=free_free_shift(m.K, m.M)).frequencies_hz
+    f1 = lowest_modes(c.K_c, c.M_c, 8, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     np.testing.assert_allclose(f1[6:], f0[6:], rtol=1e-8)
 
 
@@ -109,7 +110,7 @@ def test_carrier_default_coupling_conventions(carrier):
     np.testing.assert_array_equal(idx, c.boundary_dofs)
     assert c.boundary_dofs.size == 6 * 6 and c.boundary_dofs[-1] == c.K_c.shape[0] - 1
     assert sp.isspmatrix_csr(c.K_c) and sp.isspmatrix_csr(c.M_c)
-    f = lowest_frequencies(c.K_c, c.M_c, 8)
+    f = lowest_modes(c.K_c, c.M_c, 8, sigma=free_free_shift(c.K_c, c.M_c)).frequencies_hz
     assert np.all(np.abs(f[:6]) < 1e-3 * f[6])
 
 
@@ -118,3 +119,27 @@ def test_overlapping_or_unknown_interfaces_refused(carrier):
         couple(carrier, {"no_such": "rbe2"})
     with pytest.raises(CouplingError):
         couple(carrier, {"pin_0": "glue"})
+
+
+def test_couple_nodes_refuses_bad_node_sets_with_the_value(cyl):
+    a, b = cyl.interfaces["end_a"], cyl.interfaces["end_b"]
+    with pytest.raises(CouplingError) as e:
+        couple_nodes(cyl.K, cyl.M, cyl.nodes, {"a": (a.nodes, a.master, "rbe2"), "b": (a.nodes[:3], b.master, "rbe2")})
+    assert e.value.parameter == "b" and e.value.value == 3  # three shared nodes
+    with pytest.raises(CouplingError) as e:
+        couple_nodes(cyl.K, cyl.M, cyl.nodes, {"a": (np.r_[a.nodes, cyl.n_nodes], a.master, "rbe2")})
+    assert e.value.parameter == "a" and e.value.value == cyl.n_nodes
+
+
+def test_dof_layout_places_retained_dofs_at_nodes_and_masters_at_masters(cyl):
+    c = couple(cyl, {"end_a": "rbe2", "end_b": "rbe2"})
+    points, kinds = c.dof_layout(cyl.nodes)
+    n_ret = len(c.retained)
+    np.testing.assert_array_equal(points[:n_ret], cyl.nodes[c.retained // 3])
+    np.testing.assert_array_equal(kinds[:n_ret], c.retained % 3)
+    for name, pos, idx in c.masters:
+        np.testing.assert_array_equal(points[idx], np.repeat(pos[None], 6, 0))
+        np.testing.assert_array_equal(kinds[idx], np.arange(6))
+    assert c.boundary_names[:2] == ["end_a:ux", "end_a:uy"] and c.boundary_names[-1] == "end_b:rz"
+    with pytest.raises(CouplingError):  # RBE3 null-space coordinates have no location
+        couple(cyl, {"end_a": "rbe3"}).dof_layout(cyl.nodes)
