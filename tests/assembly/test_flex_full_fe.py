@@ -63,7 +63,7 @@ def test_frequencies_decrease_as_modes_are_added(reduced):
     # relative is the dense reduced eigensolve's round-off (eps * condition)
     assert np.all(reduced[4] <= reduced[0] * (1 + 1e-10))
     assert np.all(reduced[12] <= reduced[4] * (1 + 1e-10))
-    # residual vectors enlarge the CB(4) subspace (tests/test_cms_residual_vectors.py)
+    # residual vectors enlarge the CB(4) subspace (tests/cms/test_cms_residual_vectors.py)
     assert np.all(reduced["4 +rv"] <= reduced[4] * (1 + 1e-10))
 
 
