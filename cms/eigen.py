@@ -16,7 +16,6 @@ Eigenvalues are lam = omega^2 in (rad/s)^2; vectors are M-normalised (X^T M X = 
 from __future__ import annotations
 
 import logging
-import math
 import time
 from dataclasses import dataclass
 
