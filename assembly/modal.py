@@ -150,12 +150,10 @@ def _sparse_lowest(K, M, k):
     sparse factorization, CHOLMOD when installed, residual-checked).
 
     The shift is negative (the model may have rigid-body modes) and small against the
-    spectrum: -1e-6 of the median diagonal ratio K_ii / M_ii, i.e. (2 pi f)^2 for an f well
-    below any elastic mode, keeping ``K - sigma M`` positive definite.
+    spectrum (:func:`cms.eigen.free_free_shift`), keeping ``K - sigma M`` positive definite.
     """
-    from cms.eigen import lowest_modes
-    diag_ratio = float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300)))
-    r = lowest_modes(K.tocsc(), M.tocsc(), min(k, K.shape[0] - 1), sigma=-1e-6 * diag_ratio,
+    from cms.eigen import free_free_shift, lowest_modes
+    r = lowest_modes(K.tocsc(), M.tocsc(), min(k, K.shape[0] - 1), sigma=free_free_shift(K, M),
                      tol=1e-10, threads=1)
     return np.asarray(r.eigenvalues), np.asarray(r.vectors)
 
