@@ -123,19 +123,21 @@ def check_mesh(m: GearMesh, path: str) -> None:
     if m.base_radius1 + m.base_radius2 == 0:
         raise SceneError(f"{path}.base_radius2", m.base_radius2,
                          "internal and external base radii are equal: zero centre distance")
-    _check_angles(m, path, "pressure_angle", "helix_angle", "drive_sign")
+    _pressure_angle(f"{path}.pressure_angle", m.pressure_angle)
+    _flank(m, path)
 
 
-def _check_angles(obj, path: str, *names: str) -> None:
-    """Pressure angles in (0, 90) deg, |helix angle| < 90 deg, drive sign +-1."""
-    for f in names:
-        v = getattr(obj, f)
-        if f.startswith("pressure_angle") and not 0 < v < math.pi / 2:
-            raise SceneError(f"{path}.{f}", v, "must lie in (0, 90) deg")
-        if f == "helix_angle" and not abs(v) < math.pi / 2:
-            raise SceneError(f"{path}.{f}", v, "|helix angle| must be < 90 deg")
-        if f == "drive_sign" and v not in (1, -1):
-            raise SceneError(f"{path}.{f}", v, "must be +1 or -1")
+def _pressure_angle(path: str, v) -> None:
+    if not 0 < v < math.pi / 2:
+        raise SceneError(path, v, "must lie in (0, 90) deg")
+
+
+def _flank(obj, path: str) -> None:
+    """|helix angle| < 90 deg and drive sign +-1 (a mesh or a stage)."""
+    if not abs(obj.helix_angle) < math.pi / 2:
+        raise SceneError(f"{path}.helix_angle", obj.helix_angle, "|helix angle| must be < 90 deg")
+    if obj.drive_sign not in (1, -1):
+        raise SceneError(f"{path}.drive_sign", obj.drive_sign, "must be +1 or -1")
 
 
 def check_shaft(s: Shaft, path: str) -> None:
@@ -178,7 +180,9 @@ def check_stage(st: PlanetaryStage, path: str) -> None:
         v = getattr(st, f)
         if not (v > 0 and math.isfinite(v)):
             raise SceneError(f"{path}.{f}", v, "must be a finite stiffness > 0 N/m")
-    _check_angles(st, path, "pressure_angle_sun", "pressure_angle_ring", "helix_angle", "drive_sign")
+    _pressure_angle(f"{path}.pressure_angle_sun", st.pressure_angle_sun)
+    _pressure_angle(f"{path}.pressure_angle_ring", st.pressure_angle_ring)
+    _flank(st, path)
     _check_ring_radius(st, path)
     _check_planet_spacing(st, path)
 
