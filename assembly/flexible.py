@@ -74,9 +74,7 @@ class FlexibleBodyModel:
     def coupled(self):
         """(FEModel, CoupledModel) of the component, rebuilt from the mesh cache on demand."""
         if self._coupled is None:
-            from fe_components.coupling import couple
-            fe = build_fe(self.params, self.options, self.caches)
-            self._coupled = (fe, couple(fe, dict(self.options.couplings or {})))
+            self._coupled = _coupled_model(self.params, self.options, self.caches)
         return self._coupled
 
     def expand(self, zb: np.ndarray) -> np.ndarray:
@@ -207,6 +205,7 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
 
 
 def _coupled_model(params, options: FlexOptions, caches: CacheDirs):
+    """(FEModel, CoupledModel): the component's FE model with its interfaces coupled."""
     from fe_components.coupling import couple
     fe = build_fe(params, options, caches)
     return fe, couple(fe, dict(options.couplings or {}))
