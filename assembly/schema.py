@@ -12,6 +12,7 @@ same quantity in degrees under the key ``<field>_deg`` (converted once, here).
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import tomllib
 import types
@@ -23,6 +24,8 @@ from fe_components.errors import GeometryError
 
 from .errors import SceneError
 from .scene import Scene
+
+log = logging.getLogger(__name__)
 
 #: Example scenes shipped with the package.
 SCENE_DIR = Path(__file__).parent / "scenes"
@@ -207,26 +210,40 @@ def to_dict(obj) -> dict:
 
 
 def resolve_scene_path(path) -> Path:
-    """A path as given, or the name of a scene shipped in ``assembly/scenes``."""
+    """The scene file to read: ``path`` as given if it exists; a bare file name (no folder
+    part) that does not exist here names a scene shipped in ``assembly/scenes``. A path with
+    a folder part never falls back to a shipped scene (a typo in the folder must not run an
+    example under the user's title)."""
     p = Path(path)
     if p.exists():
         return p
     shipped = SCENE_DIR / p.name
-    if shipped.exists():
+    if p.name == str(path) and shipped.exists():
+        log.info("%s: not in the working folder; reading the shipped example %s", path, shipped)
         return shipped
-    raise SceneError("scene", str(path), "no such file (nor a shipped example scene of that name)")
+    hint = ""
+    if shipped.exists():
+        hint = f" (a shipped example of that name exists: give the bare name {p.name!r} to run it)"
+    raise SceneError("scene", str(path), f"no such file{hint}")
 
 
 def load_scene(path) -> Scene:
-    """Read and validate a scene file; :class:`SceneError` names the offending field path."""
+    """Read and validate a scene file (UTF-8 TOML; :func:`resolve_scene_path` finds it);
+    :class:`SceneError` names the offending field path, or the file and what is wrong with it."""
     p = resolve_scene_path(path)
     try:
-        with open(p, "rb") as fh:
-            data = tomllib.load(fh)
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise SceneError("scene", str(p), f"cannot read: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError("scene", str(p), f"not UTF-8 text at byte {exc.start} "
+                                          f"(0x{raw[exc.start]:02x}); save the file as UTF-8") from None
+    try:
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # a BOM some editors write
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(str(p), "<file>", f"not valid TOML: {exc}") from None
-    except OSError as exc:
-        raise SceneError("scene", str(p), f"cannot read: {exc.strerror}") from None
     return scene_from_dict(data)
 
 

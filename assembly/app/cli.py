@@ -24,14 +24,16 @@ class UsageError(ValueError):
 
 
 def user_errors() -> tuple:
-    """Exception types that mean bad input (scene, geometry, coupling, reduction, output
-    folder, command line): reported in one line with exit code 2, never a traceback."""
+    """Exception types the package raises on input it cannot use (scene, geometry, meshing,
+    coupling, reduction and its cache, eigen solve, output folder, command line): reported
+    in one line with exit code 2, never a traceback."""
     from cms.errors import ReductionError
-    from fe_components.errors import CouplingError, GeometryError
+    from fe_components.errors import CouplingError, GeometryError, MeshingError
 
-    from ..errors import MechanismError, SceneError
+    from ..errors import MechanismError, SceneError, SolverError
     from .output import OutputDirError
-    return (SceneError, MechanismError, OutputDirError, GeometryError, CouplingError, ReductionError, UsageError)
+    return (SceneError, MechanismError, SolverError, OutputDirError, GeometryError, MeshingError, CouplingError,
+            ReductionError, UsageError)
 
 
 def _at_least(value: int, flag: str, low: int) -> int:
@@ -40,13 +42,26 @@ def _at_least(value: int, flag: str, low: int) -> int:
     return value
 
 
+def scene_file(args) -> str:
+    """The scene file ``args.scene`` names. A bare name may be a file here or a shipped
+    example, so the file it resolved to is announced on stderr; a path with a folder part
+    is read as given (never a shipped example)."""
+    from ..schema import SCENE_DIR, resolve_scene_path
+
+    path = resolve_scene_path(args.scene)
+    if Path(args.scene).name == str(args.scene) and not getattr(args, "quiet", False):
+        shipped = " (shipped example)" if path.parent.resolve() == SCENE_DIR.resolve() else ""
+        print(f"flexgear: scene file {path.resolve()}{shipped}", file=sys.stderr)
+    return str(path)
+
+
 def cmd_modes(args) -> int:
     from ..modal import solve_modes
     from ..model import assemble
     from ..schema import load_scene
     from .tables import modes_json, modes_table
 
-    scene = load_scene(args.scene)
+    scene = load_scene(scene_file(args))
     res = solve_modes(assemble(scene))
     if args.json:
         json.dump(modes_json(res), sys.stdout, indent=1)
@@ -61,7 +76,7 @@ def cmd_compare(args) -> int:
     from ..schema import load_scene
     from .tables import comparison_table
 
-    scene = load_scene(args.scene)
+    scene = load_scene(scene_file(args))
     c = compare(scene, n_rows=args.modes)
     if args.json:
         json.dump({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
@@ -79,7 +94,7 @@ def cmd_run(args) -> int:
     from .progress import Progress
 
     opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
-    ctx = run_pipeline(args.scene, args.out, opts, Progress(enabled=False if args.quiet else None))
+    ctx = run_pipeline(scene_file(args), args.out, opts, Progress(enabled=False if args.quiet else None))
     if not args.quiet:
         n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
         print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
@@ -97,7 +112,7 @@ def cmd_sweep(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     progress = Progress(enabled=False if args.quiet else None)
-    info = sweep_to_dir(args.scene, args.param, values, args.out, progress, args.max_modes)
+    info = sweep_to_dir(scene_file(args), args.param, values, args.out, progress, args.max_modes)
     if not args.quiet:
         print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
               f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
