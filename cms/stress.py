@@ -4,8 +4,8 @@ Linear isotropic elasticity (small strain):
     eps = (grad u + grad u^T) / 2,   sigma = lambda tr(eps) I + 2 mu eps,
     lambda = E nu / ((1 + nu)(1 - 2 nu)),  mu = E / (2 (1 + nu))     (Pa).
 
-Stresses are evaluated at the quadrature points and L2-projected onto the scalar
-Lagrange space of the same order (P2 for a P2 displacement basis): the six
+Stresses are evaluated at the quadrature points of order 2p and L2-projected onto the scalar
+Lagrange space of the same order p (P2 for a P2 displacement basis): the six
 tensor components solve M_s s = b with one factorization of the scalar mass
 matrix M_s and one block solve of 6 right-hand sides. Von Mises and principal
 stresses are then evaluated from the projected nodal tensor.
@@ -19,7 +19,8 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from skfem import BilinearForm, LinearForm, asm
+from skfem import BilinearForm, CellBasis, ElementVector, LinearForm, asm
+from skfem.quadrature import get_quadrature
 
 from .errors import ReductionError
 from .linsolve import factor
@@ -78,14 +79,33 @@ def principal(sigma: np.ndarray) -> np.ndarray:
     return np.linalg.eigvalsh(sigma)[..., ::-1]
 
 
+def projection_basis(basis):
+    """``basis`` itself if its quadrature integrates the order-p scalar mass matrix exactly
+    (order 2p on straight-sided cells), else the same mesh and element at order 2p. A
+    stiffness basis (order 2p-2, as ``FEModel.basis``) gives a singular or inaccurate
+    projection: measured 7-30 % off on P2 tetrahedra. DOF numbering is that of the mesh and
+    element, so ``u`` needs no renumbering."""
+    elem = getattr(basis, "elem", None)
+    if not isinstance(elem, ElementVector) or not hasattr(basis, "mesh"):
+        raise ReductionError("stress recovery needs a scikit-fem CellBasis of an ElementVector "
+                             "(displacement) element", "basis", type(basis).__name__)
+    order = 2 * elem.elem.maxdeg
+    _, weights = get_quadrature(basis.mesh.elem.refdom, order)
+    if basis.W.shape[0] >= len(weights):
+        return basis
+    log.debug("stress recovery: rebuilding the basis at quadrature order %d", order)
+    return CellBasis(basis.mesh, elem, intorder=order)
+
+
 def recover_stress(basis, u: np.ndarray, E: float, nu: float,
                    backend: str | None = None) -> NodalStress:
-    """L2-projected nodal stresses of the displacement ``u`` (DOF vector of ``basis``).
+    """L2-projected nodal stresses (Pa) of the displacement ``u`` (m; DOF vector of ``basis``).
 
-    ``basis`` is a scikit-fem vector basis (``ElementVector`` of a Lagrange element);
-    the projection space is the scalar element of the same order on the same mesh
-    with the same quadrature.
+    ``basis`` is a scikit-fem vector basis (``ElementVector`` of a Lagrange element), e.g. an
+    FE model's stiffness basis: the stresses are evaluated and projected at quadrature order
+    2p (:func:`projection_basis`) onto the scalar element of the same order on the same mesh.
     """
+    basis = projection_basis(basis)
     sig = quadrature_stress(basis, u, E, nu)
     sbasis = basis.with_element(basis.elem.elem)
 

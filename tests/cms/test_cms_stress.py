@@ -123,3 +123,43 @@ def test_invariants_of_known_tensors():
     S[1, 0, 1] = S[1, 1, 0] = 2.0
     assert np.allclose(von_mises(S), [5.0, 2.0 * np.sqrt(3)], rtol=1e-14)
     assert np.allclose(principal(S), [[5, 0, 0], [2, 0, -2]], atol=1e-14)
+
+
+def test_stress_from_any_lagrange_basis_matches_exact_linear_stress():
+    """The stress of a quadratic displacement field is linear in x, so its L2 projection onto
+    P2 is exact: recover_stress must return it to round-off from every P2 vector basis a user
+    may hold, whatever its quadrature order (a stiffness basis integrates at 2p - 2 = 2, too
+    low for the P2 mass matrix of the projection; the recovery rebuilds at order 4)."""
+    from skfem import Basis, MeshTet
+    mesh = MeshTet.init_tensor(*(np.linspace(0.0, 0.1, 3),) * 3)   # 0.1 m cube, m
+    a = 1e-2                                                        # 1/m: curvature of the field
+    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
+    mu = E / (2 * (1 + NU))
+    for intorder in (1, 2, 3, 4, 6):
+        b = Basis(mesh, ElementVector(ElementTetP2()), intorder=intorder)
+        x, y, _ = b.doflocs[:, 0::3]
+        u = np.zeros(b.N)
+        u[0::3] = a * x * y          # eps_xx = a y, eps_xy = a x / 2
+        u[1::3] = a * x * x / 2      # eps_xy += a x / 2 -> eps_xy = a x
+        s = recover_stress(b, u, E, NU)
+        X, Y, _ = s.points.T
+        sxx = (lam + 2 * mu) * a * Y
+        syy = szz = lam * a * Y
+        sxy = 2 * mu * a * X
+        scale = (lam + 2 * mu) * a * 0.1
+        for got, want in ((s.sigma[:, 0, 0], sxx), (s.sigma[:, 1, 1], syy), (s.sigma[:, 2, 2], szz),
+                          (s.sigma[:, 0, 1], sxy)):
+            assert np.abs(got - want).max() < 1e-9 * scale, intorder
+
+
+def test_stress_recovery_refuses_a_scalar_basis():
+    from skfem import Basis, MeshTet
+
+    from cms.errors import ReductionError
+    b = Basis(MeshTet(), ElementTetP2())
+    try:
+        recover_stress(b, np.zeros(b.N), E, NU)
+    except ReductionError as exc:
+        assert exc.quantity == "basis"
+    else:
+        raise AssertionError("a scalar basis was accepted")
