@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .components import CacheDirs, build_fe, mesh_size, placement
-from .errors import SceneError
+from .errors import SceneError, SolverError
 from .kinematics import block_rotation, rigid_transfer
 from .scene import FlexOptions
 
@@ -216,7 +216,7 @@ def _unreduced(body, params, options: FlexOptions, caches: CacheDirs) -> dict:
     fe, c = _coupled_model(params, options, caches)
     o, R = placement(body)
     return {"K": c.K_c, "M": c.M_c, "masters": {nm: (o + R @ p, idx) for nm, p, idx in c.masters},
-            "Rl": _coupled_rigid_basis(c, fe.center_of_mass), "com_local": fe.center_of_mass,
+            "Rl": c.rigid_body_basis(fe.center_of_mass), "com_local": fe.center_of_mass,
             "mass": fe.mass, "inertia": fe.inertia, "coupled": (fe, c),
             "info": {"n_full_dofs": int(fe.n_dofs)}}
 
@@ -228,7 +228,7 @@ def _reduce(params, options: FlexOptions, cutoff: float | None, caches: CacheDir
     red = CraigBamptonReductor(
         c.K_c, c.M_c, c.boundary_dofs, n_modes=options.n_modes, cutoff_hz=cutoff,
         dof_names=[f"{nm}:{d}" for nm, _, _ in c.masters for d in _DOFS6],
-        rigid_body_basis=_coupled_rigid_basis(c, fe.center_of_mass), residual_vectors=options.residual_vectors,
+        rigid_body_basis=c.rigid_body_basis(fe.center_of_mass), residual_vectors=options.residual_vectors,
         metadata={"mass": fe.mass, "center_of_mass": fe.center_of_mass.tolist(),
                   "inertia": fe.inertia.tolist(), "masters": {nm: p.tolist() for nm, p, _ in c.masters},
                   "n_full_dofs": int(fe.n_dofs), "n_coupled_dofs": int(c.K_c.shape[0]), "mesh_file": mesh_file})
@@ -279,7 +279,8 @@ def deflate_rigid(K: np.ndarray, M: np.ndarray, R: np.ndarray, name: str) -> np.
     KR = K @ R
     rel = np.linalg.norm(KR) / (np.linalg.norm(K) * np.linalg.norm(R))
     if rel > RIGID_STRAIN_TOL:
-        raise RuntimeError(f"{name}: superelement strains rigid motions (|K R|/|K||R| = {rel:.2e})")
+        raise SolverError(f"{name} superelement", f"|K R|/(|K||R|) = {rel:.2e}",
+                          f"strains rigid motions (limit {RIGID_STRAIN_TOL:g}): not free-free consistent")
     MR = M @ R
     G = np.linalg.solve(R.T @ MR, MR.T)        # (R'MR)^-1 R'M
     P = np.eye(K.shape[0]) - R @ G
@@ -298,18 +299,3 @@ def code_digest() -> str:
     for mod in (fe_components.fe_model, fe_components.coupling, cms.craig_bampton):
         h.update(Path(mod.__file__).read_bytes())
     return h.hexdigest()[:16]
-
-
-def _coupled_rigid_basis(c, com_local) -> np.ndarray:
-    """Rigid motions about the local COM on coupled coordinates q_c, whatever their layout:
-    the least-squares solution of T R_c = R_full (exact, T has full column rank and
-    reproduces rigid motion), checked by its residual."""
-    from cms.linsolve import factor
-    fe = c.model
-    Rfull = _rigid_rows(np.repeat(fe.nodes, 3, axis=0), np.tile(np.arange(3), fe.n_nodes), com_local)
-    T = c.T.tocsc()
-    Rc = factor((T.T @ T).tocsc()).solve(np.asarray(T.T @ Rfull))
-    err = np.abs(T @ Rc - Rfull).max() / max(np.abs(Rfull).max(), 1e-300)
-    if err > 1e-8:
-        raise RuntimeError(f"rigid basis not reproduced by the coupling (error {err:.2e})")
-    return np.asarray(Rc)

@@ -176,6 +176,11 @@ class CraigBamptonReductor:
         if self.R is not None:
             checks["rigid_basis_residual"] = float(self._check_rigid_basis().max())
             self._check_mechanism()
+        else:
+            checks["rigid_body_checks"] = "skipped: no rigid-body information"
+            log.warning("no rigid-body information (node_coords, dof_layout or rigid_body_basis): the "
+                        "mechanism and mass checks are skipped; for a coupled component pass "
+                        "rigid_body_basis=coupled.rigid_body_basis()")
         Kii = K[i][:, i].tocsc()
         Kib = K[i][:, b]
         Mii = M[i][:, i].tocsr()

@@ -77,6 +77,7 @@ class CoupledModel:
     retained : full-model DOF equal to each of the first len(retained) coordinates (DOFs of
         no interface); the RBE3 null-space coordinates follow them, then the masters.
     model : the FE model coupled by :func:`couple`; ``None`` from :func:`couple_nodes`.
+    nodes : (n_full / 3, 3) node positions of the full model [m].
     """
 
     K_c: sp.csr_matrix
@@ -87,6 +88,7 @@ class CoupledModel:
     kinds: dict[str, str]
     retained: np.ndarray
     model: FEModel | None = None
+    nodes: np.ndarray | None = None
 
     def master_index(self, name: str) -> np.ndarray:
         for n, _, idx in self.masters:
@@ -112,6 +114,30 @@ class CoupledModel:
         points = np.vstack([nodes[self.retained // 3]] + [np.repeat(pos[None], 6, 0) for _, pos, _ in self.masters])
         kinds = np.concatenate([self.retained % 3] + [np.arange(6)] * len(self.masters))
         return points, kinds
+
+
+    def rigid_body_basis(self, reference=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """(n_c, 6) rigid-body motions on q_c, columns [tx, ty, tz, rx, ry, rz] (m, rad) about
+        ``reference`` (m): the basis a Craig-Bampton reductor needs for its mechanism and
+        mass checks (``rigid_body_basis=``), for RBE2 and RBE3 couplings alike.
+
+        Exact by construction: a retained DOF moves with its node, a master with its own
+        point, and the RBE3 null-space coordinates are zero, since a rigid motion of the
+        slaves is the master's rigid motion (A G = I). Checked: ``T R_c`` must reproduce
+        the rigid motion of every full-model node."""
+        if self.nodes is None:
+            raise CouplingError("nodes", None, "this coupled model carries no node positions")
+        ref = np.asarray(reference, dtype=float)
+        full = rigid_kinematics(self.nodes, ref)                 # (n_full, 6), node-major rows
+        R = np.zeros((self.K_c.shape[0], 6))
+        R[:len(self.retained)] = full[self.retained]
+        for _, pos, idx in self.masters:
+            R[idx[:3]] = rigid_kinematics(pos[None], ref)             # the master point moves rigidly
+            R[idx[3:]] = np.hstack([np.zeros((3, 3)), np.eye(3)])     # and turns with the body
+        err = np.abs(self.T @ R - full).max() / max(np.abs(full).max(), 1e-300)
+        if err > 1e-10:
+            raise CouplingError("rigid_body_basis", float(err), "coupling does not reproduce rigid motion")
+        return R
 
 
 def rigid_kinematics(points: np.ndarray, master: np.ndarray) -> np.ndarray:
@@ -184,7 +210,7 @@ def couple_nodes(K: sp.spmatrix, M: sp.spmatrix, nodes: np.ndarray, interfaces: 
     used = {name: kind for name, _, _, kind in ifaces}
     log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{k}" for n, k in used.items()),
              n_full, T.shape[1], len(boundary))
-    return CoupledModel(K_c, M_c, T, boundary, masters, used, retained)
+    return CoupledModel(K_c, M_c, T, boundary, masters, used, retained, nodes=nodes)
 
 
 def _checked_interfaces(n_nodes: int, interfaces: NodeInterfaces) -> list[tuple[str, np.ndarray, np.ndarray, str]]:

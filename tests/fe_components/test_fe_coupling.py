@@ -143,3 +143,34 @@ def test_dof_layout_places_retained_dofs_at_nodes_and_masters_at_masters(cyl):
     assert c.boundary_names[:2] == ["end_a:ux", "end_a:uy"] and c.boundary_names[-1] == "end_b:rz"
     with pytest.raises(CouplingError):  # RBE3 null-space coordinates have no location
         couple(cyl, {"end_a": "rbe3"}).dof_layout(cyl.nodes)
+
+
+@pytest.mark.parametrize("kinds", [{}, {"end_a": "rbe3", "end_b": "rbe3"}, {"end_a": "rbe2", "end_b": "rbe3"}])
+def test_public_rigid_body_basis_is_free_and_carries_the_mesh_mass(cyl, kinds):
+    """The coupled model's rigid basis (public, any mix of RBE2/RBE3): no strain energy
+    (K_c R = 0 to round-off of the K assembly) and R' M_c R equals the rigid-body mass matrix
+    of the full mesh (mass, first moments, inertia: T R_c is the exact rigid field, so
+    R' M_c R = R_full' M R_full exactly)."""
+    c = couple(cyl, kinds)
+    ref = np.array([0.01, -0.02, 0.2])                    # any reference point, m
+    R = c.rigid_body_basis(ref)
+    Kn = abs(c.K_c).sum(axis=0).max()
+    assert np.abs(c.K_c @ R).max() < 1e-9 * Kn * np.abs(R).max()
+    Rfull = rigid_kinematics(cyl.nodes, ref)
+    np.testing.assert_allclose(R.T @ (c.M_c @ R), Rfull.T @ (cyl.M @ Rfull), rtol=1e-10,
+                               atol=1e-12 * cyl.mass)
+    np.testing.assert_allclose((R.T @ (c.M_c @ R))[0, 0], cyl.mass, rtol=1e-10)
+
+
+def test_reductor_runs_its_rigid_checks_with_the_public_basis_and_warns_without(cyl, caplog):
+    """With the coupled model's rigid basis the reductor checks rigid mass; without any
+    rigid-body information it says so in a warning and in its self-checks."""
+    from cms.craig_bampton import CraigBamptonReductor
+    c = couple(cyl, {"end_a": "rbe3", "end_b": "rbe2"})
+    se = CraigBamptonReductor(c.K_c, c.M_c, c.boundary_dofs, n_modes=4,
+                              rigid_body_basis=c.rigid_body_basis(cyl.center_of_mass)).reduce()
+    assert "rigid_basis_residual" in se.metadata["self_checks"]
+    with caplog.at_level("WARNING"):
+        se = CraigBamptonReductor(c.K_c, c.M_c, c.boundary_dofs, n_modes=4).reduce()
+    assert se.metadata["self_checks"]["rigid_body_checks"].startswith("skipped")
+    assert any("rigid-body information" in r.getMessage() for r in caplog.records)
