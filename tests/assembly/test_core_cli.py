@@ -117,3 +117,22 @@ def test_bad_input_console_script_exit_code(tmp_path):
     assert p.returncode == 2
     assert p.stdout == "" and p.stderr.count("\n") == 1
     assert "stages[0].planets.count = 0" in p.stderr
+
+
+def test_every_domain_error_of_the_package_is_a_one_line_user_error():
+    """Every exception class the packages define for bad input (scene, geometry, meshing,
+    coupling, reduction, cache, solver, output) is caught by the CLI's one handler."""
+    import importlib
+    import inspect
+
+    from assembly.app.cli import user_errors
+    handled = user_errors()
+    modules = ["assembly.errors", "cms.errors", "fe_components.errors", "assembly.app.output", "assembly.app.cli"]
+    found = []
+    for name in modules:
+        mod = importlib.import_module(name)
+        for _, cls in inspect.getmembers(mod, inspect.isclass):
+            if issubclass(cls, Exception) and cls.__module__ == name:
+                found.append(cls)
+                assert issubclass(cls, handled), f"{name}.{cls.__name__} would end in a traceback"
+    assert len(found) >= 10   # the classes listed in the three errors modules, output and cli
