@@ -2,7 +2,8 @@
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
-value, exit code 2.
+value, exit code 2. SIGTERM unwinds like Ctrl-C (a half-written ``--out`` is removed) and
+ends with exit code 143 (128 + 15).
 """
 from __future__ import annotations
 
@@ -10,7 +11,10 @@ import argparse
 import importlib
 import json
 import logging
+import signal
 import sys
+import threading
+from contextlib import contextmanager
 from pathlib import Path
 
 log = logging.getLogger("flexgear")
@@ -19,8 +23,33 @@ SCENE_HELP = "scene TOML file (or the name of a shipped example)"
 BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex"}
 
 
+OUT_HELP = ("output folder, replaced as a whole when the run succeeds (never half-written); files you "
+            "added to an earlier result are carried over")
+
+
 class UsageError(ValueError):
     """A command-line value the program cannot use (e.g. ``--modes -5``)."""
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived; a BaseException like KeyboardInterrupt, so cleanup code runs."""
+
+
+@contextmanager
+def _sigterm_raises():
+    """While inside: SIGTERM raises :class:`Terminated` (main thread only); restored after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated()
+
+    before = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, before if before is not None else signal.SIG_DFL)
 
 
 def user_errors() -> tuple:
@@ -144,7 +173,7 @@ def cmd_bench(args) -> int:
 def _add_run(sub) -> None:
     p = sub.add_parser("run", help="whole pipeline: tables, mode-shape images, plots, index.html")
     p.add_argument("scene", help=SCENE_HELP)
-    p.add_argument("--out", required=True, help="output folder (replaced atomically when the run succeeds)")
+    p.add_argument("--out", required=True, help=OUT_HELP)
     p.add_argument("--modes", type=int, default=12, metavar="N", help="elastic modes to draw (default 12)")
     p.add_argument("--no-compare", action="store_true", help="skip the torsional vs rigid comparison")
     p.add_argument("--no-images", action="store_true", help="skip the mode-shape images")
@@ -160,7 +189,7 @@ def _add_sweep(sub) -> None:
                    help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
     p.add_argument("--values", nargs="*", default=[], metavar="V",
                    help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
-    p.add_argument("--out", required=True, help="output folder (sweep.csv, sweep.png)")
+    p.add_argument("--out", required=True, help=OUT_HELP + " (sweep.csv, sweep.png)")
     p.add_argument("--max-modes", type=int, default=None, metavar="N", help="plot at most N elastic modes")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
     p.set_defaults(func=cmd_sweep, check=lambda a: a.max_modes is None or _at_least(a.max_modes, "--max-modes", 1))
@@ -195,14 +224,18 @@ def main(argv=None) -> int:
     level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     try:
-        if getattr(args, "check", None) is not None:
-            args.check(args)
-        return args.func(args)
+        with _sigterm_raises():
+            if getattr(args, "check", None) is not None:
+                args.check(args)
+            return args.func(args)
     except user_errors() as exc:
         print(f"flexgear: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130
+    except Terminated:
+        print("flexgear: terminated (SIGTERM)", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         sys.stderr.close()
         return 0

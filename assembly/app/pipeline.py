@@ -6,8 +6,10 @@ variant of the same scene, paired by MAC), tables, mode-shape images, plots, ``i
 Each step gets a tqdm bar on stderr (off when stderr is not a TTY or with ``--quiet``).
 
 Everything is written into a staged folder (:mod:`assembly.app.output`): DIR is either the
-complete new result, or untouched; an existing DIR is replaced only when it is empty or an
-earlier flexgear run.
+complete new result, or untouched (also after a kill or a full disk); an existing DIR is
+replaced only when it is empty or an earlier flexgear run, and files a user added to it are
+carried over. A step that writes files (``Step.writes``) turns an OSError about its files
+into one ``--out DIR: writing ...: <reason>`` line.
 
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
@@ -21,6 +23,7 @@ import logging
 import os
 import sys
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Optional
@@ -36,7 +39,7 @@ from ..model import assemble
 from ..schema import load_scene
 from ..static import solve_static
 from .html_report import render_index
-from .output import MANIFEST, staged_output, write_manifest
+from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
 from .tables import dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv, write_modes_csv
 
@@ -88,12 +91,14 @@ class RunContext:
 
 @dataclass(frozen=True)
 class Step:
-    """A pipeline step: ``run(ctx, bar)``; ``total(ctx)`` sizes its progress bar."""
+    """A pipeline step: ``run(ctx, bar)``; ``total(ctx)`` sizes its progress bar;
+    ``writes``: it writes result files (OSErrors about them become one-line errors)."""
 
     name: str
     run: Callable
     total: Callable = lambda ctx: 1
     unit: str = "step"
+    writes: bool = False
 
 
 # --------------------------------------------------------------------------------------
@@ -351,11 +356,11 @@ DEFAULT_STEPS = [
     Step("assemble", step_assemble),
     Step("eigen solve", step_solve),
     Step("fidelity comparison", step_compare, total=lambda ctx: 3 if ctx.options.compare else 1, unit="model"),
-    Step("tables", step_tables),
-    Step("mode-shape images", step_render, total=_render_total, unit="image"),
-    Step("plots", step_plots),
-    Step("stress recovery and VTU", step_recovery, total=_recovery_total, unit="case"),
-    Step("index.html", step_html),
+    Step("tables", step_tables, writes=True),
+    Step("mode-shape images", step_render, total=_render_total, unit="image", writes=True),
+    Step("plots", step_plots, writes=True),
+    Step("stress recovery and VTU", step_recovery, total=_recovery_total, unit="case", writes=True),
+    Step("index.html", step_html, writes=True),
 ]
 
 
@@ -372,7 +377,8 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
         ctx = RunContext(str(scene), out_dir, work, options)
         for st in steps or DEFAULT_STEPS:
             t0 = time.perf_counter()
-            with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar:
+            with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar, \
+                    (writing(out_dir, work, st.name) if st.writes else nullcontext()):
                 st.run(ctx, bar)
             ctx.timings[st.name] = time.perf_counter() - t0
         ctx.timings["total"] = time.perf_counter() - t_all
@@ -384,7 +390,8 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
             files=[p for p, _ in ctx.files] + ["index.html"],
             timings_s={k: round(v, 4) for k, v in ctx.timings.items()},
             notes=ctx.notes, python=sys.version.split()[0])
-        write_manifest(work, manifest)
+        with writing(out_dir, work, MANIFEST):
+            write_manifest(work, manifest)
     ctx.work = out_dir
     log.info("wrote %s in %.2f s", out_dir, ctx.timings["total"])
     return ctx

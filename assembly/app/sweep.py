@@ -12,8 +12,8 @@ Figs. 7 and 11a):
   while the gear modes level off).
 
 Writes ``sweep.csv`` (one row per value: the value, the number of rigid-body modes and
-every frequency in Hz), ``sweep.png`` and ``flexgear_run.json`` into DIR, atomically like
-``flexgear run``.
+every frequency in Hz), ``sweep.png`` and ``flexgear_run.json`` into DIR, atomically and with
+the same folder rules as ``flexgear run`` (:mod:`assembly.app.output`).
 """
 from __future__ import annotations
 
@@ -145,7 +145,7 @@ def write_plot(sr: SweepResult, path, max_modes: int | None = None) -> Path:
 def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_modes: int | None = None) -> dict:
     """Load the scene, sweep, and write CSV + PNG + manifest into ``out_dir`` atomically."""
     from ..schema import load_scene
-    from .output import check_output_dir, staged_output, write_manifest
+    from .output import check_output_dir, staged_output, write_manifest, writing
 
     out_dir = Path(out_dir).absolute()
     t0 = time.perf_counter()
@@ -153,11 +153,12 @@ def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_m
     scene = load_scene(scene_source)
     with staged_output(out_dir) as work:
         sr = run_sweep(scene, param, values, progress)
-        write_csv(sr, work / "sweep.csv")
-        write_plot(sr, work / "sweep.png", max_modes=max_modes)
-        info = dict(tool="flexgear sweep", scene=scene.name, scene_source=str(scene_source), param=param,
-                    values=[float(v) for v in sr.values], files=["sweep.csv", "sweep.png"],
-                    n_modes=int(sr.frequencies_hz.shape[1]), time_s=round(time.perf_counter() - t0, 4),
-                    python=sys.version.split()[0])
-        write_manifest(work, info)
+        with writing(out_dir, work, "sweep results"):
+            write_csv(sr, work / "sweep.csv")
+            write_plot(sr, work / "sweep.png", max_modes=max_modes)
+            info = dict(tool="flexgear sweep", scene=scene.name, scene_source=str(scene_source), param=param,
+                        values=[float(v) for v in sr.values], files=["sweep.csv", "sweep.png"],
+                        n_modes=int(sr.frequencies_hz.shape[1]), time_s=round(time.perf_counter() - t0, 4),
+                        python=sys.version.split()[0])
+            write_manifest(work, info)
     return info

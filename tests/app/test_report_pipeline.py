@@ -135,9 +135,11 @@ def test_cli_run_quiet_and_rerun_replaces(tmp_path, capsys):
     assert args.func(args) == 0
     assert capsys.readouterr().err == ""  # no progress bars when quiet
     assert (out / "index.html").is_file() and not (out / "images").exists()
-    (out / "stale.txt").write_text("from an earlier run")
-    assert args.func(args) == 0           # an earlier run is replaced as a whole
-    assert not (out / "stale.txt").exists()
+    (out / "modes_table.txt").write_text("edited")   # listed in the manifest: flexgear's, replaced
+    (out / "notes.txt").write_text("the user's")    # not listed: carried over (assembly.app.output)
+    assert args.func(args) == 0
+    assert (out / "modes_table.txt").read_text() != "edited"
+    assert (out / "notes.txt").read_text() == "the user's"
     assert not _leftovers(tmp_path, "r")
 
 
