@@ -8,7 +8,7 @@ import pytest
 from cms.cache import SuperelementCache, array_hash, cache_key
 from cms.craig_bampton import CraigBamptonReductor
 from cms.errors import CacheError
-from cms.superelement import Superelement
+from cms.superelement import Superelement, read_sealed_npz, write_sealed_npz
 
 from tests.support.fe_models import box
 
@@ -58,15 +58,17 @@ def test_unknown_version_and_garbage_raise_cache_error(tmp_path):
     _, _, se = _reduce()
     p = tmp_path / "se.npz"
     se.save(p)
-    with np.load(p) as z:
-        arrays = {k: z[k] for k in z.files}
+    arrays = read_sealed_npz(p)
     meta = json.loads(str(arrays["metadata_json"]))
     meta["version"] = 999
     arrays["metadata_json"] = np.array(json.dumps(meta))
-    np.savez(p, **arrays)
+    write_sealed_npz(p, arrays)                    # a well-sealed file of an unknown version
     with pytest.raises(CacheError) as ei:
         Superelement.load(p)
     assert ei.value.value[1] == 999
+    np.savez(p, **arrays)                          # unsealed, as version 1 wrote them
+    with pytest.raises(CacheError, match="no content hash"):
+        Superelement.load(p)
     (tmp_path / "bad.npz").write_bytes(b"not a zip")
     with pytest.raises(CacheError):
         Superelement.load(tmp_path / "bad.npz")
