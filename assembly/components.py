@@ -82,31 +82,23 @@ def mesh_size(params, options: FlexOptions) -> float:
     return options.mesh_size if options.mesh_size is not None else default_mesh_size(params)
 
 
-def mesh_dir(params, size: float, order: int, caches: CacheDirs) -> Path:
-    """Committed reference mesh folder if it holds this exact mesh and the file verifies,
-    else the mesh cache (a corrupt reference mesh is left alone, with a warning)."""
-    from fe_components.errors import MeshCacheError
-    from fe_components.meshing import MeshOptions, mesh_content_hash, mesh_path
-    from fe_components.reference import REF_DIR
-    ref = mesh_path(params, MeshOptions(size=size, order=order), REF_DIR)
-    if not ref.exists():
-        return caches.meshes
-    try:
-        mesh_content_hash(ref)
-    except MeshCacheError as exc:
-        log.warning("committed reference mesh %s is unusable (%s): using a mesh generated in %s instead; "
-                    "restore it with `git checkout -- meshes/ref`", ref, exc.reason, caches.meshes)
-        return caches.meshes
-    return REF_DIR
-
-
 def mesh_entry(params, options: FlexOptions, caches: CacheDirs):
     """The component's verified mesh file and content hash (fe_components.meshing.MeshEntry),
-    meshed (again) if missing or unusable; the FE model is not assembled."""
-    from fe_components.meshing import MeshOptions, cached_mesh
-    size = mesh_size(params, options)
-    return cached_mesh(params, MeshOptions(size=size, order=options.order),
-                       mesh_dir(params, size, options.order, caches))
+    without assembling the FE model: the committed reference mesh if there is one for these
+    parameters and it verifies, else the mesh cache (meshed again if missing or unusable). A
+    corrupt reference mesh is left alone, with a warning."""
+    from fe_components.errors import MeshCacheError
+    from fe_components.meshing import MeshOptions, cached_mesh, mesh_path
+    from fe_components.reference import REF_DIR
+    mopts = MeshOptions(size=mesh_size(params, options), order=options.order)
+    if mesh_path(params, mopts, REF_DIR).exists():
+        try:
+            return cached_mesh(params, mopts, REF_DIR, heal=False)
+        except MeshCacheError as exc:
+            log.warning("committed reference mesh %s is unusable (%s): using a mesh generated in %s "
+                        "instead; restore it with `git checkout -- meshes/ref`", exc.path,
+                        exc.reason, caches.meshes)
+    return cached_mesh(params, mopts, caches.meshes)
 
 
 #: Bulk-to-shear modulus ratio K/G = 2(1 + nu) / (3(1 - 2 nu)) above which linear (P1)

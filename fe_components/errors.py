@@ -65,12 +65,15 @@ class MeshCacheError(RuntimeError):
         The mesh file.
     reason : str
         What failed (e.g. ``"content hash mismatch"``).
+    hint : str
+        What to do about it ("" if nothing to add).
     """
 
-    def __init__(self, path, reason: str):
+    def __init__(self, path, reason: str, hint: str = ""):
         self.path = str(path)
         self.reason = reason
-        super().__init__(f"mesh file {self.path}: {reason}")
+        self.hint = hint
+        super().__init__(f"mesh file {self.path}: {reason}" + (f"; {hint}" if hint else ""))
 
 
 class CouplingError(ValueError):

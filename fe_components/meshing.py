@@ -32,6 +32,7 @@ gmsh is imported lazily inside :func:`generate_mesh` only.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import logging
 import os
@@ -109,7 +110,9 @@ class MeshOptions:
 _OPTIONAL_FIELDS = ("tooth_size",)
 
 
+@functools.lru_cache(maxsize=None)
 def _gmsh_version() -> str:
+    """Installed gmsh version (read once: importlib.metadata costs ~1 ms a call)."""
     try:
         return metadata.version("gmsh")
     except metadata.PackageNotFoundError:  # pragma: no cover
@@ -175,8 +178,8 @@ def _load_entry(path: Path, reader, heal: bool | None):
     except Exception as exc:  # any failure to use an entry is a miss, whatever raised it
         reason = exc.reason if isinstance(exc, MeshCacheError) else f"{type(exc).__name__}: {exc}"
         if not (heal if heal is not None else path.parent.resolve() != REFERENCE_DIR.resolve()):
-            raise MeshCacheError(path, f"{reason}; restore the committed file (git checkout -- meshes/ref) "
-                                       "or regenerate it (python -m fe_components.reference)") from exc
+            raise MeshCacheError(path, reason, "restore the committed file (git checkout -- meshes/ref) or "
+                                               "regenerate it (python -m fe_components.reference)") from exc
         _move_aside(path, reason)
         return None
     log.info("mesh cache hit: %s", path)

@@ -70,20 +70,29 @@ def test_committed_reference_mesh_is_never_rewritten(tmp_path, monkeypatch):
 
 
 def test_corrupt_reference_mesh_falls_back_to_the_cache_in_a_scene(tmp_path, monkeypatch, caplog):
-    # flexgear's mesh_dir: a corrupt committed mesh is left alone and the cache folder is used
+    # flexgear's mesh_entry: a corrupt committed mesh is left alone (warning naming it) and the
+    # mesh is generated in the cache folder (here by a stand-in for gmsh writing the clean bytes)
     import fe_components.reference as reference
-    from assembly.components import CacheDirs, mesh_dir
+    from assembly.components import CacheDirs, mesh_entry
+    from assembly.scene import FlexOptions
     ref = tmp_path / "ref"
     ref.mkdir()
     params, options = CASES["annulus"]
-    (ref / ANNULUS.name).write_bytes(CLEAN[:-1])
+    bad = CLEAN[:-1]
+    (ref / ANNULUS.name).write_bytes(bad)
     monkeypatch.setattr(reference, "REF_DIR", ref)
+    monkeypatch.setattr(meshing, "REFERENCE_DIR", ref)
+    monkeypatch.setattr(meshing, "generate_mesh",
+                        lambda p, o, path: Path(path).write_bytes(CLEAN[:CLEAN.rindex(b"$Flexgear")]))
     caches = CacheDirs(tmp_path / "cache", tmp_path / "cache" / "cms")
+    flex = FlexOptions(mesh_size=options.size, order=options.order)
     with caplog.at_level(logging.WARNING):
-        assert mesh_dir(params, options.size, options.order, caches) == caches.meshes
+        entry = mesh_entry(params, flex, caches)
+    assert entry.path == caches.meshes / ANNULUS.name and entry.sha256 == mesh_content_hash(ANNULUS)
     assert any(str(ref / ANNULUS.name) in r.getMessage() for r in caplog.records)
+    assert sorted(ref.iterdir()) == [ref / ANNULUS.name] and (ref / ANNULUS.name).read_bytes() == bad
     (ref / ANNULUS.name).write_bytes(CLEAN)
-    assert mesh_dir(params, options.size, options.order, caches) == ref
+    assert mesh_entry(params, flex, caches).path == ref / ANNULUS.name
 
 
 def _no_gmsh(*a, **k):
