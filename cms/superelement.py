@@ -175,10 +175,12 @@ def read_sealed_npz(path: str | os.PathLike) -> dict:
     with open(path, "rb") as fh:
         data = fh.read()
     if len(data) <= len(_SEAL) + _HEX or data[-_HEX - len(_SEAL):-_HEX] != _SEAL:
-        raise CacheError("no content hash (truncated, or written by an older version)", "path",
-                         os.fspath(path))
-    if hashlib.sha256(memoryview(data)[:-_HEX]).hexdigest().encode() != data[-_HEX:]:
-        raise CacheError("content hash mismatch", "path", os.fspath(path))
+        raise CacheError("no content hash (truncated, or written by an older version)", "size_bytes",
+                         len(data))
+    actual = hashlib.sha256(memoryview(data)[:-_HEX]).hexdigest()
+    if actual.encode() != data[-_HEX:]:
+        stored = data[-_HEX:].decode("ascii", "replace")
+        raise CacheError("content hash mismatch", "sha256", f"stored {stored[:16]}, file {actual[:16]}")
     with np.load(io.BytesIO(data), allow_pickle=False) as z:
         return {k: z[k] for k in z.files}
 

@@ -25,16 +25,15 @@ def corrupt(data: bytes, how: tuple) -> bytes:
     return bytes((7 * k + b) % 256 for k in range(a % 4096))
 
 
-def sweep(n: int) -> dict:
-    """Named damages of an ``n``-byte file: empty, truncations from the first byte to the
-    last, one flipped low bit at nine positions from first to last byte, random garbage of
-    the same length. The hash-specific cases (missing, wrong) depend on the format."""
+def sweep() -> dict:
+    """Named damages: empty, truncations from the first to the last byte, one flipped low bit
+    at nine positions k/8 of the file from its first to its last byte, random garbage of the
+    same length. The hash-specific cases (missing, wrong) depend on the format."""
     cases = {"zero-length": lambda d: b""}
     for frac in (0.01, 0.5, 0.99):
         cases[f"truncated-at-{frac:.0%}"] = lambda d, f=frac: d[:int(f * len(d))]
     cases["truncated-last-byte"] = lambda d: d[:-1]
     for k in range(9):
-        pos = round(k * (n - 1) / 8)
-        cases[f"bit-flip-at-byte-{pos}"] = lambda d, i=pos: corrupt(d, ("flip", i, 1))
+        cases[f"bit-flip-at-{k}/8"] = lambda d, k=k: corrupt(d, ("flip", round(k * (len(d) - 1) / 8), 1))
     cases["random-garbage"] = lambda d: np.random.default_rng(0).bytes(len(d))
     return cases
