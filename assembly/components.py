@@ -2,15 +2,23 @@
 interface master points, and the FE model (meshed with gmsh, assembled with scikit-fem).
 
 Master points come from the component geometry alone (no meshing), so a scene is
-validated before anything is meshed. FE models are memoised per process, so the
-torsional, rigid and flexible variants of one scene assemble each mesh once; meshes are
-cached on disk in :class:`CacheDirs` (or read from the committed reference meshes).
+validated before anything is meshed. FE models are memoised per process, keyed by the
+content hash of the mesh they were assembled from, so the torsional, rigid and flexible
+variants of one scene assemble each mesh once; meshes are cached on disk in
+:class:`CacheDirs` (or read from the committed reference meshes).
+
+Caches: the default root is ``meshes/cache`` in the repository, or the folder named by the
+environment variable ``FLEXGEAR_CACHE_DIR`` (meshes in it, reductions in its ``cms``
+subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
+with a warning (fe_components.meshing, cms.cache). A committed reference mesh that fails its
+check is never touched: the scene uses a mesh generated in the cache instead, with a warning.
 Component placement: a local point ``x`` sits at ``position + R x`` with
 ``R = axis_frame(axis)`` (local z = the body's axis). SI units.
 """
 from __future__ import annotations
 
 import logging
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -24,16 +32,26 @@ log = logging.getLogger(__name__)
 
 #: Default folder of generated meshes and reductions (not in git).
 DEFAULT_CACHE = Path(__file__).resolve().parent.parent / "meshes" / "cache"
+#: Environment variable naming another default cache folder.
+CACHE_ENV = "FLEXGEAR_CACHE_DIR"
+
+
+def default_cache_root() -> Path:
+    """``$FLEXGEAR_CACHE_DIR`` if set (and not empty), else :data:`DEFAULT_CACHE`."""
+    env = os.environ.get(CACHE_ENV, "").strip()
+    return Path(env).expanduser() if env else DEFAULT_CACHE
 
 
 @dataclass(frozen=True)
 class CacheDirs:
     """Folders of the on-disk caches: ``meshes`` (gmsh .msh files, keyed by geometry and
-    mesh options) and ``superelements`` (Craig-Bampton reductions, keyed by what they were
-    built from). Pass one to :func:`assembly.model.assemble` to keep a study's caches apart."""
+    mesh options) and ``superelements`` (Craig-Bampton reductions, keyed by the content hash
+    of their mesh and what else they were built from). Defaults: :func:`default_cache_root`
+    and its ``cms`` subfolder. Pass one to :func:`assembly.model.assemble` to keep a study's
+    caches apart."""
 
-    meshes: Path = DEFAULT_CACHE
-    superelements: Path = field(default=DEFAULT_CACHE / "cms")
+    meshes: Path = field(default_factory=default_cache_root)
+    superelements: Path = field(default_factory=lambda: default_cache_root() / "cms")
 
 
 def component_params(body, path: str):
@@ -64,11 +82,23 @@ def mesh_size(params, options: FlexOptions) -> float:
     return options.mesh_size if options.mesh_size is not None else default_mesh_size(params)
 
 
-def mesh_dir(params, size: float, order: int, caches: CacheDirs) -> Path:
-    """Committed reference mesh folder if it holds this exact mesh, else the mesh cache."""
-    from fe_components.meshing import MeshOptions, mesh_path
+def mesh_entry(params, options: FlexOptions, caches: CacheDirs):
+    """The component's verified mesh file and content hash (fe_components.meshing.MeshEntry),
+    without assembling the FE model: the committed reference mesh if there is one for these
+    parameters and it verifies, else the mesh cache (meshed again if missing or unusable). A
+    corrupt reference mesh is left alone, with a warning."""
+    from fe_components.errors import MeshCacheError
+    from fe_components.meshing import MeshOptions, cached_mesh, mesh_path
     from fe_components.reference import REF_DIR
-    return REF_DIR if mesh_path(params, MeshOptions(size=size, order=order), REF_DIR).exists() else caches.meshes
+    mopts = MeshOptions(size=mesh_size(params, options), order=options.order)
+    if mesh_path(params, mopts, REF_DIR).exists():
+        try:
+            return cached_mesh(params, mopts, REF_DIR, heal=False)
+        except MeshCacheError as exc:
+            log.warning("committed reference mesh %s is unusable (%s): using a mesh generated in %s "
+                        "instead; restore it with `git checkout -- meshes/ref`", exc.path,
+                        exc.reason, caches.meshes)
+    return cached_mesh(params, mopts, caches.meshes)
 
 
 #: Bulk-to-shear modulus ratio K/G = 2(1 + nu) / (3(1 - 2 nu)) above which linear (P1)
@@ -95,22 +125,29 @@ def forget_fe_models() -> None:
     _FE_MEMO.clear()
 
 
-def build_fe(params, options: FlexOptions, caches: CacheDirs):
-    """Mesh (cached on disk) and assemble the component's FE model (memoised per process)."""
+def build_fe(params, options: FlexOptions, caches: CacheDirs, mesh_sha256: str | None = None):
+    """Mesh (cached on disk, verified) and assemble the component's FE model, memoised per
+    process by the mesh's content hash. ``mesh_sha256``: prefer the memoised model of that
+    exact mesh (e.g. the one a reduction was built from) over re-reading the disk; the
+    caller checks ``fe.mesh_sha256``."""
     from fe_components.fe_model import build_component
     from fe_components.params import params_digest
     from fe_components.quality import check_quality
     m = options.material
     size = mesh_size(params, options)
     check_locking(options.order, m.nu)
-    folder = mesh_dir(params, size, options.order, caches)
-    key = params_digest(params, size, options.order, m.E, m.nu, m.rho) + str(folder)
+    base = params_digest(params, size, options.order, m.E, m.nu, m.rho)
+    if mesh_sha256 is not None and (base, mesh_sha256) in _FE_MEMO:
+        return _FE_MEMO[(base, mesh_sha256)]
+    entry = mesh_entry(params, options, caches)
+    key = (base, entry.sha256)
     if key not in _FE_MEMO:
-        if len(_FE_MEMO) >= _FE_MEMO_SIZE:
-            _FE_MEMO.pop(next(iter(_FE_MEMO)))
-        fe = build_component(params, m, mesh_size=size, order=options.order, cache_dir=folder)
+        fe = build_component(params, m, mesh_size=size, order=options.order, cache_dir=entry.path.parent)
         rep = check_quality(fe.mesh.p.T, fe.mesh.t.T)
         log.info("mesh quality: worst element %d, q = %.3g", rep.worst, rep.worst_quality)
+        key = (base, fe.mesh_sha256)   # the file read, should it have changed since mesh_entry
+        if len(_FE_MEMO) >= _FE_MEMO_SIZE:
+            _FE_MEMO.pop(next(iter(_FE_MEMO)))
         _FE_MEMO[key] = fe
     return _FE_MEMO[key]
 

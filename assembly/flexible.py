@@ -7,7 +7,11 @@ coincides with a master, e.g. a planet on its carrier pin) through a rigid arm. 
 mass-weighted rigid projection gives the body's rigid-equivalent motion at its centre of
 mass, so torsional, rigid and flexible models of one scene share absolute coordinates for
 MAC pairing and energy bookkeeping. Reductions are cached on disk (cms.cache), keyed by
-the mesh, material, couplings, mode selection and the code that built them.
+the mesh's content hash, material, couplings, mode selection and the code that built them.
+A reduction records the content hash of the mesh it was built from: a cached one whose
+record does not match is rebuilt, and back-expansion (stresses, displacement fields) only
+ever uses an FE model of that same mesh, never a mesh regenerated since (a mismatch raises
+:class:`cms.errors.CacheError` rather than mix modes of one mesh with nodes of another).
 """
 from __future__ import annotations
 
@@ -22,7 +26,7 @@ from typing import Optional
 import numpy as np
 import scipy.sparse as sp
 
-from .components import CacheDirs, build_fe, mesh_size, placement
+from .components import CacheDirs, build_fe, mesh_entry, mesh_size, placement
 from .errors import SceneError, SolverError
 from .kinematics import block_rotation, rigid_transfer
 from .scene import FlexOptions
@@ -72,9 +76,18 @@ class FlexibleBodyModel:
 
     # ---- back-expansion to the FE mesh (lazy: needs only the cached mesh) ----------
     def coupled(self):
-        """(FEModel, CoupledModel) of the component, rebuilt from the mesh cache on demand."""
+        """(FEModel, CoupledModel) of the component, rebuilt from the mesh cache on demand:
+        of the very mesh the superelement was built from (checked by content hash)."""
         if self._coupled is None:
-            self._coupled = _coupled_model(self.params, self.options, self.caches)
+            built = self.superelement.metadata.get("mesh_sha256") if self.reduced else None
+            fe, cm = _coupled_model(self.params, self.options, self.caches, mesh_sha256=built)
+            if self.reduced and fe.mesh_sha256 != built:
+                from cms.errors import CacheError
+                raise CacheError(f"{self.name}: the mesh {fe.mesh_file} is not the one this body's reduction was "
+                                 f"built from (content {str(built)[:16]}); it changed during this run, so its "
+                                 "stresses would not match the modes: run again to reduce the current mesh",
+                                 "mesh_sha256", fe.mesh_sha256[:16])
+            self._coupled = (fe, cm)
         return self._coupled
 
     def expand(self, zb: np.ndarray) -> np.ndarray:
@@ -204,10 +217,11 @@ def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bo
     return fbm
 
 
-def _coupled_model(params, options: FlexOptions, caches: CacheDirs):
-    """(FEModel, CoupledModel): the component's FE model with its interfaces coupled."""
+def _coupled_model(params, options: FlexOptions, caches: CacheDirs, mesh_sha256: str | None = None):
+    """(FEModel, CoupledModel): the component's FE model with its interfaces coupled
+    (``mesh_sha256``: see :func:`build_fe`)."""
     from fe_components.coupling import couple
-    fe = build_fe(params, options, caches)
+    fe = build_fe(params, options, caches, mesh_sha256)
     return fe, couple(fe, dict(options.couplings or {}))
 
 
@@ -221,31 +235,50 @@ def _unreduced(body, params, options: FlexOptions, caches: CacheDirs) -> dict:
             "info": {"n_full_dofs": int(fe.n_dofs)}}
 
 
-def _reduce(params, options: FlexOptions, cutoff: float | None, caches: CacheDirs, mesh_file: str):
-    """Craig-Bampton reduction of the coupled component (called on a cache miss)."""
+def _reduce(params, options: FlexOptions, cutoff: float | None, caches: CacheDirs, mesh):
+    """Craig-Bampton reduction of the coupled component (called on a cache miss); ``mesh``:
+    the verified mesh entry (its content hash is recorded as the one the reduction used)."""
     from cms.craig_bampton import CraigBamptonReductor
-    fe, c = _coupled_model(params, options, caches)
+    fe, c = _coupled_model(params, options, caches, mesh.sha256)
     red = CraigBamptonReductor(
         c.K_c, c.M_c, c.boundary_dofs, n_modes=options.n_modes, cutoff_hz=cutoff,
         dof_names=[f"{nm}:{d}" for nm, _, _ in c.masters for d in _DOFS6],
         rigid_body_basis=c.rigid_body_basis(fe.center_of_mass), residual_vectors=options.residual_vectors,
         metadata={"mass": fe.mass, "center_of_mass": fe.center_of_mass.tolist(),
                   "inertia": fe.inertia.tolist(), "masters": {nm: p.tolist() for nm, p, _ in c.masters},
-                  "n_full_dofs": int(fe.n_dofs), "n_coupled_dofs": int(c.K_c.shape[0]), "mesh_file": mesh_file})
+                  "n_full_dofs": int(fe.n_dofs), "n_coupled_dofs": int(c.K_c.shape[0]), "mesh_file": mesh.path.name,
+                  "mesh_sha256": fe.mesh_sha256})
     return red.reduce()
+
+
+#: Superelement metadata a flexible body reads (written by :func:`_reduce`).
+_SE_METADATA = ("mesh_sha256", "masters", "center_of_mass", "mass", "inertia")
+
+
+def _check_reduction(se, mesh_sha256: str) -> None:
+    """Reject a superelement not built from the mesh with content hash ``mesh_sha256``
+    (or lacking what a flexible body reads): the cache then reduces again."""
+    from cms.errors import CacheError
+    md = se.metadata
+    missing = [k for k in _SE_METADATA if k not in md]
+    if missing:
+        raise CacheError("superelement metadata incomplete", "missing", missing)
+    if md["mesh_sha256"] != mesh_sha256:
+        raise CacheError(f"superelement built from another mesh than {mesh_sha256[:16]} (the mesh changed "
+                         "while it was reduced?)", "mesh_sha256", str(md["mesh_sha256"])[:16])
 
 
 def _reduced(body, params, options: FlexOptions, cutoff: float | None, caches: CacheDirs) -> dict:
     """Superelement of the component (from the cache, or reduced and stored)."""
     from cms.cache import SuperelementCache
-    from fe_components.meshing import MeshOptions, mesh_path
-    mfile = mesh_path(params, MeshOptions(size=options.mesh_size, order=options.order)).name
+    mesh = mesh_entry(params, options, caches)
     m = options.material
-    key_inputs = {"mesh": mfile, "material": [m.E, m.nu, m.rho], "couplings": dict(options.couplings or {}),
-                  "n_modes": options.n_modes, "cutoff_hz": cutoff, "residual_vectors": options.residual_vectors,
-                  "code": code_digest()}
+    key_inputs = {"mesh_sha256": mesh.sha256, "material": [m.E, m.nu, m.rho],
+                  "couplings": dict(options.couplings or {}), "n_modes": options.n_modes, "cutoff_hz": cutoff,
+                  "residual_vectors": options.residual_vectors, "code": code_digest()}
     cache = SuperelementCache(caches.superelements)
-    se = cache.get_or_reduce(key_inputs, lambda: _reduce(params, options, cutoff, caches, mfile))
+    se = cache.get_or_reduce(key_inputs, lambda: _reduce(params, options, cutoff, caches, mesh),
+                             check=lambda s: _check_reduction(s, mesh.sha256))
     md = se.metadata
     o, R = placement(body)
     names = list(md["masters"])

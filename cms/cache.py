@@ -1,9 +1,18 @@
 """On-disk cache of superelements keyed by the inputs that define them.
 
-The key is a SHA-256 over a canonical JSON of the inputs (mesh hash, material,
-interfaces, mode selection, ...) plus the file-format version, so an unchanged
-component is reduced once and later runs load it. Use :func:`array_hash` for the
-mesh (node coordinates, connectivity) or directly for K and M.
+The key is a SHA-256 over a canonical JSON of the inputs (mesh content hash,
+material, interfaces, mode selection, ...) plus the file-format version, so an
+unchanged component is reduced once and later runs load it. Use
+:func:`array_hash` for the mesh (node coordinates, connectivity), the hash of the
+mesh file's content, or directly K and M: never a file name.
+
+Integrity rules: each entry is one sealed file (``cms.superelement``: SHA-256 in the
+zip comment, checked on every load). *Any* failure to use an entry (unreadable,
+truncated, wrong hash, older format, or rejected by the caller's ``check``) is a
+cache miss: the file is renamed to ``<name>.corrupt-<UTC time>-<pid>`` in the same
+folder (delete those at will), a WARNING names it and the reason, and the
+superelement is reduced again. Writes are atomic (unique temporary file, fsync,
+``os.replace``), so concurrent runs storing the same entry each publish a whole file.
 """
 from __future__ import annotations
 
@@ -11,11 +20,11 @@ import hashlib
 import json
 import logging
 import os
+import time
 from typing import Callable
 
 import numpy as np
 
-from .errors import CacheError
 from .superelement import VERSION, Superelement, _json_default
 
 log = logging.getLogger(__name__)
@@ -46,25 +55,43 @@ def cache_key(**inputs) -> str:
 
 
 class SuperelementCache:
-    """Directory of ``<key>.npz`` superelement files."""
+    """Directory of ``<key>.npz`` superelement files (see the module's integrity rules)."""
 
     def __init__(self, directory: str | os.PathLike):
         self.directory = os.fspath(directory)
         self.hits = 0
         self.misses = 0
+        self.discarded = 0
 
     def path(self, key: str) -> str:
         return os.path.join(self.directory, f"{key}.npz")
 
-    def get(self, key: str) -> Superelement | None:
+    def get(self, key: str, check: Callable[[Superelement], None] | None = None) -> Superelement | None:
+        """The stored superelement, or None if absent or unusable (then moved aside).
+        ``check(se)`` may raise to reject an entry that loads but does not fit its inputs."""
         p = self.path(key)
         if not os.path.exists(p):
             return None
         try:
-            return Superelement.load(p)
-        except CacheError as exc:
-            log.warning("ignoring unreadable cache entry %s: %s", p, exc)
+            se = Superelement.load(p)
+            if check is not None:
+                check(se)
+            return se
+        except Exception as exc:  # any failure to use an entry is a miss, whatever raised it
+            self._discard(p, exc)
             return None
+
+    def _discard(self, p: str, exc: Exception) -> None:
+        self.discarded += 1
+        dest = f"{p}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}"
+        try:
+            os.replace(p, dest)
+            where = f"moved to {os.path.basename(dest)}"
+        except FileNotFoundError:  # another process moved or replaced it first
+            where = "already gone"
+        except OSError as err:
+            where = f"could not be moved aside ({err})"
+        log.warning("unusable superelement cache entry %s (%s): %s; reducing again", p, exc, where)
 
     def put(self, key: str, se: Superelement) -> str:
         p = self.path(key)
@@ -72,16 +99,21 @@ class SuperelementCache:
         se.save(p)
         return p
 
-    def get_or_reduce(self, inputs: dict, reduce: Callable[[], Superelement]) -> Superelement:
-        """Load the superelement for ``inputs`` or call ``reduce()`` once and store it."""
+    def get_or_reduce(self, inputs: dict, reduce: Callable[[], Superelement],
+                      check: Callable[[Superelement], None] | None = None) -> Superelement:
+        """Load the superelement for ``inputs`` or call ``reduce()`` once and store it.
+        ``check(se)`` is applied to a loaded entry (raising = miss) and to a fresh
+        reduction (raising = error, nothing stored)."""
         key = cache_key(**inputs)
-        se = self.get(key)
+        se = self.get(key, check)
         if se is not None:
             self.hits += 1
             log.info("superelement cache hit %s", key[:12])
             return se
         self.misses += 1
         se = reduce()
+        if check is not None:
+            check(se)
         se.metadata.setdefault("inputs", inputs)
         self.put(key, se)
         log.info("superelement cache miss %s: reduced and stored", key[:12])

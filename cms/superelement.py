@@ -7,18 +7,26 @@ modes are mass-normalised, Phi^T M_ii Phi = I).
 
 Full field: ``u[boundary_dofs] = q_b``, ``u[interior_dofs] = Psi q_b + Phi q_m``.
 
-File format (version 1): one ``.npz`` with the arrays plus a JSON string
+File format (version 2): one ``.npz`` with the arrays plus a JSON string
 ``metadata_json`` holding ``format``, ``version``, scalar fields and the
-caller's metadata (mesh hash, material, interfaces, mode selection). Written to a
-temporary file in the same directory and moved into place with ``os.replace``,
-so a reader never sees a half-written file.
+caller's metadata (mesh hash, material, interfaces, mode selection). The zip
+archive comment, the last bytes of the file, is ``flexgear-sha256:<hex>``: the
+SHA-256 of every byte before the hex digits, so any change to the file (truncation,
+a flipped byte anywhere, garbage) fails :meth:`Superelement.load` with a
+:class:`~cms.errors.CacheError`, as does any other failure to read it (version 1
+files have no such comment). Written to a unique temporary file in the same
+directory, fsynced and moved into place with ``os.replace``, so a reader never sees
+a half-written file and concurrent writers never mix their bytes.
 """
 from __future__ import annotations
 
+import hashlib
+import io
 import json
 import logging
 import os
 import tempfile
+import zipfile
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,7 +36,7 @@ from .errors import CacheError, ReductionError
 log = logging.getLogger(__name__)
 
 FORMAT = "flexgear.cms.superelement"
-VERSION = 1
+VERSION = 2  # 2: sealed with a SHA-256 in the zip comment
 
 _ARRAYS = ("K", "M", "Phi", "Psi", "boundary_dofs", "interior_dofs", "eigenvalues",
            "boundary_points", "boundary_kinds")
@@ -102,43 +110,79 @@ class Superelement:
 
     # ---- persistence -------------------------------------------------------
     def save(self, path: str | os.PathLike) -> None:
-        """Write atomically to ``path`` (``.npz``)."""
-        path = os.fspath(path)
+        """Write atomically to ``path`` (``.npz``, sealed with its SHA-256)."""
         meta = {"format": FORMAT, "version": VERSION,
                 "boundary_names": list(self.boundary_names),
                 "metadata": self.metadata}
         arrays = {k: np.asarray(getattr(self, k)) for k in _ARRAYS}
-        directory = os.path.dirname(os.path.abspath(path))
-        os.makedirs(directory, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=directory)
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                np.savez(fh, metadata_json=np.array(json.dumps(meta, default=_json_default)),
-                         **arrays)
-                fh.flush()
-                os.fsync(fh.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        arrays["metadata_json"] = np.array(json.dumps(meta, default=_json_default))
+        write_sealed_npz(path, arrays)
         log.debug("saved superelement (%d boundary, %d modes) to %s",
                   self.n_boundary, self.n_modes, path)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Superelement":
+        """Read a file written by :meth:`save`; any failure raises :class:`CacheError`."""
         path = os.fspath(path)
         try:
-            with np.load(path, allow_pickle=False) as z:
-                meta = json.loads(str(z["metadata_json"]))
-                arrays = {k: z[k] for k in _ARRAYS}
-        except (OSError, KeyError, ValueError) as exc:
-            raise CacheError(f"cannot read superelement file: {exc}", "path", path) from exc
-        if meta.get("format") != FORMAT or meta.get("version") != VERSION:
-            raise CacheError("unknown superelement file format/version", "format/version",
-                             (meta.get("format"), meta.get("version")))
-        return cls(boundary_names=list(meta["boundary_names"]), metadata=meta["metadata"],
-                   **arrays)
+            z = read_sealed_npz(path)
+            meta = json.loads(str(z["metadata_json"]))
+            if meta.get("format") != FORMAT or meta.get("version") != VERSION:
+                raise CacheError("unknown superelement file format/version", "format/version",
+                                 (meta.get("format"), meta.get("version")))
+            return cls(boundary_names=list(meta["boundary_names"]), metadata=meta["metadata"],
+                       **{k: z[k] for k in _ARRAYS})
+        except CacheError:
+            raise
+        except Exception as exc:  # any other failure to use the file is the same kind of error
+            raise CacheError(f"cannot read superelement file: {type(exc).__name__}: {exc}",
+                             "path", path) from exc
+
+
+_SEAL = b"flexgear-sha256:"
+_HEX = 64
+
+
+def write_sealed_npz(path: str | os.PathLike, arrays: dict) -> None:
+    """Write ``arrays`` as an ``.npz`` whose zip comment seals the file with its SHA-256:
+    to a unique temporary file in the same directory, fsynced, then ``os.replace``d."""
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    with zipfile.ZipFile(buf, "a") as zf:
+        zf.comment = _SEAL + b"0" * _HEX       # placeholder of the final length
+    body = buf.getvalue()[:-_HEX]
+    data = body + hashlib.sha256(body).hexdigest().encode()
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    os.makedirs(directory, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def read_sealed_npz(path: str | os.PathLike) -> dict:
+    """Arrays of a file written by :func:`write_sealed_npz`, after checking its seal
+    (raises :class:`CacheError` if it is missing or does not match the bytes)."""
+    with open(path, "rb") as fh:
+        data = fh.read()
+    if len(data) <= len(_SEAL) + _HEX or data[-_HEX - len(_SEAL):-_HEX] != _SEAL:
+        raise CacheError("no content hash (truncated, or written by an older version)", "size_bytes",
+                         len(data))
+    actual = hashlib.sha256(memoryview(data)[:-_HEX]).hexdigest()
+    if actual.encode() != data[-_HEX:]:
+        stored = data[-_HEX:].decode("ascii", "replace")
+        raise CacheError("content hash mismatch", "sha256", f"stored {stored[:16]}, file {actual[:16]}")
+    with np.load(io.BytesIO(data), allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
 
 
 def _json_default(o):

@@ -53,6 +53,29 @@ class MeshingError(RuntimeError):
         super().__init__(f"gmsh failed to mesh {component} with parameters {self.params}: {cause}")
 
 
+class MeshCacheError(RuntimeError):
+    """A mesh file on disk cannot be used: missing or wrong content hash, truncated,
+    unparsable. Not a meshing failure (that is :class:`MeshingError`): a cache folder treats
+    it as a miss (moves the file aside and meshes again); the committed reference meshes
+    raise it.
+
+    Attributes
+    ----------
+    path : str
+        The mesh file.
+    reason : str
+        What failed (e.g. ``"content hash mismatch"``).
+    hint : str
+        What to do about it ("" if nothing to add).
+    """
+
+    def __init__(self, path, reason: str, hint: str = ""):
+        self.path = str(path)
+        self.reason = reason
+        self.hint = hint
+        super().__init__(f"mesh file {self.path}: {reason}" + (f"; {hint}" if hint else ""))
+
+
 class CouplingError(ValueError):
     """An interface coupling cannot be built (e.g. overlapping slave sets)."""
 

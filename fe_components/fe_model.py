@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
-from .meshing import MeshOptions, RawMesh, ensure_mesh, read_mesh
+from .meshing import MeshOptions, RawMesh, load_mesh
 from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
                      params_as_flat_dict)
 
@@ -63,6 +63,7 @@ class FEModel:
     axis: np.ndarray = field(default_factory=lambda: AXIS.copy())  # rotation axis (unit, through origin)
     order: int = 2
     mesh_file: Path | None = None
+    mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
     timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly"
 
     @property
@@ -110,7 +111,7 @@ def default_mesh_size(params) -> float:
 def build_component(params, material: Material = STEEL, mesh_size: float | None = None, order: int = 2,
                     cache_dir: str | os.PathLike | None = None, *, options: MeshOptions | None = None,
                     stiffness_intorder: int | None = None, mass_intorder: int | None = None) -> FEModel:
-    """Mesh (or load the cached mesh of) a component and assemble its FE model.
+    """Mesh (or load the verified cached mesh of) a component and assemble its FE model.
 
     mesh_size : target element size [m] (default :func:`default_mesh_size`).
     order : 2 = quadratic tetrahedra with curved boundaries (default), 1 = linear.
@@ -121,11 +122,11 @@ def build_component(params, material: Material = STEEL, mesh_size: float | None 
     if options is None:
         options = MeshOptions(size=default_mesh_size(params) if mesh_size is None else mesh_size, order=order)
     t0 = time.perf_counter()
-    path = ensure_mesh(params, options, cache_dir)
-    raw = read_mesh(path)
+    path, raw = load_mesh(params, options, cache_dir)
     t_mesh = time.perf_counter() - t0
     model = assemble(params, raw, material, stiffness_intorder, mass_intorder)
     model.mesh_file = path
+    model.mesh_sha256 = raw.content_hash
     model.timings["mesh"] = t_mesh
     return model
 

@@ -1,18 +1,42 @@
-"""gmsh meshing of the component solids, with a content-addressed mesh cache.
+"""gmsh meshing of the component solids, with a content-addressed, self-verifying mesh cache.
 
 A mesh file is named ``<kind>-<hash>.msh`` where the hash covers every
 geometry parameter, every mesh option, this module's ``MESHER_VERSION`` and
-the gmsh version.  If the file exists it is reused and gmsh is not imported.
-Files are written to a temporary name in the same folder and moved into
-place with :func:`os.replace` (no half-written cache entries).
+the gmsh version.  If the file exists and verifies it is reused and gmsh is not
+imported.
+
+Integrity rules (every mesh file this module writes or reads):
+
+* The file ends with a ``$FlexgearContentHash`` section holding the SHA-256 of all
+  bytes before it (gmsh and meshio skip unknown sections, so the file stays a valid
+  .msh).  That hash is the mesh's *content hash* (:attr:`MeshEntry.sha256`,
+  :attr:`RawMesh.content_hash`): downstream caches key on it, not on the file name.
+* Every load checks it, from the same open file that is then parsed.  A missing
+  section (truncated file, or written by an older version) or a mismatch is a
+  :class:`~fe_components.errors.MeshCacheError`.
+* In a cache folder, *any* failure to read, verify or parse an entry is a cache miss:
+  the file is moved aside to ``<name>.corrupt-<UTC time>-<pid>`` in the same folder
+  (delete those at will), a WARNING names it and the reason, and the mesh is
+  generated again.  gmsh failures are :class:`~fe_components.errors.MeshingError`,
+  never a cache error.
+* The committed reference meshes (:data:`REFERENCE_DIR`, ``meshes/ref``) are never
+  rewritten by a load: a corrupt one raises :class:`MeshCacheError` (restore it with
+  ``git checkout -- meshes/ref``); a missing one is generated there.
+* Writes go to a unique temporary file in the same folder (``tempfile.mkstemp``), are
+  sealed and fsynced, then moved into place with :func:`os.replace`: a reader never
+  sees a half-written entry, and concurrent writers of one entry each publish a
+  complete, sealed file (gmsh output is deterministic, so they are identical).
 
 gmsh is imported lazily inside :func:`generate_mesh` only.
 """
 from __future__ import annotations
 
 import dataclasses
+import functools
+import hashlib
 import logging
 import os
+import tempfile
 import time
 from dataclasses import dataclass
 from importlib import metadata
@@ -20,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import GeometryError, MeshingError
+from .errors import GeometryError, MeshCacheError, MeshingError
 from .geometry import build_solid, characteristic_length, interface_defs
 from .params import component_kind, params_as_flat_dict, params_digest
 
@@ -30,6 +54,8 @@ log = logging.getLogger(__name__)
 MESHER_VERSION = "2"  # 2: inverted curved P2 elements repaired by gmsh high-order optimisation
 
 DEFAULT_CACHE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "cache"
+#: Committed reference meshes: verified on load like the cache, but never moved or rewritten.
+REFERENCE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "ref"
 
 
 @dataclass(frozen=True)
@@ -84,7 +110,9 @@ class MeshOptions:
 _OPTIONAL_FIELDS = ("tooth_size",)
 
 
+@functools.lru_cache(maxsize=None)
 def _gmsh_version() -> str:
+    """Installed gmsh version (read once: importlib.metadata costs ~1 ms a call)."""
     try:
         return metadata.version("gmsh")
     except metadata.PackageNotFoundError:  # pragma: no cover
@@ -98,23 +126,136 @@ def mesh_path(params, options: MeshOptions, cache_dir: str | os.PathLike | None 
     return cache / f"{component_kind(params)}-{digest}.msh"
 
 
-def ensure_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None) -> Path:
-    """Return the cached mesh file, generating it with gmsh only if it does not exist."""
+@dataclass(frozen=True)
+class MeshEntry:
+    """A verified mesh file and its content hash (SHA-256 hex of the gmsh bytes)."""
+
+    path: Path
+    sha256: str
+
+
+def ensure_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None, *,
+                heal: bool | None = None) -> Path:
+    """Return the verified cached mesh file, generating it with gmsh if it is missing or unusable."""
+    return cached_mesh(params, options, cache_dir, heal=heal).path
+
+
+def cached_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None, *,
+                heal: bool | None = None) -> MeshEntry:
+    """:func:`ensure_mesh` with the content hash: verifies the file's hash without parsing it.
+
+    ``heal``: move an unusable file aside and mesh again (default: everywhere but
+    :data:`REFERENCE_DIR`, where an unusable file raises :class:`MeshCacheError`)."""
     path = mesh_path(params, options, cache_dir)
-    if path.exists():
-        log.info("mesh cache hit: %s", path)
-        return path
+    sha = _load_entry(path, mesh_content_hash, heal)
+    if sha is None:
+        sha = _generate_entry(params, options, path)
+    return MeshEntry(path, sha)
+
+
+def load_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None, *,
+              heal: bool | None = None) -> tuple[Path, RawMesh]:
+    """(path, parsed mesh) of the cached mesh, generated if missing or unusable (see ``heal``
+    in :func:`cached_mesh`); verified and parsed from one read of the file."""
+    path = mesh_path(params, options, cache_dir)
+    raw = _load_entry(path, read_mesh, heal)
+    if raw is None:
+        _generate_entry(params, options, path)
+        try:
+            raw = read_mesh(path)
+        except MeshCacheError as exc:
+            raise MeshingError(component_kind(params), _report(params, options),
+                               f"the mesh gmsh just wrote cannot be read back: {exc.reason}") from exc
+    return path, raw
+
+
+def _load_entry(path: Path, reader, heal: bool | None):
+    """``reader(path)``, or None if the entry is absent or unusable (then moved aside)."""
+    if not path.exists():
+        return None
+    try:
+        out = reader(path)
+    except Exception as exc:  # any failure to use an entry is a miss, whatever raised it
+        reason = exc.reason if isinstance(exc, MeshCacheError) else f"{type(exc).__name__}: {exc}"
+        if not (heal if heal is not None else path.parent.resolve() != REFERENCE_DIR.resolve()):
+            raise MeshCacheError(path, reason, "restore the committed file (git checkout -- meshes/ref) or "
+                                               "regenerate it (python -m fe_components.reference)") from exc
+        _move_aside(path, reason)
+        return None
+    log.info("mesh cache hit: %s", path)
+    return out
+
+
+def _move_aside(path: Path, reason: str) -> None:
+    """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn."""
+    dest = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}")
+    try:
+        os.replace(path, dest)
+        where = f"moved to {dest.name}"
+    except FileNotFoundError:  # another process moved or replaced it first
+        where = "already gone"
+    except OSError as err:
+        where = f"could not be moved aside ({err})"
+    log.warning("unusable mesh cache entry %s (%s): %s; meshing again", path, reason, where)
+
+
+def _generate_entry(params, options: MeshOptions, path: Path) -> str:
+    """Mesh into a unique temporary file next to ``path``, seal it, move it into place."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.msh")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.msh", dir=path.parent)
+    os.close(fd)
     try:
         t0 = time.perf_counter()
         generate_mesh(params, options, tmp)
+        sha = seal_mesh_file(tmp)
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600
         os.replace(tmp, path)
         log.info("meshed %s in %.2f s -> %s", component_kind(params), time.perf_counter() - t0, path)
     finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return sha
+
+
+_SEAL_HEAD = b"$FlexgearContentHash\nsha256 "
+_SEAL_TAIL = b"\n$EndFlexgearContentHash\n"
+_SEAL_LEN = len(_SEAL_HEAD) + 64 + len(_SEAL_TAIL)
+
+
+def seal_mesh_file(path: str | os.PathLike) -> str:
+    """Append the ``$FlexgearContentHash`` section (SHA-256 of the file so far) to a gmsh
+    file; return the hash."""
+    with open(path, "rb+") as fh:
+        sha = hashlib.sha256(fh.read()).hexdigest()
+        fh.write(_SEAL_HEAD + sha.encode() + _SEAL_TAIL)
+        fh.flush()
+        os.fsync(fh.fileno())
+    return sha
+
+
+def _verified_hash(data: bytes, path) -> str:
+    """The content hash stored at the end of ``data`` after checking it against the bytes."""
+    seal = data[-_SEAL_LEN:]
+    if len(data) <= _SEAL_LEN or not (seal.startswith(_SEAL_HEAD) and seal.endswith(_SEAL_TAIL)):
+        raise MeshCacheError(path, "no content-hash section (truncated, or written by an older version)")
+    stored = seal[len(_SEAL_HEAD):-len(_SEAL_TAIL)].decode("ascii", "replace")
+    actual = hashlib.sha256(memoryview(data)[:-_SEAL_LEN]).hexdigest()
+    if actual != stored:
+        raise MeshCacheError(path, f"content hash mismatch (stored {stored[:16]}, file {actual[:16]})")
+    return actual
+
+
+def mesh_content_hash(path: str | os.PathLike) -> str:
+    """Verified content hash of a sealed mesh file (raises :class:`MeshCacheError`)."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise MeshCacheError(path, f"cannot read: {exc}") from exc
+    return _verified_hash(data, path)
+
+
+def _report(params, options: MeshOptions) -> dict:
+    return {**params_as_flat_dict(params), **{f"mesh.{k}": v for k, v in params_as_flat_dict(options).items()}}
 
 
 def _surface_samples(gmsh, tag: int, n: int = 7) -> np.ndarray:
@@ -130,7 +271,7 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
     import gmsh  # lazy: loading a cached mesh must not import gmsh
 
     kind = component_kind(params)
-    report = {**params_as_flat_dict(params), **{f"mesh.{k}": v for k, v in params_as_flat_dict(options).items()}}
+    report = _report(params, options)
     own = not gmsh.isInitialized()
     if own:
         gmsh.initialize(readConfigFiles=False, interruptible=False)
@@ -238,22 +379,34 @@ def _tooth_refinement(gmsh, params, options: MeshOptions, tooth_tags: list[int])
 
 @dataclass(frozen=True)
 class RawMesh:
-    """Mesh read back from a cache file: points (n, 3) [m], volume cells, interface node sets."""
+    """Mesh read back from a cache file: points (n, 3) [m], volume cells, interface node sets,
+    and the file's content hash (SHA-256 hex)."""
 
     points: np.ndarray
     cell_type: str  # "tetra" or "tetra10" (meshio names)
     cells: np.ndarray
     interface_nodes: dict[str, np.ndarray]  # indices into points
+    content_hash: str = ""
 
 
 def read_mesh(path: str | os.PathLike) -> RawMesh:
-    """Read a cached .msh with meshio; drop orphan nodes; collect physical surface node sets."""
-    import meshio
+    """Read a sealed .msh: check its content hash, parse it with meshio from the same open
+    file, drop orphan nodes, collect physical surface node sets.
 
-    m = meshio.read(os.fspath(path), file_format="gmsh")  # ".msh" is also tried as ANSYS otherwise
+    Any failure (unreadable, unsealed, hash mismatch, unparsable, no tetrahedra) raises
+    :class:`MeshCacheError`."""
+    try:
+        with open(path, "rb") as fh:
+            sha = _verified_hash(fh.read(), path)
+            fh.seek(0)
+            m = _parse_gmsh(fh)
+    except MeshCacheError:
+        raise
+    except Exception as exc:
+        raise MeshCacheError(path, f"cannot parse: {type(exc).__name__}: {exc}") from exc
     vol = [(c.type, c.data) for c in m.cells if c.type in ("tetra", "tetra10")]
     if not vol:
-        raise MeshingError("mesh", {"path": os.fspath(path)}, "file holds no tetrahedra")
+        raise MeshCacheError(path, "file holds no tetrahedra")
     cell_type = vol[0][0]
     cells = np.concatenate([d for t, d in vol if t == cell_type])
     used = np.unique(cells)
@@ -269,4 +422,12 @@ def read_mesh(path: str | os.PathLike) -> RawMesh:
                 ids.append(block.data[idx].ravel())
         if ids:
             nodes[name] = np.unique(remap[np.concatenate(ids)])
-    return RawMesh(m.points[used].copy(), cell_type, remap[cells], nodes)
+    return RawMesh(m.points[used].copy(), cell_type, remap[cells], nodes, sha)
+
+
+def _parse_gmsh(fh):
+    """meshio's gmsh reader on an open binary file (``meshio.read`` only takes a path;
+    parsing the file object that was hashed leaves no window for a swap in between)."""
+    from meshio.gmsh.main import read_buffer
+
+    return read_buffer(fh)

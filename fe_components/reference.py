@@ -1,7 +1,11 @@
 """Reference components with small committed meshes (``meshes/ref``) used by the tests.
 
-``python -m fe_components.reference`` regenerates the committed meshes (needs
-gmsh); the tests load them from the cache without calling gmsh.  Lengths in m.
+``python -m fe_components.reference`` generates the committed meshes that are missing
+and replaces unusable ones (needs gmsh); the tests load them without calling gmsh.  Every
+load verifies a committed mesh's content hash (fe_components.meshing); a corrupt one
+raises :class:`~fe_components.errors.MeshCacheError` instead of being rebuilt in place
+(flexgear's scenes then fall back to a mesh generated in the cache, with a warning).
+Lengths in m.
 """
 from __future__ import annotations
 
@@ -10,10 +14,10 @@ import math
 import sys
 from pathlib import Path
 
-from .meshing import MeshOptions, ensure_mesh, mesh_path
+from .meshing import REFERENCE_DIR, MeshOptions, ensure_mesh, mesh_path
 from .params import CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment, WheelParams
 
-REF_DIR = Path(__file__).resolve().parent.parent / "meshes" / "ref"
+REF_DIR = REFERENCE_DIR
 
 #: Free-free steel cylinder, L/D = 10 (validation: Timoshenko bending, torsion, axial).
 CYLINDER = CylinderParams(length=0.5, diameter=0.05)
@@ -57,7 +61,7 @@ def reference_mesh_path(name: str) -> Path:
 def main(argv=None) -> int:
     logging.basicConfig(level=logging.INFO)
     for name, (params, options) in CASES.items():
-        path = ensure_mesh(params, options, REF_DIR)
+        path = ensure_mesh(params, options, REF_DIR, heal=True)
         logging.getLogger(__name__).info("%s -> %s (%d kB)", name, path.name, path.stat().st_size // 1024)
     return 0
 

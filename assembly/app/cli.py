@@ -57,12 +57,12 @@ def user_errors() -> tuple:
     coupling, reduction and its cache, eigen solve, output folder, command line): reported
     in one line with exit code 2, never a traceback."""
     from cms.errors import ReductionError
-    from fe_components.errors import CouplingError, GeometryError, MeshingError
+    from fe_components.errors import CouplingError, GeometryError, MeshCacheError, MeshingError
 
     from ..errors import MechanismError, SceneError, SolverError
     from .output import OutputDirError
-    return (SceneError, MechanismError, SolverError, OutputDirError, GeometryError, MeshingError, CouplingError,
-            ReductionError, UsageError)
+    return (SceneError, MechanismError, SolverError, OutputDirError, GeometryError, MeshingError, MeshCacheError,
+            CouplingError, ReductionError, UsageError)
 
 
 def _at_least(value: int, flag: str, low: int) -> int:
