@@ -93,10 +93,18 @@ class SuperelementCache:
             where = f"could not be moved aside ({err})"
         log.warning("unusable superelement cache entry %s (%s): %s; reducing again", p, exc, where)
 
-    def put(self, key: str, se: Superelement) -> str:
+    def put(self, key: str, se: Superelement) -> str | None:
+        """Store ``se`` under ``key``; a folder that cannot take it (read-only, full) costs
+        only the reuse: warn and return None."""
         p = self.path(key)
         se.metadata.setdefault("cache_key", key)
-        se.save(p)
+        try:
+            os.makedirs(self.directory, exist_ok=True)
+            se.save(p)
+        except OSError as exc:
+            log.warning("cannot store superelement in %s: %s; continuing without caching it",
+                        self.directory, exc.strerror or exc)
+            return None
         return p
 
     def get_or_reduce(self, inputs: dict, reduce: Callable[[], Superelement],

@@ -201,8 +201,12 @@ def _move_aside(path: Path, reason: str) -> None:
 
 def _generate_entry(params, options: MeshOptions, path: Path) -> str:
     """Mesh into a unique temporary file next to ``path``, seal it, move it into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.msh", dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.msh", dir=path.parent)
+    except OSError as exc:
+        raise MeshCacheError(path, f"cannot write to the mesh cache folder: {exc.strerror or exc}",
+                             "set FLEXGEAR_CACHE_DIR to a writable folder") from None
     os.close(fd)
     try:
         t0 = time.perf_counter()

@@ -294,3 +294,31 @@ def test_cli_heals_a_corrupt_cache_and_prints_the_same_modes(tmp_path):
         assert rigid_again == n_rigid == 1
         assert np.all(np.abs(again - freqs) <= RTOL * freqs.max())
         assert len(list(target.parent.glob(target.name + ".corrupt-*"))) == 1
+
+
+@pytest.mark.parametrize("errno_", [13, 28, 30])   # EACCES, ENOSPC, EROFS
+def test_a_cache_folder_that_cannot_take_files(clean, tmp_path, monkeypatch, caplog, errno_):
+    """A superelement that cannot be stored costs only its reuse (warning, same numbers); a
+    mesh that cannot be written is one MeshCacheError line naming the folder (we run as root
+    in CI, so the OS error is injected where the cache creates its temporary file)."""
+    import tempfile
+
+    from fe_components.errors import MeshCacheError
+
+    def refuse(*a, **k):
+        raise OSError(errno_, os.strerror(errno_))
+
+    caches = _caches(tmp_path)
+    mesh_path(PARAMS, MeshOptions(size=0.02, order=2), caches.meshes).parent.mkdir(parents=True)
+    shutil.copy(clean.mesh, caches.meshes)                      # the mesh is cached, the reduction not
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    with caplog.at_level(logging.WARNING):
+        body = _build(caches)
+    _assert_same(body, clean.numbers, stress=False)
+    assert any("cannot store superelement" in r.getMessage() and os.strerror(errno_) in r.getMessage()
+               for r in caplog.records)
+    shutil.rmtree(caches.meshes)
+    forget_fe_models()
+    with pytest.raises(MeshCacheError, match=os.strerror(errno_)) as err:
+        _build(caches)
+    assert "\n" not in str(err.value) and "FLEXGEAR_CACHE_DIR" in str(err.value)
