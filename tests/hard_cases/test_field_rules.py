@@ -407,3 +407,32 @@ def test_huge_axis_refused_and_unit_vector_safe():
     with pytest.raises(SceneError) as e:
         scene_from_dict(tree)
     assert e.value.path == "bodies[0].axis[0]"
+
+
+# ---------------------------------------------------------------- API entry points
+def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
+    from assembly.scene import with_fidelity
+    sc = scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"]))
+    for bad in ("bogus", "Rigid", None, 1):
+        with pytest.raises(SceneError) as e:
+            with_fidelity(sc, bad)
+        assert e.value.path == "fidelity" and "torsional" in str(e.value)
+    with pytest.raises(SceneError) as e:
+        with_fidelity(sc, "torsional", bodies=["pinion", "gearbox"])
+    assert e.value.path == "bodies" and e.value.value == "gearbox"
+    # one name is one body (not the substrings of a string)
+    one = with_fidelity(sc, "torsional", bodies="pinion")
+    assert [b.fidelity for b in one.bodies] == ["torsional", "rigid"]
+
+
+def test_solve_modes_n_modes_checked():
+    from assembly.modal import solve_modes
+    from assembly.model import assemble
+    model = assemble(scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"])))
+    n = model.K.shape[0]  # 12: two rigid bodies of six DOFs
+    for bad in (0, -1, 1.5, True, "3"):
+        with pytest.raises(SceneError) as e:
+            solve_modes(model, n_modes=bad)
+        assert e.value.path == "n_modes"
+    assert len(solve_modes(model, n_modes=3).frequencies_hz) == 3
+    assert len(solve_modes(model, n_modes=10 * n).frequencies_hz) == n  # more than there are: all
