@@ -116,11 +116,12 @@ def quantity(unit: str = "", default=dataclasses.MISSING, *, angle: bool = False
     return field(default=default, metadata=meta)
 
 
-def value_problem(rule: Quantity, value, sequence: bool):
+def value_problem(rule: Quantity, value, sequence: bool, optional: bool = True):
     """``(index suffix, bad value, reason)`` of the first entry of ``value`` breaking
-    ``rule`` (``sequence``: the field holds an array, checked entry by entry), or None."""
+    ``rule`` (``sequence``: the field holds an array, checked entry by entry; ``optional``:
+    None is admitted), or None."""
     if value is None:
-        return None
+        return None if optional else ("", value, rule.reason())
     if sequence:
         if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple)):
             return "", value, "must be an array"
@@ -139,13 +140,14 @@ def value_problem(rule: Quantity, value, sequence: bool):
 
 @functools.cache
 def field_rules(cls) -> tuple:
-    """``(name, Quantity, is_sequence)`` of every field of ``cls`` that has a rule."""
+    """``(name, Quantity, is_sequence, is_optional)`` of every field of ``cls`` that has a rule."""
     hints = typing.get_type_hints(cls)
     out = []
     for f in dataclasses.fields(cls):
         rule = f.metadata.get("quantity")
         if rule is not None:
-            out.append((f.name, rule, _is_sequence(hints[f.name])))
+            tp = hints[f.name]
+            out.append((f.name, rule, _is_sequence(tp), type(None) in typing.get_args(tp)))
     return tuple(out)
 
 
@@ -160,8 +162,8 @@ def _is_sequence(tp) -> bool:
 def first_problem(obj) -> tuple[str, Any, str] | None:
     """``(field path, value, reason)`` of the first field of dataclass ``obj`` breaking its
     rule, in field order, or None."""
-    for name, rule, seq in field_rules(type(obj)):
-        p = value_problem(rule, getattr(obj, name), seq)
+    for name, rule, seq, optional in field_rules(type(obj)):
+        p = value_problem(rule, getattr(obj, name), seq, optional)
         if p is not None:
             return name + p[0], p[1], p[2]
     return None
