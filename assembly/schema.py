@@ -143,8 +143,8 @@ def from_dict(cls, data: Any, path: str = ""):
         p = _join(path, key)
         if key in fields:
             name = key
+            check_rules(fields[name], value, p)  # first: its message says unit and range
             val = convert(hints[name], value, p)
-            check_rules(fields[name], val, p)
         elif key.endswith("_deg") and key[:-4] in fields and fields[key[:-4]].metadata.get("angle"):
             name = key[:-4]
             if name in data:
@@ -209,15 +209,15 @@ def name_problem(name) -> str | None:
 
 def check_instance(obj, path: str = "") -> None:
     """Check a dataclass built in Python field by field, as if read from a table: the
-    annotated type (:func:`convert` in strict mode, recursing into nested dataclasses),
-    then the field's rules. Raises SceneError naming ``path.field``."""
+    field's rules, then its annotated type (:func:`convert` in strict mode, recursing into
+    nested dataclasses). Raises SceneError naming ``path.field``."""
     hints = _hints(type(obj))
     for f in dataclasses.fields(obj):
         if f.init:
             p = _join(path, f.name)
             value = getattr(obj, f.name)
-            convert(hints[f.name], value, p, strict=True)
             check_rules(f, value, p)
+            convert(hints[f.name], value, p, strict=True)
 
 
 def _all_required(cls) -> bool:

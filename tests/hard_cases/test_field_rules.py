@@ -20,7 +20,7 @@ import pytest
 from assembly.errors import SceneError
 from assembly.scene import (MAX_MODES, MAX_NAME_LENGTH, Bearing, BearingSpec, Body, FlexOptions, GearMesh,
                             LoadCase, Member, PlanetaryStage, Planets, Scene, Shaft)
-from assembly.schema import SCENE_DIR, scene_from_dict
+from assembly.schema import SCENE_DIR, component_from_table, scene_from_dict
 from fe_components.errors import GeometryError
 from fe_components.material import Material
 from fe_components.params import COMPONENT_KINDS, CarrierParams, GearTeeth, ShaftSegment
@@ -135,6 +135,8 @@ COMPONENT_TABLES = {"pinion": ("hs_parallel_stage.toml", ("bodies", 0, "componen
                     "cylinder": ("cylinder", ("bodies", 0, "component"))}
 #: set by the planetary stage from its planets (giving them is an error of its own)
 STAGE_SET = {"planet_angles", "pin_pitch_radius"}
+#: what the stage adds to the carrier table (lin_parker_n3: R_c = (0.0387 + 0.0502) / cos 24.6 deg)
+_STAGE_PLACED = {"carrier": {"n_planets": 3, "pin_pitch_radius": 0.0889 / math.cos(math.radians(24.6))}}
 
 
 def _component_sites():
@@ -218,6 +220,12 @@ def test_component_field_refused_before_meshing(kind, base, keys, sub, cls, f):
         err = _check(lambda: scene_from_dict(tree), f"{prefix}.{_path(sub)}", value, rule)
         if err is not None:  # an admissible value may still break a relation of this part
             assert err.path.startswith(prefix), str(err)
+        if err is not None and len(sub) == 1 and _refusable(rule, value):
+            # one rule: the part built in Python (fe_components alone) gives the same reason
+            valid = component_from_table(_get(BASES[base], keys) | _STAGE_PLACED.get(kind, {}), "c")
+            with pytest.raises(GeometryError) as direct:
+                dataclasses.replace(valid, **{sub[0]: value})
+            assert (direct.value.parameter, direct.value.reason) == (sub[0], err.reason)
 
 
 # ---------------------------------------------------------------- scene tables
@@ -264,12 +272,14 @@ def test_scene_field_refused_in_toml_and_python(base, keys, cls, f, tp):
     valid = scene_from_dict(copy.deepcopy(BASES[base]))
     for value in BAD:
         tree, suffix = _toml_mutation(base, keys, tp, value)
-        _check(lambda: scene_from_dict(tree), _path(keys) + suffix, value, rule)
+        from_toml = _check(lambda: scene_from_dict(tree), _path(keys) + suffix, value, rule)
         # the same value through the constructors (a Material checks itself when built)
         new = _get(tree, keys) if suffix else value
         new = tuple(tuple(x) if isinstance(x, list) else x for x in new) if suffix else new
-        _check(lambda: _replace_at(valid, keys, new), _path(keys) + suffix, value, rule,
-               errors=(SceneError, GeometryError))
+        from_python = _check(lambda: _replace_at(valid, keys, new), _path(keys) + suffix, value, rule,
+                             errors=(SceneError, GeometryError))
+        if _refusable(rule, value):  # one rule, one message
+            assert from_toml.reason == from_python.reason, (str(from_toml), str(from_python))
 
 
 @pytest.mark.parametrize("base,keys,cls,f,tp", [s for s in SCENE_SITES if s[3].metadata.get("angle")],
