@@ -364,26 +364,53 @@ def derive(scene: Scene, **changes) -> Scene:
 
 
 def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
-    """Copy of ``scene`` (stages expanded) with ``bodies`` (names; default all) at ``fidelity``."""
+    """Copy of ``scene`` with ``bodies`` (names in the expanded scene, or one name; default
+    all) at ``fidelity``. Planetary stages stay stages -- the chosen members, or all the
+    planets, take the fidelity -- so an error of the new scene names the table the user
+    wrote; only a choice that splits the planets of one stage expands the scene."""
     allowed = get_args(Fidelity)
     if not isinstance(fidelity, str) or fidelity not in allowed:
         raise SceneError("fidelity", fidelity, f"must be one of {list(allowed)}")
     sc = scene.expanded()
-    if isinstance(bodies, str):
-        bodies = (bodies,)
-    if bodies is not None:
-        have = [b.name for b in sc.bodies]
-        for name in bodies:
-            if name not in have:
-                raise SceneError("bodies", name, f"no body of that name; have {have}")
-    new = tuple(dataclasses.replace(b, fidelity=fidelity) if bodies is None or b.name in bodies else b
-                for b in sc.bodies)
-    return dataclasses.replace(sc, bodies=new)
+    have = [b.name for b in sc.bodies]
+    chosen = set(have) if bodies is None else {bodies} if isinstance(bodies, str) else set(bodies)
+    unknown = sorted(chosen - set(have), key=str)
+    if unknown:
+        raise SceneError("bodies", unknown[0], f"no body of that name; have {have}")
+
+    def pick(items):
+        return tuple(dataclasses.replace(b, fidelity=fidelity) if b.name in chosen else b for b in items)
+
+    stages = []
+    for st in scene.stages:
+        planets = {b.name for b in sc.bodies[len(scene.bodies):] if b.stage == st.name and b.role == "planet"}
+        if chosen & planets not in (set(), planets):  # some planets of a stage, not all
+            return dataclasses.replace(sc, bodies=pick(sc.bodies))
+        changes = {role: dataclasses.replace(getattr(st, role), fidelity=fidelity)
+                   for role in ("sun", "ring", "carrier") if f"{st.name}.{role}" in chosen}
+        if planets and planets <= chosen:
+            changes["planets"] = dataclasses.replace(st.planets, fidelity=fidelity)
+        stages.append(dataclasses.replace(st, **changes))
+    return dataclasses.replace(scene, bodies=pick(scene.bodies), stages=tuple(stages))
+
+
+_STIFFNESSES = ("k_radial", "k_axial", "k_tilt", "k_torsion")
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:
-    """Copy of ``scene`` (stages expanded) with the named bearing stiffnesses times ``factor``."""
-    sc = scene.expanded()
-    new = tuple(dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
-                for b in sc.bearings)
-    return dataclasses.replace(sc, bearings=new)
+    """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
+    its own bearings and the bearing tables of its planetary stages (kept as stages)."""
+    if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 0 < factor < math.inf:
+        raise SceneError("factor", factor, "must be a finite number > 0")
+    for d in directions:
+        if d not in _STIFFNESSES:
+            raise SceneError("directions", d, f"must be among {list(_STIFFNESSES)}")
+
+    def scaled(b):
+        return None if b is None else dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
+
+    stages = tuple(dataclasses.replace(
+        st, planets=dataclasses.replace(st.planets, bearing=scaled(st.planets.bearing)),
+        **{role: dataclasses.replace(getattr(st, role), bearing=scaled(getattr(st, role).bearing))
+           for role in ("sun", "ring", "carrier")}) for st in scene.stages)
+    return dataclasses.replace(scene, bearings=tuple(scaled(b) for b in scene.bearings), stages=stages)

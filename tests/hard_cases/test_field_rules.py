@@ -446,3 +446,30 @@ def test_solve_modes_n_modes_checked():
         assert e.value.path == "n_modes"
     assert len(solve_modes(model, n_modes=3).frequencies_hz) == 3
     assert len(solve_modes(model, n_modes=10 * n).frequencies_hz) == n  # more than there are: all
+
+
+def test_derived_scenes_keep_stage_paths():
+    # with_fidelity and scale_bearings keep planetary stages as stages, so an error of the
+    # derived scene names the user's table (it used to name bodies[2] of an expanded copy)
+    from assembly.scene import scale_bearings, with_fidelity
+    tree = _flex_tree("planetary_flexible_carrier.toml", ("stages", 0, "carrier"), cutoff_hz=1e9)
+    tree["stages"][0]["carrier"]["fidelity"] = "rigid"  # (a rigid carrier is not reduced: valid)
+    sc = scene_from_dict(tree)
+    with pytest.raises(SceneError) as e:
+        with_fidelity(sc, "flexible", bodies=["stage.carrier"])
+    assert e.value.path == "stages[0].carrier.flex.cutoff_hz"
+    lp = scene_from_dict(copy.deepcopy(BASES["lin_parker_n3.toml"]))
+    tors = with_fidelity(lp, "torsional")
+    assert tors.stages and {b.fidelity for b in tors.expanded().bodies} == {"torsional"}
+    some = with_fidelity(lp, "torsional", bodies=["stage.planet0"])  # splits the planets: expanded
+    assert not some.stages and [b.fidelity for b in some.bodies if b.role == "planet"] == \
+        ["torsional", "rigid", "rigid"]
+    stiff = scale_bearings(lp, 10.0, ("k_radial",))
+    assert stiff.stages[0].planets.bearing.k_radial == 10 * lp.stages[0].planets.bearing.k_radial
+    for bad in (0.0, -1.0, math.nan, math.inf, "2", True):
+        with pytest.raises(SceneError) as e:
+            scale_bearings(lp, bad)
+        assert e.value.path == "factor"
+    with pytest.raises(SceneError) as e:
+        scale_bearings(lp, 2.0, ("k_radial", "mass"))
+    assert e.value.path == "directions" and e.value.value == "mass"
