@@ -315,9 +315,15 @@ def flexible_bodies_supported(expanded, origin: dict) -> None:
 
 
 def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
-    """Every bearing and shaft attaches at a body point or a named interface."""
+    """Every bearing and shaft attaches at a body point or a named interface (a stage
+    member's bearing at its ``bearing_interface``)."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
-        bearing_point(br, names[br.body], masters, p)
+        try:
+            bearing_point(br, names[br.body], masters, p)
+        except SceneError as err:
+            if p.startswith("stages") and err.path == f"{p}.interface":
+                raise SceneError(f"{p.removesuffix('.bearing')}.bearing_interface", err.value, err.reason) from None
+            raise
     for i, s in enumerate(expanded.shafts):
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
 

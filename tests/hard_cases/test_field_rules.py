@@ -473,3 +473,11 @@ def test_derived_scenes_keep_stage_paths():
     with pytest.raises(SceneError) as e:
         scale_bearings(lp, 2.0, ("k_radial", "mass"))
     assert e.value.path == "directions" and e.value.value == "mass"
+
+
+def test_stage_member_bearing_interface_named_as_written():
+    tree = copy.deepcopy(BASES["planetary_flexible_carrier.toml"])
+    tree["stages"][0]["carrier"]["bearing_interface"] = "bearing_c"
+    with pytest.raises(SceneError) as e:
+        scene_from_dict(tree)
+    assert e.value.path == "stages[0].carrier.bearing_interface" and e.value.value == "bearing_c"
