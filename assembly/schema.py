@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 import tomllib
 import types
 import typing
@@ -29,6 +30,7 @@ import unicodedata
 from pathlib import Path
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
+import numpy as np
 from fe_components.errors import GeometryError
 from fe_components.fields import value_problem
 from fe_components.params import MAX_PLANETS
@@ -82,13 +84,13 @@ def convert(tp, value: Any, path: str, strict: bool = False):
             raise SceneError(path, value, f"must be one of {list(get_args(tp))}")
         return value
     if tp is float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):  # numpy numbers too
             raise SceneError(path, value, "must be a number")
         return float(value)
     if tp is int:
-        if isinstance(value, bool) or not isinstance(value, int):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
             raise SceneError(path, value, "must be an integer")
-        return value
+        return int(value)
     if tp is bool:
         if not isinstance(value, bool):
             raise SceneError(path, value, "must be true or false")
@@ -99,7 +101,7 @@ def convert(tp, value: Any, path: str, strict: bool = False):
         return value
     if origin is tuple:
         args = get_args(tp)
-        if not isinstance(value, (list, tuple)):
+        if not isinstance(value, (list, tuple, np.ndarray)):
             raise SceneError(path, value, "must be an array")
         if len(args) == 2 and args[1] is Ellipsis:
             return tuple(convert(args[0], v, f"{path}[{i}]", strict) for i, v in enumerate(value))
@@ -181,7 +183,7 @@ def check_rules(f: dataclasses.Field, value, path: str, shown=None) -> None:
     to ``value``; ``shown`` maps a bad number to the value the user wrote (degrees)."""
     rule = f.metadata.get("quantity")
     if rule is not None:
-        p = value_problem(rule, value, isinstance(value, (list, tuple)))
+        p = value_problem(rule, value, isinstance(value, (list, tuple, np.ndarray)))
         if p is not None:
             bad = shown(p[1]) if shown is not None and isinstance(p[1], (int, float)) else p[1]
             raise SceneError(path + p[0], bad, p[2])

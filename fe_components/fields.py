@@ -28,6 +28,8 @@ import typing
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from .errors import GeometryError
 
 #: Largest magnitude of any number (see the module docstring).
@@ -123,10 +125,10 @@ def value_problem(rule: Quantity, value, sequence: bool, optional: bool = True):
     if value is None:
         return None if optional else ("", value, rule.reason())
     if sequence:
-        if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple)):
+        if not isinstance(value, (list, tuple, np.ndarray)) or getattr(value, "ndim", 1) == 0:
             return "", value, "must be an array"
         for i, v in enumerate(value):
-            if isinstance(v, (list, tuple)):
+            if isinstance(v, (list, tuple, np.ndarray)):
                 p = value_problem(rule, v, True)
             else:
                 why = rule.problem(v)

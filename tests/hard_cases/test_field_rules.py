@@ -481,3 +481,14 @@ def test_stage_member_bearing_interface_named_as_written():
     with pytest.raises(SceneError) as e:
         scene_from_dict(tree)
     assert e.value.path == "stages[0].carrier.bearing_interface" and e.value.value == "bearing_c"
+
+
+def test_numpy_values_accepted_from_python():
+    # numpy numbers and arrays are numbers and arrays (a NaN inside one is still refused)
+    import numpy as np
+    b = Body("a", np.float64(1.0), polar_inertia=1e-3, position=np.array([0.0, 0.0, 0.1]))
+    sc = Scene(bodies=(b,), bearings=(Bearing("a", 1e8, 1e8, np.int64(100000)),))
+    assert sc.bodies[0].mass == 1.0
+    with pytest.raises(SceneError) as e:
+        Scene(bodies=(dataclasses.replace(b, position=np.array([0.0, np.nan, 0.1])),), bearings=sc.bearings)
+    assert e.value.path == "bodies[0].position[1]"
