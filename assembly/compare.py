@@ -24,11 +24,11 @@ FIDELITIES = ("torsional", "rigid", "flexible")
 
 
 def variants(scene) -> dict:
-    sc = scene.expanded()
-    flex = [b.name for b in sc.bodies if b.fidelity == "flexible"]
-    out = {"torsional": with_fidelity(sc, "torsional"), "rigid": with_fidelity(sc, "rigid", bodies=flex)}
+    """Scene per fidelity (stages kept as stages, so errors name the user's tables)."""
+    flex = [b.name for b in scene.expanded().bodies if b.fidelity == "flexible"]
+    out = {"torsional": with_fidelity(scene, "torsional"), "rigid": with_fidelity(scene, "rigid", bodies=flex)}
     if flex:
-        out["flexible"] = sc
+        out["flexible"] = scene
     return out
 
 

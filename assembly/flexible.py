@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,10 +27,12 @@ from typing import Optional
 import numpy as np
 import scipy.sparse as sp
 
+from cms.errors import ModeLimitError
+
 from .components import CacheDirs, build_fe, mesh_entry, mesh_size, placement
 from .errors import SceneError, SolverError
 from .kinematics import block_rotation, rigid_transfer
-from .scene import FlexOptions
+from .scene import MAX_MODES, FlexOptions
 
 log = logging.getLogger(__name__)
 
@@ -182,6 +185,21 @@ def _rigid_rows(points_local, kinds, com_local) -> np.ndarray:
     return rigid_body_basis(points_local, kinds, reference=com_local)
 
 
+def weyl_mode_count(volume: float, material, f_hz: float) -> float:
+    """Weyl's asymptotic number of elastic eigenfrequencies below ``f_hz`` of a body of
+    ``volume`` (m^3): ``N(f) = (4 pi / 3) V f^3 (1/c_L^3 + 2/c_T^3)`` with the longitudinal
+    and shear wave speeds ``c_L^2 = E (1 - nu) / (rho (1 + nu) (1 - 2 nu))``,
+    ``c_T^2 = E / (2 rho (1 + nu))`` (H. Weyl, Rend. Circ. Mat. Palermo 39, 1915; one
+    longitudinal and two shear wave branches). The leading term only: a body with mostly
+    free surface has more modes (the surface term is positive), so it underestimates, and
+    far below the asymptotic range (a few modes) it is no count at all -- it serves to refuse
+    a cutoff that surely needs too many modes, without meshing."""
+    E, nu, rho = material.E, material.nu, material.rho
+    c_l = math.sqrt(E * (1 - nu) / (rho * (1 + nu) * (1 - 2 * nu)))
+    c_t = math.sqrt(E / (2 * rho * (1 + nu)))
+    return 4 * math.pi / 3 * volume * f_hz ** 3 * (c_l ** -3 + 2 * c_t ** -3)
+
+
 def cutoff_for(body, options: FlexOptions, band_hz: float) -> float | None:
     """Craig-Bampton cutoff (Hz): the option, else CUTOFF_FACTOR x band (None with n_modes)."""
     if options.n_modes is not None:
@@ -195,14 +213,32 @@ def cutoff_for(body, options: FlexOptions, band_hz: float) -> float | None:
     return options.cutoff_hz
 
 
+def cutoff_source(path: str, options: FlexOptions, band_hz: float) -> tuple[str, float]:
+    """(scene path, value) of the field that sets the cutoff of the body at ``path``:
+    its ``flex.cutoff_hz``, else the scene's ``band_hz``."""
+    if options.cutoff_hz is not None:
+        return f"{path}.flex.cutoff_hz", options.cutoff_hz
+    return "band_hz", band_hz
+
+
 def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bool = True,
-                  caches: CacheDirs | None = None) -> FlexibleBodyModel:
-    """The flexible model of ``body``: Craig-Bampton superelement (cached) or full FE."""
+                  caches: CacheDirs | None = None, path: str | None = None) -> FlexibleBodyModel:
+    """The flexible model of ``body``: Craig-Bampton superelement (cached) or full FE.
+    ``path``: the body's table in the scene (``bodies[1]``, ``stages[0].carrier``) for
+    error messages (default: its name)."""
     caches = caches or CacheDirs()
     options = dataclasses.replace(options, mesh_size=mesh_size(params, options))
     t0 = time.perf_counter()
     if reduce:
-        parts = _reduced(body, params, options, cutoff_for(body, options, band_hz), caches)
+        cutoff = cutoff_for(body, options, band_hz)
+        try:
+            parts = _reduced(body, params, options, cutoff, caches, path or body.name)
+        except ModeLimitError as err:
+            where, value = cutoff_source(path or body.name, options, band_hz)
+            raise SceneError(where, value, f"body {body.name!r}: {err.max_modes + 1} fixed-interface modes lie "
+                                           f"below the cutoff {cutoff:.6g} Hz (the last at {err.highest_hz:.6g} "
+                                           f"Hz), more than MAX_MODES = {MAX_MODES}; lower the cutoff or give "
+                                           "flex.n_modes") from None
         parts["info"]["reduce_time_s"] = time.perf_counter() - t0
     else:
         parts = _unreduced(body, params, options, caches)
@@ -235,13 +271,18 @@ def _unreduced(body, params, options: FlexOptions, caches: CacheDirs) -> dict:
             "info": {"n_full_dofs": int(fe.n_dofs)}}
 
 
-def _reduce(params, options: FlexOptions, cutoff: float | None, caches: CacheDirs, mesh):
-    """Craig-Bampton reduction of the coupled component (called on a cache miss); ``mesh``:
-    the verified mesh entry (its content hash is recorded as the one the reduction used)."""
+def _reduce(params, options: FlexOptions, cutoff: float | None, caches: CacheDirs, mesh, path: str):
+    """Craig-Bampton reduction of the coupled component (called on a cache miss), keeping at
+    most MAX_MODES fixed-interface modes; ``mesh``: the verified mesh entry (its content hash
+    is recorded as the one the reduction used); ``path``: the body's table in the scene."""
     from cms.craig_bampton import CraigBamptonReductor
     fe, c = _coupled_model(params, options, caches, mesh.sha256)
+    n_interior = c.K_c.shape[0] - len(c.boundary_dofs)
+    if options.n_modes is not None and options.n_modes > n_interior:
+        raise SceneError(f"{path}.flex.n_modes", options.n_modes,
+                         f"more than the {n_interior} interior DOFs of the body's mesh")
     red = CraigBamptonReductor(
-        c.K_c, c.M_c, c.boundary_dofs, n_modes=options.n_modes, cutoff_hz=cutoff,
+        c.K_c, c.M_c, c.boundary_dofs, n_modes=options.n_modes, cutoff_hz=cutoff, max_modes=MAX_MODES,
         dof_names=[f"{nm}:{d}" for nm, _, _ in c.masters for d in _DOFS6],
         rigid_body_basis=c.rigid_body_basis(fe.center_of_mass), residual_vectors=options.residual_vectors,
         metadata={"mass": fe.mass, "center_of_mass": fe.center_of_mass.tolist(),
@@ -268,7 +309,7 @@ def _check_reduction(se, mesh_sha256: str) -> None:
                          "while it was reduced?)", "mesh_sha256", str(md["mesh_sha256"])[:16])
 
 
-def _reduced(body, params, options: FlexOptions, cutoff: float | None, caches: CacheDirs) -> dict:
+def _reduced(body, params, options: FlexOptions, cutoff: float | None, caches: CacheDirs, path: str) -> dict:
     """Superelement of the component (from the cache, or reduced and stored)."""
     from cms.cache import SuperelementCache
     mesh = mesh_entry(params, options, caches)
@@ -277,7 +318,7 @@ def _reduced(body, params, options: FlexOptions, cutoff: float | None, caches: C
                   "couplings": dict(options.couplings or {}), "n_modes": options.n_modes, "cutoff_hz": cutoff,
                   "residual_vectors": options.residual_vectors, "code": code_digest()}
     cache = SuperelementCache(caches.superelements)
-    se = cache.get_or_reduce(key_inputs, lambda: _reduce(params, options, cutoff, caches, mesh),
+    se = cache.get_or_reduce(key_inputs, lambda: _reduce(params, options, cutoff, caches, mesh, path),
                              check=lambda s: _check_reduction(s, mesh.sha256))
     md = se.metadata
     o, R = placement(body)

@@ -5,12 +5,14 @@ import numpy as np
 
 
 def unit(v, name: str = "vector") -> np.ndarray:
-    """Return ``v`` normalised; raise on a zero vector."""
+    """Return ``v`` normalised; raise on a zero or non-finite vector. Scaled by its largest
+    entry first, so no finite vector overflows (1e200) or underflows (1e-200) in the norm."""
     v = np.asarray(v, dtype=float)
-    n = np.linalg.norm(v)
-    if not np.isfinite(n) or n == 0.0:
+    s = np.abs(v).max(initial=0.0)
+    if not np.isfinite(s) or s == 0.0:
         raise ValueError(f"{name} must be a non-zero finite 3-vector, got {v.tolist()}")
-    return v / n
+    w = v / s
+    return w / np.linalg.norm(w)
 
 
 def skew(a) -> np.ndarray:

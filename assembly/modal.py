@@ -14,7 +14,7 @@ import numpy as np
 import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
-from .errors import SolverError
+from .errors import SceneError, SolverError
 
 log = logging.getLogger(__name__)
 
@@ -94,7 +94,11 @@ SPARSE_DEFAULT_MODES = 30
 
 
 def solve_modes(model, n_modes: int | None = None) -> ModalResult:
-    """All (or the lowest ``n_modes``) modes of ``model``."""
+    """All (or the lowest ``n_modes``, an integer >= 1; more than the model has gives all
+    of them, n - 1 for a sparse model above DENSE_MAX DOFs) modes of ``model``."""
+    if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
+                                or n_modes < 1):
+        raise SceneError("n_modes", n_modes, "must be an integer >= 1 (or None: all modes)")
     t0 = time.perf_counter()
     K, M = model.K, model.M
     data = [getattr(A, "data", A) for A in (K, M)]

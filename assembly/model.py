@@ -26,6 +26,7 @@ from .elements import Element, gear_mesh, relative_spring
 from .flexible import DEFAULT_BAND_HZ, flexible_body
 from .kinematics import axis_frame, block_rotation, rigid_transfer
 from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene
+from .validate import body_origins
 
 log = logging.getLogger(__name__)
 
@@ -135,9 +136,13 @@ def _with_interfaces(el: Element, ifaces) -> Element:
     return dataclasses.replace(el, interfaces=tuple(ifaces))
 
 
-def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches: CacheDirs | None = None) -> dict:
+def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches: CacheDirs | None = None,
+                      paths: dict | None = None) -> dict:
     """Body models in frame order: rigid (plain or from a component's mesh) or flexible.
-    ``caches``: where meshes and reductions are cached (default :class:`CacheDirs`)."""
+    ``caches``: where meshes and reductions are cached (default :class:`CacheDirs`);
+    ``paths``: body name -> the scene table that made it, for error messages (default:
+    the body's name)."""
+    paths = paths or {}
     caches = caches or CacheDirs()
     band = scene.band_hz or DEFAULT_BAND_HZ
     out = {}
@@ -145,10 +150,11 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
         if b.component is None:
             out[b.name] = RigidBodyModel.from_body(b)
             continue
-        params = component_params(b, b.name)
+        path = paths.get(b.name, b.name)
+        params = component_params(b, f"{path}.component")
         opts = b.flex or FlexOptions()
         if b.fidelity == "flexible":
-            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe, caches=caches)
+            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe, caches=caches, path=path)
         else:
             mass, com, J, _ = mass_properties(b, params, opts, caches)
             out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J,
@@ -170,7 +176,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     sc, rigidified = rigidify(scene.expanded())
     order = _frame_order(sc)
     if bodies is None:
-        bodies = build_body_models(sc, full_fe=full_fe, caches=caches)
+        bodies = build_body_models(sc, full_fe=full_fe, caches=caches, paths=body_origins(scene, scene.expanded()))
     t_bodies = time.perf_counter() - t0
     model = _absolute_model(sc, order, bodies)
     model.T, model.dof_names = _independent_coordinates(sc, order, bodies)

@@ -11,6 +11,11 @@ measured relative to its reference frame (the housing, or another body: planets 
 the carrier's frame). Constructing a :class:`Scene` validates it once and raises
 :class:`~assembly.errors.SceneError` naming the field path and value; scenes derived
 from a valid one by a change that cannot invalidate it (:func:`derive`) skip that check.
+
+Every number field declares its unit and range here (:func:`fe_components.fields.quantity`:
+finite, of physical magnitude, in range), every name field its rule (:func:`name_field`);
+:mod:`assembly.schema` checks both, the same way for a TOML table and for dataclasses
+built in Python, before any other rule compares or combines them.
 """
 from __future__ import annotations
 
@@ -18,22 +23,46 @@ import contextvars
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Literal, Optional
+from typing import Literal, Optional, get_args
 
 import numpy as np
 
+from fe_components.fields import quantity
 from fe_components.material import STEEL, Material
+from fe_components.params import MAX_PLANETS
+
+from .errors import SceneError
 
 HOUSING = "housing"
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 Fidelity = Literal["torsional", "rigid", "flexible"]
 Vec3 = tuple[float, float, float]
 Support = Literal["bearing", "fixed", "floating"]
+#: Most fixed-interface modes one flexible body may keep (``flex.n_modes``, or the modes
+#: below its cutoff): a superelement of a few hundred modes already resolves a band far
+#: above any drivetrain excitation, while the modes of a cutoff without bound (every
+#: interior mode of a 50k-DOF mesh: 2.4 GB, many minutes) exhaust the machine.
+MAX_MODES = 500
+#: Longest name (characters) of a body, stage, bearing, mesh, shaft, load case or scene:
+#: names become parts of output file names.
+MAX_NAME_LENGTH = 64
+_HALF_PI = math.pi / 2
 
 
-def angle(default=dataclasses.MISSING):
+def angle(default=dataclasses.MISSING, **rule):
     """Field holding an angle in radians (TOML may give ``<name>_deg`` instead)."""
-    return field(default=default, metadata={"angle": True})
+    return quantity("rad", default, angle=True, **rule)
+
+
+def name_field(default=dataclasses.MISSING):
+    """Field holding a name: non-empty, at most MAX_NAME_LENGTH characters, no control
+    characters and no path separators (names become parts of file names)."""
+    return field(default=default, metadata={"name": True})
+
+
+def stiffness(unit: str, default=dataclasses.MISSING):
+    """A bearing stiffness (N/m or N m/rad): >= 0, ``inf`` = rigid."""
+    return quantity(unit, default, ge=0.0, inf_ok=True)
 
 
 @dataclass(frozen=True)
@@ -48,10 +77,11 @@ class FlexOptions:
     quasi-static part of every truncated mode for one more block solve.
     """
 
-    mesh_size: Optional[float] = None
+    mesh_size: Optional[float] = quantity("m", None, gt=0.0)
     order: Literal[1, 2] = 2
-    n_modes: Optional[int] = None
-    cutoff_hz: Optional[float] = None
+    n_modes: Optional[int] = quantity("", None, integer=True, ge=0, le=MAX_MODES,
+                                      hint="0 = Guyan; at most MAX_MODES")
+    cutoff_hz: Optional[float] = quantity("Hz", None, gt=0.0)
     couplings: Optional[dict] = None
     material: Material = STEEL
     residual_vectors: bool = True
@@ -70,13 +100,13 @@ class Body:
     says how it is meshed and reduced.
     """
 
-    name: str
-    mass: Optional[float] = None
-    polar_inertia: Optional[float] = None
-    transverse_inertia: Optional[float] = None
-    inertia_tensor: Optional[tuple[Vec3, Vec3, Vec3]] = None
-    position: Vec3 = (0.0, 0.0, 0.0)
-    axis: Vec3 = (0.0, 0.0, 1.0)
+    name: str = name_field()
+    mass: Optional[float] = quantity("kg", None, gt=0.0)
+    polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
+    transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
+    inertia_tensor: Optional[tuple[Vec3, Vec3, Vec3]] = quantity("kg m^2", None)
+    position: Vec3 = quantity("m", (0.0, 0.0, 0.0))
+    axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     frame: str = HOUSING
     fidelity: Fidelity = "rigid"
     stage: Optional[str] = None
@@ -103,13 +133,13 @@ class Bearing:
     """
 
     body: str
-    k_radial: float
-    k_axial: float
-    k_tilt: float
-    k_torsion: float = 0.0
+    k_radial: float = stiffness("N/m")
+    k_axial: float = stiffness("N/m")
+    k_tilt: float = stiffness("N m/rad")
+    k_torsion: float = stiffness("N m/rad", 0.0)
     frame: Optional[str] = None
-    position: Optional[Vec3] = None
-    name: Optional[str] = None
+    position: Optional[Vec3] = quantity("m", None)
+    name: Optional[str] = name_field(None)
     interface: Optional[str] = None
     frame_interface: Optional[str] = None
 
@@ -135,15 +165,15 @@ class GearMesh:
 
     gear1: str
     gear2: str
-    stiffness: float
-    base_radius1: float
-    base_radius2: float
-    pressure_angle: float = angle()
-    helix_angle: float = angle(0.0)
+    stiffness: float = quantity("N/m", gt=0.0)
+    base_radius1: float = quantity("m", nonzero=True, hint="negative = internal gear")
+    base_radius2: float = quantity("m", nonzero=True, hint="negative = internal gear")
+    pressure_angle: float = angle(gt=0.0, lt=_HALF_PI)
+    helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
     drive_sign: int = 1
-    name: Optional[str] = None
-    center1: Optional[Vec3] = None
-    center2: Optional[Vec3] = None
+    name: Optional[str] = name_field(None)
+    center1: Optional[Vec3] = quantity("m", None)
+    center2: Optional[Vec3] = quantity("m", None)
     contact_point: Literal["pitch", "tangent"] = "pitch"
     interface1: Optional[str] = None
     interface2: Optional[str] = None
@@ -157,12 +187,12 @@ class Shaft:
 
     body1: str
     body2: str
-    k_torsion: float
-    k_bending: float = 0.0
-    k_axial: float = 0.0
-    k_shear: float = 0.0
-    position: Optional[Vec3] = None
-    name: Optional[str] = None
+    k_torsion: float = quantity("N m/rad", gt=0.0)
+    k_bending: float = quantity("N m/rad", 0.0, ge=0.0)
+    k_axial: float = quantity("N/m", 0.0, ge=0.0)
+    k_shear: float = quantity("N/m", 0.0, ge=0.0)
+    position: Optional[Vec3] = quantity("m", None)
+    name: Optional[str] = name_field(None)
     interface1: Optional[str] = None
     interface2: Optional[str] = None
 
@@ -183,10 +213,10 @@ class Fixed:
 class BearingSpec:
     """Stiffnesses of a member's bearing (N/m, N m/rad; ``inf`` = rigid direction)."""
 
-    k_radial: float
-    k_axial: float
-    k_tilt: float
-    k_torsion: float = 0.0
+    k_radial: float = stiffness("N/m")
+    k_axial: float = stiffness("N/m")
+    k_tilt: float = stiffness("N m/rad")
+    k_torsion: float = stiffness("N m/rad", 0.0)
 
 
 @dataclass(frozen=True)
@@ -198,10 +228,10 @@ class Member:
     ``planet_angles``/``pin_pitch_radius``: the stage places the pins at its planets) with
     ``flex`` options; its bearing then acts at the component's ``bearing_interface``."""
 
-    mass: Optional[float] = None
-    polar_inertia: Optional[float] = None
-    transverse_inertia: Optional[float] = None
-    base_radius: Optional[float] = None
+    mass: Optional[float] = quantity("kg", None, gt=0.0)
+    polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
+    transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
+    base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive")
     support: Support = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Fidelity = "rigid"
@@ -215,14 +245,14 @@ class Planets:
     """N identical planets at ``angles`` (rad; default equally spaced from 0).
     ``outer_radius`` (m, default the pitch radius) is used for the overlap check."""
 
-    count: int
-    mass: float
-    polar_inertia: float
-    base_radius: float
-    bearing: BearingSpec
-    transverse_inertia: Optional[float] = None
+    count: int = quantity("", integer=True, ge=1, le=MAX_PLANETS)
+    mass: float = quantity("kg", gt=0.0)
+    polar_inertia: float = quantity("kg m^2", gt=0.0)
+    base_radius: float = quantity("m", gt=0.0)
+    bearing: BearingSpec = field()
+    transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     angles: Optional[tuple[float, ...]] = angle(None)
-    outer_radius: Optional[float] = None
+    outer_radius: Optional[float] = quantity("m", None, gt=0.0)
     fidelity: Fidelity = "rigid"
 
 
@@ -230,19 +260,19 @@ class Planets:
 class PlanetaryStage:
     """A planetary stage. Mesh stiffness N/m; pressure angles transverse, rad."""
 
-    name: str
-    sun: Member
-    ring: Member
-    carrier: Member
-    planets: Planets
-    k_mesh_sun: float
-    k_mesh_ring: float
-    pressure_angle_sun: float = angle()
-    pressure_angle_ring: float = angle()
-    helix_angle: float = angle(0.0)
+    name: str = name_field()
+    sun: Member = field()
+    ring: Member = field()
+    carrier: Member = field()
+    planets: Planets = field()
+    k_mesh_sun: float = quantity("N/m", gt=0.0)
+    k_mesh_ring: float = quantity("N/m", gt=0.0)
+    pressure_angle_sun: float = angle(gt=0.0, lt=_HALF_PI)
+    pressure_angle_ring: float = angle(gt=0.0, lt=_HALF_PI)
+    helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
     drive_sign: int = 1
-    center: Vec3 = (0.0, 0.0, 0.0)
-    axis: Vec3 = (0.0, 0.0, 1.0)
+    center: Vec3 = quantity("m", (0.0, 0.0, 0.0))
+    axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     contact_point: Literal["pitch", "tangent"] = "pitch"
 
     def carrier_radius(self) -> float:
@@ -264,9 +294,9 @@ class LoadCase:
 
     input: str
     output: str
-    torque: float
+    torque: float = quantity("N m", nonzero=True)
     input_interface: Optional[str] = None
-    name: str = "rated torque"
+    name: str = name_field("rated torque")
 
 
 #: True while :func:`derive` builds a scene from an already validated one.
@@ -283,7 +313,7 @@ class Scene:
     (``SceneError`` on bad input).
     """
 
-    name: str = "scene"
+    name: str = name_field("scene")
     description: str = ""
     bodies: tuple[Body, ...] = ()
     bearings: tuple[Bearing, ...] = ()
@@ -291,10 +321,13 @@ class Scene:
     shafts: tuple[Shaft, ...] = ()
     fixed: tuple[Fixed, ...] = ()
     stages: tuple[PlanetaryStage, ...] = ()
-    band_hz: Optional[float] = None
+    band_hz: Optional[float] = quantity("Hz", None, gt=0.0)
     load: Optional[LoadCase] = None
 
     def __post_init__(self):
+        for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages"):
+            if isinstance(getattr(self, f), list):  # Python callers may pass lists
+                object.__setattr__(self, f, tuple(getattr(self, f)))
         if not _TRUSTED.get():
             from .validate import validate_scene  # validate reads these types: import when used
             validate_scene(self)
@@ -331,16 +364,53 @@ def derive(scene: Scene, **changes) -> Scene:
 
 
 def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
-    """Copy of ``scene`` (stages expanded) with ``bodies`` (default all) at ``fidelity``."""
+    """Copy of ``scene`` with ``bodies`` (names in the expanded scene, or one name; default
+    all) at ``fidelity``. Planetary stages stay stages -- the chosen members, or all the
+    planets, take the fidelity -- so an error of the new scene names the table the user
+    wrote; only a choice that splits the planets of one stage expands the scene."""
+    allowed = get_args(Fidelity)
+    if not isinstance(fidelity, str) or fidelity not in allowed:
+        raise SceneError("fidelity", fidelity, f"must be one of {list(allowed)}")
     sc = scene.expanded()
-    new = tuple(dataclasses.replace(b, fidelity=fidelity) if bodies is None or b.name in bodies else b
-                for b in sc.bodies)
-    return dataclasses.replace(sc, bodies=new)
+    have = [b.name for b in sc.bodies]
+    chosen = set(have) if bodies is None else {bodies} if isinstance(bodies, str) else set(bodies)
+    unknown = sorted(chosen - set(have), key=str)
+    if unknown:
+        raise SceneError("bodies", unknown[0], f"no body of that name; have {have}")
+
+    def pick(items):
+        return tuple(dataclasses.replace(b, fidelity=fidelity) if b.name in chosen else b for b in items)
+
+    stages = []
+    for st in scene.stages:
+        planets = {b.name for b in sc.bodies[len(scene.bodies):] if b.stage == st.name and b.role == "planet"}
+        if chosen & planets not in (set(), planets):  # some planets of a stage, not all
+            return dataclasses.replace(sc, bodies=pick(sc.bodies))
+        changes = {role: dataclasses.replace(getattr(st, role), fidelity=fidelity)
+                   for role in ("sun", "ring", "carrier") if f"{st.name}.{role}" in chosen}
+        if planets and planets <= chosen:
+            changes["planets"] = dataclasses.replace(st.planets, fidelity=fidelity)
+        stages.append(dataclasses.replace(st, **changes))
+    return dataclasses.replace(scene, bodies=pick(scene.bodies), stages=tuple(stages))
+
+
+_STIFFNESSES = ("k_radial", "k_axial", "k_tilt", "k_torsion")
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:
-    """Copy of ``scene`` (stages expanded) with the named bearing stiffnesses times ``factor``."""
-    sc = scene.expanded()
-    new = tuple(dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
-                for b in sc.bearings)
-    return dataclasses.replace(sc, bearings=new)
+    """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
+    its own bearings and the bearing tables of its planetary stages (kept as stages)."""
+    if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 0 < factor < math.inf:
+        raise SceneError("factor", factor, "must be a finite number > 0")
+    for d in directions:
+        if d not in _STIFFNESSES:
+            raise SceneError("directions", d, f"must be among {list(_STIFFNESSES)}")
+
+    def scaled(b):
+        return None if b is None else dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
+
+    stages = tuple(dataclasses.replace(
+        st, planets=dataclasses.replace(st.planets, bearing=scaled(st.planets.bearing)),
+        **{role: dataclasses.replace(getattr(st, role), bearing=scaled(getattr(st, role).bearing))
+           for role in ("sun", "ring", "carrier")}) for st in scene.stages)
+    return dataclasses.replace(scene, bearings=tuple(scaled(b) for b in scene.bearings), stages=stages)

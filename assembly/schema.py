@@ -4,7 +4,15 @@ Typed construction of frozen dataclasses from plain dicts (TOML tables).
 
 One generic converter instead of a hand-written parser per table: every dataclass field is
 read with its annotated type, unknown keys and missing fields are refused, and every error
-names the full scene path (``stages[0].planets.count``) and the offending value.
+names the full scene path (``stages[0].planets.count``) and the offending value. Scene and
+component tables (fe_components parameters) go through the same converter, so a string, a
+bool or a NaN where a number belongs is refused the same way in both.
+
+Field rules declared on the dataclasses are applied to every value before any other rule
+uses it: a number's unit and range (:mod:`fe_components.fields`: finite, of physical
+magnitude, in range) and a name's rule (:func:`name_problem`). :func:`check_instance`
+applies the same types and rules to dataclasses built in Python (``Body(name=3)``,
+``Bearing(k_radial="1e8")``), so the Python API gets the messages of a TOML file.
 
 Angle fields (``metadata={"angle": True}``) are SI radians; a TOML file may instead give the
 same quantity in degrees under the key ``<field>_deg`` (converted once, here).
@@ -12,18 +20,24 @@ same quantity in degrees under the key ``<field>_deg`` (converted once, here).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
 import math
+import numbers
 import tomllib
 import types
 import typing
+import unicodedata
 from pathlib import Path
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
+import numpy as np
 from fe_components.errors import GeometryError
+from fe_components.fields import value_problem
+from fe_components.params import MAX_PLANETS
 
 from .errors import SceneError
-from .scene import Scene
+from .scene import MAX_NAME_LENGTH, Scene
 
 log = logging.getLogger(__name__)
 
@@ -49,8 +63,12 @@ def _type_name(tp) -> str:
     return getattr(tp, "__name__", str(tp))
 
 
-def convert(tp, value: Any, path: str):
-    """Convert ``value`` to the annotated type ``tp`` or raise SceneError at ``path``."""
+def convert(tp, value: Any, path: str, strict: bool = False):
+    """Convert ``value`` to the annotated type ``tp`` or raise SceneError at ``path``.
+
+    ``strict``: check a value built in Python instead (a dataclass field must hold an
+    instance of its class, whose own fields are checked in turn by :func:`check_instance`).
+    Ranges are the field rules' business (:func:`check_rules`), not the type's."""
     origin = get_origin(tp)
     if origin in (Union, types.UnionType):
         args = [a for a in get_args(tp) if a is not type(None)]
@@ -59,25 +77,23 @@ def convert(tp, value: Any, path: str):
         errors = []
         for a in args:
             try:
-                return convert(a, value, path)
+                return convert(a, value, path, strict)
             except SceneError as exc:
                 errors.append(exc)
         raise errors[0]
     if origin is Literal:
-        if value not in get_args(tp):
+        # type and value: True is not the order 1
+        if not any(type(value) is type(a) and value == a for a in get_args(tp)):
             raise SceneError(path, value, f"must be one of {list(get_args(tp))}")
         return value
     if tp is float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):  # numpy numbers too
             raise SceneError(path, value, "must be a number")
-        value = float(value)
-        if math.isnan(value):
-            raise SceneError(path, value, "must not be NaN")
-        return value
+        return float(value)
     if tp is int:
-        if isinstance(value, bool) or not isinstance(value, int):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
             raise SceneError(path, value, "must be an integer")
-        return value
+        return int(value)
     if tp is bool:
         if not isinstance(value, bool):
             raise SceneError(path, value, "must be true or false")
@@ -88,14 +104,19 @@ def convert(tp, value: Any, path: str):
         return value
     if origin is tuple:
         args = get_args(tp)
-        if not isinstance(value, (list, tuple)):
+        if not isinstance(value, (list, tuple, np.ndarray)):
             raise SceneError(path, value, "must be an array")
         if len(args) == 2 and args[1] is Ellipsis:
-            return tuple(convert(args[0], v, f"{path}[{i}]") for i, v in enumerate(value))
+            return tuple(convert(args[0], v, f"{path}[{i}]", strict) for i, v in enumerate(value))
         if len(value) != len(args):
             raise SceneError(path, value, f"must have exactly {len(args)} entries")
-        return tuple(convert(a, v, f"{path}[{i}]") for i, (a, v) in enumerate(zip(args, value)))
+        return tuple(convert(a, v, f"{path}[{i}]", strict) for i, (a, v) in enumerate(zip(args, value)))
     if dataclasses.is_dataclass(tp):
+        if strict:
+            if not isinstance(value, tp):
+                raise SceneError(path, value, f"must be a {tp.__name__}")
+            check_instance(value, path)
+            return value
         return from_dict(tp, value, path)
     if tp is dict:
         if not isinstance(value, dict):
@@ -120,13 +141,14 @@ def from_dict(cls, data: Any, path: str = ""):
         data = dict(zip(names, data))
     if not isinstance(data, dict):
         raise SceneError(path or cls.__name__, data, f"must be a table of {cls.__name__} fields")
-    hints = get_type_hints(cls)
+    hints = _hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     kwargs = {}
     for key, value in data.items():
         p = _join(path, key)
         if key in fields:
             name = key
+            check_rules(fields[name], value, p)  # first: its message says unit and range
             val = convert(hints[name], value, p)
         elif key.endswith("_deg") and key[:-4] in fields and fields[key[:-4]].metadata.get("angle"):
             name = key[:-4]
@@ -139,6 +161,7 @@ def from_dict(cls, data: Any, path: str = ""):
                 val = tuple(math.radians(d) for d in deg)
             else:
                 val = math.radians(deg)
+            check_rules(fields[name], val, p, math.degrees)
         else:
             allowed = sorted(fields)
             raise SceneError(p, value, f"unknown key; allowed keys: {', '.join(allowed)}")
@@ -150,6 +173,56 @@ def from_dict(cls, data: Any, path: str = ""):
         return cls(**kwargs)
     except GeometryError as err:  # a data type that checks its own values (e.g. Material)
         raise SceneError(f"{path}.{err.parameter}" if path else err.parameter, err.value, err.reason) from None
+
+
+@functools.cache
+def _hints(cls) -> dict:
+    """Resolved field annotations of a dataclass (computed once per class)."""
+    return get_type_hints(cls)
+
+
+def check_rules(f: dataclasses.Field, value, path: str, shown=None) -> None:
+    """Apply the rules declared on field ``f`` (a number's unit and range, a name's rule)
+    to ``value``; ``shown`` maps a bad number to the value the user wrote (degrees)."""
+    rule = f.metadata.get("quantity")
+    if rule is not None:
+        p = value_problem(rule, value, isinstance(value, (list, tuple, np.ndarray)))
+        if p is not None:
+            bad = shown(p[1]) if shown is not None and isinstance(p[1], (int, float)) else p[1]
+            raise SceneError(path + p[0], bad, p[2])
+    if f.metadata.get("name") and value is not None:
+        why = name_problem(value)
+        if why:
+            raise SceneError(path, value, why)
+
+
+def name_problem(name) -> str | None:
+    """Why ``name`` cannot name a body, stage, element or scene (it becomes part of file
+    names and of error messages), or None."""
+    if not isinstance(name, str):
+        return "must be a string"
+    if not name:
+        return "must not be empty"
+    if len(name) > MAX_NAME_LENGTH:
+        return f"longer than {MAX_NAME_LENGTH} characters ({len(name)})"
+    if any(unicodedata.category(c) in ("Cc", "Cf", "Cs") for c in name):
+        return "must not contain control characters"
+    if "/" in name or "\\" in name:
+        return "must not contain a path separator ('/' or '\\')"
+    return None
+
+
+def check_instance(obj, path: str = "") -> None:
+    """Check a dataclass built in Python field by field, as if read from a table: the
+    field's rules, then its annotated type (:func:`convert` in strict mode, recursing into
+    nested dataclasses). Raises SceneError naming ``path.field``."""
+    hints = _hints(type(obj))
+    for f in dataclasses.fields(obj):
+        if f.init:
+            p = _join(path, f.name)
+            value = getattr(obj, f.name)
+            check_rules(f, value, p)
+            convert(hints[f.name], value, p, strict=True)
 
 
 def _all_required(cls) -> bool:
@@ -182,8 +255,8 @@ def _equally_spaced_planets(data: dict, path: str) -> dict:
     if "planet_angles" in data or "planet_angles_deg" in data:
         raise SceneError(f"{path}.n_planets", n, "give either n_planets or planet_angles, not both")
     n = convert(int, n, f"{path}.n_planets")
-    if n < 2:
-        raise SceneError(f"{path}.n_planets", n, "must be an integer >= 2")
+    if not 2 <= n <= MAX_PLANETS:
+        raise SceneError(f"{path}.n_planets", n, f"must be an integer in 2..{MAX_PLANETS}")
     if "first_planet_angle_deg" in data:
         first = math.radians(convert(float, data.pop("first_planet_angle_deg"), f"{path}.first_planet_angle_deg"))
     else:

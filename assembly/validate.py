@@ -1,10 +1,14 @@
 """The rules a scene must obey, one function each (:class:`SceneError` with the field path).
 
-:func:`validate_scene` runs them in order: first each table on its own (bodies, bearings,
+:func:`validate_scene` runs them in order: first every field on its own -- its type and
+the unit and range declared on it (:func:`assembly.schema.check_instance`: finite, of
+physical magnitude, in range; names without control characters or path separators), so
+no rule below ever compares a NaN or overflows -- then each table on its own (bodies,
 meshes, shafts, fixed DOFs, planetary stages, flexible options), then the scene as a
-whole on its stages expanded (names, references, frames, attachment points, rigid
-bearings, mesh geometry, load case, connectivity). Error paths name the table the user
-wrote: ``stages[0].planets.count``, ``bearings[2].k_radial``.
+whole on its stages expanded (names, references, frames, component tables, attachment
+points, rigid bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
+Error paths name the table the user wrote: ``stages[0].planets.count``,
+``bearings[2].k_radial``, ``stages[0].carrier.component.cheek_spacing``.
 """
 from __future__ import annotations
 
@@ -12,51 +16,37 @@ import math
 
 import numpy as np
 
+from fe_components.geometry import volume_lower_bound
+
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .components import component_params
 from .constraints import can_constrain
 from .errors import SceneError
+from .flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ, cutoff_source, weyl_mode_count
 from .kinematics import unit
-from .scene import HOUSING, DOF_NAMES, Bearing, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
+from .scene import MAX_MODES, HOUSING, DOF_NAMES, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
+from .schema import check_instance
 
 
-# ---------------------------------------------------------------- value checks
-def _positive(path, value, what="must be > 0"):
-    if not (value > 0):
-        raise SceneError(path, value, what)
-
-
-def _nonneg(path, value):
-    if not (value >= 0):
-        raise SceneError(path, value, "must be >= 0 (N/m or N m/rad; inf = rigid)")
-
-
-def _vector(path, value):
-    v = np.asarray(value, float)
-    if not np.all(np.isfinite(v)):
-        raise SceneError(path, list(value), "must be finite")
-    return v
+def _nonzero_axis(path, axis) -> None:
+    if not any(axis):
+        raise SceneError(path, list(axis), "must be a non-zero vector")
 
 
 # ---------------------------------------------------------------- one table at a time
 def check_flex(opts: FlexOptions, path: str) -> None:
-    """Meshing and reduction options of a component body."""
-    if opts.mesh_size is not None and not opts.mesh_size > 0:
-        raise SceneError(f"{path}.mesh_size", opts.mesh_size, "must be > 0 m")
+    """Meshing and reduction options of a component body (ranges: the field rules)."""
     if opts.n_modes is not None and opts.cutoff_hz is not None:
         raise SceneError(f"{path}.n_modes", opts.n_modes, "give n_modes or cutoff_hz, not both")
-    if opts.n_modes is not None and opts.n_modes < 0:
-        raise SceneError(f"{path}.n_modes", opts.n_modes, "must be >= 0 (0 = Guyan)")
-    if opts.cutoff_hz is not None and not opts.cutoff_hz > 0:
-        raise SceneError(f"{path}.cutoff_hz", opts.cutoff_hz, "must be > 0 Hz")
     for k, v in (opts.couplings or {}).items():
         if v not in ("rbe2", "rbe3"):
             raise SceneError(f"{path}.couplings.{k}", v, "must be 'rbe2' or 'rbe3'")
 
 
 def check_body(b: Body, path: str) -> None:
-    """Name, mass properties (or a component that supplies them), position and axis."""
-    if not b.name or b.name == HOUSING or "/" in b.name:
-        raise SceneError(f"{path}.name", b.name, "must be a non-empty name other than 'housing'")
+    """Name, mass properties (or a component that supplies them) and axis."""
+    if b.name == HOUSING:
+        raise SceneError(f"{path}.name", b.name, "must be a name other than 'housing'")
     if b.component is not None:
         _check_component_body(b, path)
         return
@@ -66,10 +56,7 @@ def check_body(b: Body, path: str) -> None:
     if b.flex is not None:
         raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
     _check_mass_properties(b, path)
-    _vector(f"{path}.position", b.position)
-    a = _vector(f"{path}.axis", b.axis)
-    if np.linalg.norm(a) == 0:
-        raise SceneError(f"{path}.axis", list(b.axis), "must be a non-zero vector")
+    _nonzero_axis(f"{path}.axis", b.axis)
 
 
 def _check_component_body(b: Body, path: str) -> None:
@@ -79,77 +66,44 @@ def _check_component_body(b: Body, path: str) -> None:
                              "a body with a component takes mass and inertia from its mesh")
     if b.flex is not None:
         check_flex(b.flex, f"{path}.flex")
-    _vector(f"{path}.position", b.position)
+    _nonzero_axis(f"{path}.axis", b.axis)
 
 
 def _check_mass_properties(b: Body, path: str) -> None:
     if b.mass is None:
         raise SceneError(f"{path}.mass", None, "missing required field (kg)")
-    _positive(f"{path}.mass", b.mass, "must be > 0 kg")
     if (b.inertia_tensor is None) == (b.polar_inertia is None):
         raise SceneError(f"{path}.polar_inertia", b.polar_inertia,
                          "give exactly one of polar_inertia or inertia_tensor")
     if b.polar_inertia is not None:
-        _positive(f"{path}.polar_inertia", b.polar_inertia, "must be > 0 kg m^2")
-        if b.transverse_inertia is not None:
-            _positive(f"{path}.transverse_inertia", b.transverse_inertia, "must be > 0 kg m^2")
         return
     J = np.asarray(b.inertia_tensor, float)
     if not np.allclose(J, J.T, rtol=1e-12, atol=0) or np.linalg.eigvalsh(J).min() <= 0:
         raise SceneError(f"{path}.inertia_tensor", b.inertia_tensor, "must be symmetric positive definite (kg m^2)")
 
 
-def check_bearing(br: Bearing, path: str) -> None:
-    """Stiffnesses >= 0 (inf = rigid), a finite position if given."""
-    for f in ("k_radial", "k_axial", "k_tilt", "k_torsion"):
-        _nonneg(f"{path}.{f}", getattr(br, f))
-    if br.position is not None:
-        _vector(f"{path}.position", br.position)
-
-
 def check_mesh(m: GearMesh, path: str) -> None:
-    """Stiffness, base radii (negative = internal), pressure and helix angles, flank."""
+    """Two different gears, not both internal, a non-zero centre distance, a flank."""
     if m.gear1 == m.gear2:
         raise SceneError(f"{path}.gear2", m.gear2, "a gear cannot mesh with itself")
-    _positive(f"{path}.stiffness", m.stiffness, "must be > 0 N/m")
-    if not math.isfinite(m.stiffness):
-        raise SceneError(f"{path}.stiffness", m.stiffness, "must be finite")
-    for f in ("base_radius1", "base_radius2"):
-        v = getattr(m, f)
-        if not (math.isfinite(v) and v != 0):
-            raise SceneError(f"{path}.{f}", v, "must be a non-zero finite radius in m (negative = internal gear)")
     if m.base_radius1 < 0 and m.base_radius2 < 0:
         raise SceneError(f"{path}.base_radius2", m.base_radius2, "two internal gears cannot mesh")
     if m.base_radius1 + m.base_radius2 == 0:
         raise SceneError(f"{path}.base_radius2", m.base_radius2,
                          "internal and external base radii are equal: zero centre distance")
-    _pressure_angle(f"{path}.pressure_angle", m.pressure_angle)
-    _flank(m, path)
+    _drive_sign(m, path)
 
 
-def _pressure_angle(path: str, v) -> None:
-    if not 0 < v < math.pi / 2:
-        raise SceneError(path, v, "must lie in (0, 90) deg")
-
-
-def _flank(obj, path: str) -> None:
-    """|helix angle| < 90 deg and drive sign +-1 (a mesh or a stage)."""
-    if not abs(obj.helix_angle) < math.pi / 2:
-        raise SceneError(f"{path}.helix_angle", obj.helix_angle, "|helix angle| must be < 90 deg")
+def _drive_sign(obj, path: str) -> None:
+    """Drive sign +-1 (a mesh or a stage)."""
     if obj.drive_sign not in (1, -1):
         raise SceneError(f"{path}.drive_sign", obj.drive_sign, "must be +1 or -1")
 
 
 def check_shaft(s: Shaft, path: str) -> None:
-    """Two different bodies; finite stiffnesses, torsion > 0."""
+    """Two different bodies (stiffness ranges: the field rules; a rigid joint is a bearing)."""
     if s.body1 == s.body2:
         raise SceneError(f"{path}.body2", s.body2, "a shaft needs two different bodies")
-    _positive(f"{path}.k_torsion", s.k_torsion, "must be > 0 N m/rad")
-    for f in ("k_torsion", "k_bending", "k_axial", "k_shear"):
-        v = getattr(s, f)
-        _nonneg(f"{path}.{f}", v)
-        if not math.isfinite(v):
-            raise SceneError(f"{path}.{f}", v, "must be finite (use a bearing for a rigid joint)")
 
 
 def check_fixed(f: Fixed, path: str) -> None:
@@ -162,27 +116,20 @@ def check_fixed(f: Fixed, path: str) -> None:
 # ---------------------------------------------------------------- planetary stages
 def check_stage(st: PlanetaryStage, path: str) -> None:
     """A planetary stage: members, planets, meshes, and the geometry that joins them."""
-    if not st.name or "." in st.name:
-        raise SceneError(f"{path}.name", st.name, "must be a non-empty name without '.'")
+    if "." in st.name:
+        raise SceneError(f"{path}.name", st.name, "must be a name without '.'")
     for role in ("sun", "ring", "carrier"):
         _check_member(getattr(st, role), role, f"{path}.{role}")
     for role in ("sun", "ring"):
-        r = getattr(st, role).base_radius
-        if r is None or not r > 0:
-            raise SceneError(f"{path}.{role}.base_radius", r, "must be > 0 m (give the ring's as positive)")
+        if getattr(st, role).base_radius is None:
+            raise SceneError(f"{path}.{role}.base_radius", None, "missing required field (m, > 0; "
+                                                                 "give the ring's as positive)")
     pl = st.planets
-    if pl.count < 1:
-        raise SceneError(f"{path}.planets.count", pl.count, "must be >= 1")
-    for f in ("mass", "polar_inertia", "base_radius"):
-        if not getattr(pl, f) > 0:
-            raise SceneError(f"{path}.planets.{f}", getattr(pl, f), "must be > 0")
-    for f in ("k_mesh_sun", "k_mesh_ring"):
-        v = getattr(st, f)
-        if not (v > 0 and math.isfinite(v)):
-            raise SceneError(f"{path}.{f}", v, "must be a finite stiffness > 0 N/m")
-    _pressure_angle(f"{path}.pressure_angle_sun", st.pressure_angle_sun)
-    _pressure_angle(f"{path}.pressure_angle_ring", st.pressure_angle_ring)
-    _flank(st, path)
+    if pl.outer_radius is not None and pl.outer_radius <= pl.base_radius:
+        raise SceneError(f"{path}.planets.outer_radius", pl.outer_radius,
+                         f"must exceed the planet base radius {pl.base_radius} m")
+    _drive_sign(st, path)
+    _nonzero_axis(f"{path}.axis", st.axis)
     _check_ring_radius(st, path)
     _check_planet_spacing(st, path)
 
@@ -201,10 +148,10 @@ def _check_member(m, role: str, p: str) -> None:
     else:
         if m.fidelity == "flexible":
             raise SceneError(f"{p}.fidelity", m.fidelity, "a flexible member needs a component table")
-        if m.mass is None or not m.mass > 0:
-            raise SceneError(f"{p}.mass", m.mass, "must be > 0 kg")
-        if m.polar_inertia is None or not m.polar_inertia > 0:
-            raise SceneError(f"{p}.polar_inertia", m.polar_inertia, "must be > 0 kg m^2")
+        if m.mass is None:
+            raise SceneError(f"{p}.mass", None, "missing required field (kg, > 0)")
+        if m.polar_inertia is None:
+            raise SceneError(f"{p}.polar_inertia", None, "missing required field (kg m^2, > 0)")
     if m.support == "bearing" and m.bearing is None:
         raise SceneError(f"{p}.bearing", None, "support = 'bearing' needs a bearing table")
     if m.support != "bearing" and m.bearing is not None:
@@ -246,16 +193,16 @@ def _check_planet_spacing(st: PlanetaryStage, path: str) -> None:
 
 # ---------------------------------------------------------------- whole-scene rules
 def check_tables(scene) -> None:
-    """Every table on its own, in the order the user wrote them."""
+    """Every field (type, unit, range), then every table on its own, in the order the user
+    wrote them."""
+    check_instance(scene)
     for i, st in enumerate(scene.stages):
         check_stage(st, f"stages[{i}]")
     unique_names(scene.stages, "stages")
-    for key, check in (("bodies", check_body), ("bearings", check_bearing), ("meshes", check_mesh),
-                       ("shafts", check_shaft), ("fixed", check_fixed)):
+    for key, check in (("bodies", check_body), ("meshes", check_mesh), ("shafts", check_shaft),
+                       ("fixed", check_fixed)):
         for i, item in enumerate(getattr(scene, key)):
             check(item, f"{key}[{i}]")
-    if scene.band_hz is not None and not (scene.band_hz > 0 and math.isfinite(scene.band_hz)):
-        raise SceneError("band_hz", scene.band_hz, "must be a finite frequency > 0 Hz")
 
 
 def unique_names(items, path, attr="name") -> None:
@@ -270,25 +217,32 @@ def unique_names(items, path, attr="name") -> None:
         seen[name] = i
 
 
+#: Stage role of a body -> the table of the stage it comes from.
+_STAGE_TABLE = {"sun": "sun", "ring": "ring", "carrier": "carrier", "planet": "planets"}
+
+
 def body_origins(scene, expanded) -> dict:
-    """Body name -> the path of the table that made it (``bodies[i]`` or ``stages[i]``)."""
+    """Body name -> the path of the table that made it: ``bodies[i]``, or the member table
+    of the stage (``stages[i].sun``, ``.ring``, ``.carrier``, ``.planets``)."""
     origin = {b.name: f"bodies[{i}]" for i, b in enumerate(scene.bodies)}
     for i, st in enumerate(scene.stages):
         for b in expanded.bodies:
             if b.stage == st.name and b.name not in origin:
-                origin[b.name] = f"stages[{i}]"
+                origin[b.name] = f"stages[{i}].{_STAGE_TABLE[b.role]}"
     return origin
 
 
 def element_paths(scene, expanded, key: str, origin: dict, attr: str):
     """(path, item) of every bearing or mesh of the expanded scene: ``key[i]`` for the
-    user's own tables, the stage that made it otherwise."""
+    user's own tables; for a stage's, the bearing table of its member
+    (``stages[0].planets.bearing``) or the stage itself (a mesh: ``stages[0]``)."""
     own = len(getattr(scene, key))
     for i, item in enumerate(getattr(expanded, key)):
         if i < own:
             yield f"{key}[{i}]", item
         else:
-            yield origin[getattr(item, attr)] + (" bearing" if key == "bearings" else ""), item
+            member = origin[getattr(item, attr)]
+            yield (f"{member}.bearing" if key == "bearings" else member.split(".")[0]), item
 
 
 def body_table(expanded, origin: dict) -> dict:
@@ -304,11 +258,9 @@ def body_table(expanded, origin: dict) -> dict:
 
 
 def stage_elements_valid(scene, expanded, origin: dict) -> None:
-    """The bodies, bearings and meshes a planetary stage made obey the table rules too."""
+    """The bodies and meshes a planetary stage made obey the table rules too."""
     for b in expanded.bodies[len(scene.bodies):]:
         check_body(b, origin[b.name])
-    for p, br in list(element_paths(scene, expanded, "bearings", origin, "body"))[len(scene.bearings):]:
-        check_bearing(br, p)
     for p, m in list(element_paths(scene, expanded, "meshes", origin, "gear1"))[len(scene.meshes):]:
         check_mesh(m, p)
 
@@ -363,9 +315,15 @@ def flexible_bodies_supported(expanded, origin: dict) -> None:
 
 
 def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
-    """Every bearing and shaft attaches at a body point or a named interface."""
+    """Every bearing and shaft attaches at a body point or a named interface (a stage
+    member's bearing at its ``bearing_interface``)."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
-        bearing_point(br, names[br.body], masters, p)
+        try:
+            bearing_point(br, names[br.body], masters, p)
+        except SceneError as err:
+            if p.startswith("stages") and err.path == f"{p}.interface":
+                raise SceneError(f"{p.removesuffix('.bearing')}.bearing_interface", err.value, err.reason) from None
+            raise
     for i, s in enumerate(expanded.shafts):
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
 
@@ -401,15 +359,45 @@ def mesh_geometry(scene, expanded, names: dict, masters: dict, origin: dict) -> 
                              f"match |r1 + r2|/cos(pressure_angle) = {C_want:.9g} m")
 
 
+def couplings_name_interfaces(expanded, masters: dict, origin: dict) -> None:
+    """``flex.couplings`` keys name interfaces of the body's component."""
+    for b in expanded.bodies:
+        for key in ((b.flex.couplings or {}) if b.flex is not None else {}):
+            if key not in masters.get(b.name, {}):
+                raise SceneError(f"{origin[b.name]}.flex.couplings", key,
+                                 f"no such interface; have {sorted(masters.get(b.name, {}))}")
+
+
+def cutoffs_bounded(scene, expanded, origin: dict) -> None:
+    """The Craig-Bampton cutoff of every flexible body needs at most MAX_MODES
+    fixed-interface modes, judged before anything is meshed by Weyl's mode count on a
+    lower bound of the component's volume (:func:`assembly.flexible.weyl_mode_count`,
+    which underestimates: only a cutoff that surely needs too many modes is refused here;
+    the reduction itself stops at MAX_MODES + 1 modes for the rest)."""
+    band = scene.band_hz or DEFAULT_BAND_HZ
+    for b in expanded.bodies:
+        opts = b.flex or FlexOptions()
+        if b.fidelity != "flexible" or b.component is None or opts.n_modes is not None:
+            continue
+        cutoff = opts.cutoff_hz if opts.cutoff_hz is not None else CUTOFF_FACTOR * band
+        volume = volume_lower_bound(component_params(b, f"{origin[b.name]}.component"))
+        n = weyl_mode_count(volume, opts.material, cutoff)
+        if n > MAX_MODES:
+            path, value = cutoff_source(origin[b.name], opts, band)
+            raise SceneError(path, value, f"body {b.name!r} ({origin[b.name]}) would keep at least about "
+                                          f"{n:.3g} fixed-interface modes below the cutoff {cutoff:.6g} Hz "
+                                          f"(Weyl's count for {volume:.3g} m^3), more than MAX_MODES = "
+                                          f"{MAX_MODES}; lower the cutoff or give flex.n_modes")
+
+
 def check_load(load: LoadCase, path: str, names: dict) -> None:
-    """The static load case names two different bodies and a finite, non-zero torque."""
+    """The static load case names two different bodies (torque range: the field rule) and
+    the interface where a torque enters a component body."""
     for f in ("input", "output"):
         if getattr(load, f) not in names:
             raise SceneError(f"{path}.{f}", getattr(load, f), "no body of that name")
     if load.input == load.output:
         raise SceneError(f"{path}.output", load.output, "input and output must differ")
-    if not (math.isfinite(load.torque) and load.torque != 0):
-        raise SceneError(f"{path}.torque", load.torque, "must be a finite, non-zero torque (N m)")
     if names[load.output].fidelity == "flexible":
         raise SceneError(f"{path}.output", load.output, "the reacting body must be rigid or torsional")
     if names[load.input].component is not None and load.input_interface is None:
@@ -450,6 +438,8 @@ def validate_scene(scene) -> None:
     attachments_resolve(scene, expanded, names, masters, origin)
     rigid_bearings_allowed(scene, expanded, names, origin)
     mesh_geometry(scene, expanded, names, masters, origin)
+    couplings_name_interfaces(expanded, masters, origin)
+    cutoffs_bounded(scene, expanded, origin)
     if scene.load is not None:
         check_load(scene.load, "load", names)
     everything_connected(expanded, names, origin)

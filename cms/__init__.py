@@ -13,7 +13,7 @@ coordinates of the mass-normalised fixed-interface modes. SI units throughout.
 from .cache import SuperelementCache, array_hash, cache_key
 from .craig_bampton import CraigBamptonReductor, SolverOptions, guyan
 from .eigen import count_rigid_modes, free_free_shift, lowest_modes
-from .errors import CacheError, EigenSolveError, InteriorMechanismError, ReductionError
+from .errors import CacheError, EigenSolveError, InteriorMechanismError, ModeLimitError, ReductionError
 from .linsolve import cholmod_available, factor
 from .stress import NodalStress, recover_stress
 from .superelement import Superelement
@@ -21,4 +21,4 @@ from .superelement import Superelement
 __all__ = ["CraigBamptonReductor", "SolverOptions", "guyan", "Superelement", "SuperelementCache",
            "array_hash", "cache_key", "lowest_modes", "free_free_shift", "count_rigid_modes",
            "factor", "cholmod_available", "recover_stress", "NodalStress", "ReductionError",
-           "InteriorMechanismError", "EigenSolveError", "CacheError"]
+           "InteriorMechanismError", "EigenSolveError", "CacheError", "ModeLimitError"]

@@ -37,7 +37,7 @@ import scipy.sparse as sp
 
 from . import rigid
 from .eigen import lowest_modes
-from .errors import InteriorMechanismError, ReductionError
+from .errors import InteriorMechanismError, ModeLimitError, ReductionError
 from .linsolve import factor, thread_limit
 from .superelement import Superelement
 
@@ -91,6 +91,11 @@ class CraigBamptonReductor:
     boundary_dofs : indices of the master DOFs (kept physical, in this order).
     n_modes : number of fixed-interface modes (0 = Guyan).
     cutoff_hz : alternatively keep all fixed-interface modes below this frequency (Hz).
+    max_modes : most fixed-interface modes to keep (``None``: no limit). With
+        ``cutoff_hz``, at most ``max_modes + 1`` modes are ever computed: if the last is
+        still below the cutoff the reduction stops with :class:`~cms.errors.ModeLimitError`
+        instead of computing every interior mode (memory n_interior^2 in the worst case).
+        ``n_modes`` above it is refused.
     residual_vectors : also keep the interior's static response to the inertia load of the
         constraint modes, K_ii^-1 (M_ii Psi + M_ib), made M-orthogonal to the kept modes
         (modal truncation augmentation, Dickens, Nakagawa & Wittbrodt 1997; Nastran's
@@ -108,7 +113,8 @@ class CraigBamptonReductor:
     """
 
     def __init__(self, K, M, boundary_dofs, n_modes: int | None = None,
-                 cutoff_hz: float | None = None, *, residual_vectors: bool = False,
+                 cutoff_hz: float | None = None, *, max_modes: int | None = None,
+                 residual_vectors: bool = False,
                  dof_names=None, node_coords=None, dof_layout=None, rigid_body_basis=None,
                  options: SolverOptions = SolverOptions(), metadata: dict | None = None):
         self.K = sp.csr_matrix(K, dtype=float)
@@ -118,7 +124,7 @@ class CraigBamptonReductor:
             raise ReductionError("K and M must be square and of equal size", "shapes",
                                  (self.K.shape, self.M.shape))
         b = _checked_boundary(boundary_dofs, n)
-        _check_mode_selection(n_modes, cutoff_hz, n - len(b))
+        _check_mode_selection(n_modes, cutoff_hz, n - len(b), max_modes)
         if not isinstance(options, SolverOptions):
             raise ReductionError("options must be a cms.SolverOptions", "options", options)
         self.boundary_dofs = b
@@ -127,6 +133,7 @@ class CraigBamptonReductor:
         self.interior_dofs = np.flatnonzero(mask)
         self.n_modes = n_modes
         self.cutoff_hz = cutoff_hz
+        self.max_modes = max_modes
         self.dof_names = _full_dof_names(dof_names, b, n)
         self.points, self.kinds, self.R = _rigid_information(n, node_coords, dof_layout,
                                                              rigid_body_basis)
@@ -276,11 +283,12 @@ class CraigBamptonReductor:
         # Batches of modes on the one factorization; each batch deflates the modes already
         # found (ARPACK only), so nothing is recomputed when the cutoff needs more modes.
         lams, vecs, ress = [], [], []
-        k = min(ni, 12)
+        limit = ni if self.max_modes is None else min(ni, self.max_modes + 1)
+        k = min(limit, 12)
         while True:
             found = np.hstack(vecs) if vecs else None
             n_found = 0 if found is None else found.shape[1]
-            k = min(k, ni - n_found)
+            k = min(k, limit - n_found)
             deflate = found if opt.eigen_method == "arpack" else None
             r = lowest_modes(Kii, Mii, k if deflate is not None else n_found + k, factorization=F,
                              tol=opt.tol, threads=opt.threads, method=opt.eigen_method, deflate=deflate)
@@ -296,6 +304,9 @@ class CraigBamptonReductor:
                 o = np.argsort(lam)
                 keep = o[lam[o] <= lam_cut]
                 return lam[keep], X[:, keep], res[keep]
+            if n_found >= limit:
+                raise ModeLimitError(self.cutoff_hz, self.max_modes,
+                                     math.sqrt(max(r.eigenvalues[-1], 0.0)) / (2 * math.pi))
             k = 2 * k
 
     @staticmethod
@@ -366,15 +377,21 @@ def _checked_boundary(boundary_dofs, n: int) -> np.ndarray:
     return b
 
 
-def _check_mode_selection(n_modes, cutoff_hz, n_interior: int) -> None:
-    """Exactly one of ``n_modes`` (0..n_interior) or ``cutoff_hz`` (> 0 Hz)."""
+def _check_mode_selection(n_modes, cutoff_hz, n_interior: int, max_modes) -> None:
+    """Exactly one of ``n_modes`` (0..min(n_interior, max_modes)) or ``cutoff_hz``
+    (finite, > 0 Hz); ``max_modes`` a non-negative integer or None."""
     if (n_modes is None) == (cutoff_hz is None):
         raise ReductionError("give exactly one of n_modes or cutoff_hz",
                              "(n_modes, cutoff_hz)", (n_modes, cutoff_hz))
-    if n_modes is not None and not (0 <= n_modes <= n_interior):
-        raise ReductionError("n_modes must be in 0..n_interior", "n_modes", n_modes)
-    if cutoff_hz is not None and not cutoff_hz > 0:
-        raise ReductionError("cutoff frequency must be positive (Hz)", "cutoff_hz",
+    for name, v in (("n_modes", n_modes), ("max_modes", max_modes)):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0):
+            raise ReductionError(f"{name} must be an integer >= 0", name, v)
+    if n_modes is not None and not n_modes <= n_interior:
+        raise ReductionError(f"n_modes must be in 0..n_interior = {n_interior}", "n_modes", n_modes)
+    if n_modes is not None and max_modes is not None and n_modes > max_modes:
+        raise ReductionError(f"n_modes must be at most max_modes = {max_modes}", "n_modes", n_modes)
+    if cutoff_hz is not None and not (isinstance(cutoff_hz, (int, float)) and 0 < cutoff_hz < math.inf):
+        raise ReductionError("cutoff frequency must be a finite number > 0 (Hz)", "cutoff_hz",
                              cutoff_hz)
 
 

@@ -52,6 +52,24 @@ class InteriorMechanismError(ReductionError):
         self.pivot = pivot
 
 
+class ModeLimitError(ReductionError):
+    """More fixed-interface modes lie below the cutoff than the reductor may keep.
+
+    Attributes
+    ----------
+    max_modes : int
+        The limit (``CraigBamptonReductor(max_modes=...)``).
+    highest_hz : float
+        The highest frequency found (Hz), still below the cutoff.
+    """
+
+    def __init__(self, cutoff_hz: float, max_modes: int, highest_hz: float):
+        super().__init__(f"more than {max_modes} fixed-interface modes lie below the cutoff "
+                         f"(mode {max_modes + 1} at {highest_hz:.6g} Hz)", "cutoff_hz", cutoff_hz)
+        self.max_modes = max_modes
+        self.highest_hz = highest_hz
+
+
 class EigenSolveError(ReductionError):
     """The eigen solver did not reach the requested residual."""
 

@@ -133,6 +133,36 @@ def characteristic_length(params) -> float:
     raise TypeError(type(params).__name__)
 
 
+def _annulus(r_out: float, r_in: float, length: float) -> float:
+    return math.pi * (r_out ** 2 - r_in ** 2) * length
+
+
+def volume_lower_bound(params) -> float:
+    """A lower bound of the solid's volume [m^3] from its parameters alone (no meshing):
+    the volume of the regions that :func:`build_solid` keeps whatever the boolean details
+    (teeth, posts, fillets only add material). Cylinder: exact; pinion: the bored shaft
+    steps; wheel: rim (inner rim to root or smooth radius), web less its holes, bored hub
+    (three disjoint regions); carrier: the two cheeks less the pin bores and centre hole."""
+    p = params
+    if isinstance(p, CylinderParams):
+        return _annulus(p.diameter / 2, p.bore_diameter / 2, p.length)
+    if isinstance(p, PinionParams):
+        return sum(_annulus(s.diameter / 2, p.bore_diameter / 2, s.length) for s in p.shaft)
+    if isinstance(p, WheelParams):
+        t = p.teeth
+        rim = _annulus(t.inner_limit_radius, p.rim_inner_diameter / 2, t.face_width)
+        web = (_annulus(p.rim_inner_diameter / 2, p.hub_outer_diameter / 2, p.web_thickness)
+               - p.n_holes * _annulus(p.hole_diameter / 2, 0.0, p.web_thickness))
+        hub = _annulus(p.hub_outer_diameter / 2, p.bore_diameter / 2, p.hub_length)
+        return rim + web + hub
+    if isinstance(p, CarrierParams):
+        t = p.cheek_thickness
+        cheek = (_annulus(p.cheek_diameter / 2, p.center_hole_diameter / 2, t)
+                 - p.n_planets * _annulus(p.pin_bore_diameter / 2, 0.0, t))
+        return 2 * cheek
+    raise TypeError(type(params).__name__)
+
+
 # ---------------------------------------------------------------- OCC solids
 def _gear_body(occ, teeth: GearTeeth, z0: float, flank_points: int = 7, helix_sections: int = 5) -> tuple[int, int]:
     """Gear body (volume dimTag) between z0 and z0 + face width: smooth annulus or involute teeth."""

@@ -1,9 +1,10 @@
 """Isotropic linear-elastic material (SI units)."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+
 from .errors import MaterialError
+from .fields import check_fields, quantity
 
 
 @dataclass(frozen=True)
@@ -14,17 +15,12 @@ class Material:
     The defaults are structural steel.
     """
 
-    E: float = 2.1e11
-    nu: float = 0.3
-    rho: float = 7850.0
+    E: float = quantity("Pa", 2.1e11, gt=0.0)
+    nu: float = quantity("", 0.3, gt=-1.0, lt=0.5)
+    rho: float = quantity("kg/m^3", 7850.0, gt=0.0)
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.E) and self.E > 0):
-            raise MaterialError("E", self.E, "Young's modulus must be > 0 Pa")
-        if not (math.isfinite(self.nu) and -1.0 < self.nu < 0.5):
-            raise MaterialError("nu", self.nu, "Poisson's ratio must satisfy -1 < nu < 0.5")
-        if not (math.isfinite(self.rho) and self.rho > 0):
-            raise MaterialError("rho", self.rho, "density must be > 0 kg/m^3")
+        check_fields(self, MaterialError)
 
     @property
     def G(self) -> float:

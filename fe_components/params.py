@@ -2,8 +2,12 @@
 
 Every dataclass validates itself in ``__post_init__`` and raises
 :class:`~fe_components.errors.GeometryError` naming the parameter (dotted path
-relative to the object) and the offending value, *before* any meshing.
-Angle fields carry ``metadata={"angle": True}``, so a table reader (the scene schema)
+relative to the object) and the offending value, *before* any meshing: first every
+number against the unit and range declared on its field (:mod:`fe_components.fields`:
+a real number, finite, of physical magnitude, in range -- so no NaN or inf ever reaches
+a comparison or gmsh), then the relations between fields (a gear face between the
+bearing seats, a web inside the face width, non-overlapping bores).
+Angle fields are declared with ``angle=True``, so a table reader (the scene schema)
 may accept them in degrees under ``<name>_deg``.
 
 Axis conventions (all components rotate about the global z axis through the
@@ -20,24 +24,20 @@ import dataclasses
 import hashlib
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 from .errors import GeometryError
+from .fields import check_fields, quantity
 from .involute import check_tooth_shape
 
 FIDELITIES = ("smooth", "involute")
+#: Most planets a carrier may hold: more than any built stage (3 to 12) by far, and it
+#: bounds the pairwise bore and post overlap checks (n^2) before anything is meshed.
+MAX_PLANETS = 64
 
-
-# ---------------------------------------------------------------- helpers
-def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-        raise GeometryError(name, value, "must be a finite number > 0")
-
-
-def _non_negative(name: str, value: float) -> None:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-        raise GeometryError(name, value, "must be a finite number >= 0")
+_LENGTH = {"unit": "m", "gt": 0.0}     # a length that must be > 0
+_CLEARANCE = {"unit": "m", "ge": 0.0}  # a length that may be 0 (no bore, no hole)
 
 
 # ---------------------------------------------------------------- teeth
@@ -55,28 +55,19 @@ class GearTeeth:
     profile_shift : profile shift coefficient x [-].
     """
 
-    n_teeth: int
-    normal_module: float
-    pressure_angle: float = field(metadata={"angle": True})
-    face_width: float
-    helix_angle: float = field(default=0.0, metadata={"angle": True})
+    n_teeth: int = quantity(integer=True, ge=3)
+    normal_module: float = quantity(**_LENGTH)
+    pressure_angle: float = quantity("rad", angle=True, gt=0.0, lt=math.radians(45))
+    face_width: float = quantity(**_LENGTH)
+    helix_angle: float = quantity("rad", 0.0, angle=True, abs_lt=math.radians(60))
     fidelity: str = "smooth"
-    smooth_radius: float | None = None
-    profile_shift: float = 0.0
+    smooth_radius: float | None = quantity("m", None, gt=0.0)
+    profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
 
     def __post_init__(self) -> None:
-        if isinstance(self.n_teeth, bool) or not isinstance(self.n_teeth, int) or self.n_teeth < 3:
-            raise GeometryError("n_teeth", self.n_teeth, "must be an integer >= 3")
-        _positive("normal_module", self.normal_module)
-        _positive("face_width", self.face_width)
-        if not (isinstance(self.pressure_angle, (int, float)) and 0 < self.pressure_angle < math.radians(45)):
-            raise GeometryError("pressure_angle", self.pressure_angle, "must be in (0, 45 deg) [rad]")
-        if not (isinstance(self.helix_angle, (int, float)) and abs(self.helix_angle) < math.radians(60)):
-            raise GeometryError("helix_angle", self.helix_angle, "must satisfy |beta| < 60 deg [rad]")
+        check_fields(self)
         if self.fidelity not in FIDELITIES:
             raise GeometryError("fidelity", self.fidelity, f"must be one of {FIDELITIES}")
-        if not (isinstance(self.profile_shift, (int, float)) and -1.0 < self.profile_shift < 1.0):
-            raise GeometryError("profile_shift", self.profile_shift, "must be in (-1, 1)")
         # Undercut limit of a gear cut by the standard rack (h_a* = 1), ISO 21771 / Niemann:
         # z_min = 2 (1 - x) cos(beta) / sin^2(alpha_t); the practical limit is its integer part
         # (17 teeth for alpha_n = 20 deg, beta = 0, x = 0).
@@ -90,7 +81,6 @@ class GearTeeth:
         if self.root_radius <= 0:
             raise GeometryError("n_teeth", self.n_teeth, "root circle radius is not positive")
         if self.smooth_radius is not None:
-            _positive("smooth_radius", self.smooth_radius)
             if self.smooth_radius > self.tip_radius * (1 + 1e-12):
                 raise GeometryError("smooth_radius", self.smooth_radius,
                                     f"exceeds the tip radius {self.tip_radius:.6g} m")
@@ -141,12 +131,11 @@ class GearTeeth:
 class ShaftSegment:
     """One cylindrical shaft step: ``length`` and ``diameter`` [m]."""
 
-    length: float
-    diameter: float
+    length: float = quantity(**_LENGTH)
+    diameter: float = quantity(**_LENGTH)
 
     def __post_init__(self) -> None:
-        _positive("length", self.length)
-        _positive("diameter", self.diameter)
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -161,16 +150,18 @@ class PinionParams:
 
     teeth: GearTeeth
     shaft: tuple[ShaftSegment, ...]
-    gear_center: float
-    bore_diameter: float = 0.0
+    gear_center: float = quantity("m")
+    bore_diameter: float = quantity(**_CLEARANCE, default=0.0)
 
     def __post_init__(self) -> None:
         if not isinstance(self.teeth, GearTeeth):
             raise GeometryError("teeth", self.teeth, "must be a GearTeeth")
+        if not isinstance(self.shaft, (list, tuple)) or not all(isinstance(s, ShaftSegment) for s in self.shaft):
+            raise GeometryError("shaft", self.shaft, "must be an array of ShaftSegment")
         object.__setattr__(self, "shaft", tuple(self.shaft))
         if len(self.shaft) < 2:
             raise GeometryError("shaft", len(self.shaft), "needs at least two segments (two bearing seats)")
-        _non_negative("bore_diameter", self.bore_diameter)
+        check_fields(self)
         length = self.length
         b = self.teeth.face_width
         z0, z1 = self.gear_center - b / 2, self.gear_center + b / 2
@@ -204,22 +195,21 @@ class WheelParams:
     """
 
     teeth: GearTeeth
-    rim_inner_diameter: float
-    web_thickness: float
-    hub_outer_diameter: float
-    hub_length: float
-    bore_diameter: float
-    web_offset: float = 0.0
-    hub_offset: float = 0.0
-    n_holes: int = 0
-    hole_diameter: float = 0.0
-    hole_pitch_diameter: float | None = None
+    rim_inner_diameter: float = quantity(**_LENGTH)
+    web_thickness: float = quantity(**_LENGTH)
+    hub_outer_diameter: float = quantity(**_LENGTH)
+    hub_length: float = quantity(**_LENGTH)
+    bore_diameter: float = quantity(**_LENGTH)
+    web_offset: float = quantity("m", 0.0)
+    hub_offset: float = quantity("m", 0.0)
+    n_holes: int = quantity("", 0, integer=True, ge=0)
+    hole_diameter: float = quantity(**_CLEARANCE, default=0.0)
+    hole_pitch_diameter: float | None = quantity("m", None, gt=0.0)
 
     def __post_init__(self) -> None:
         if not isinstance(self.teeth, GearTeeth):
             raise GeometryError("teeth", self.teeth, "must be a GearTeeth")
-        for name in ("rim_inner_diameter", "web_thickness", "hub_outer_diameter", "hub_length", "bore_diameter"):
-            _positive(name, getattr(self, name))
+        check_fields(self)
         t = self.teeth
         if self.bore_diameter / 2 >= t.inner_limit_radius:
             raise GeometryError("bore_diameter", self.bore_diameter,
@@ -233,23 +223,43 @@ class WheelParams:
         if self.bore_diameter >= self.hub_outer_diameter:
             raise GeometryError("bore_diameter", self.bore_diameter,
                                 f"must be smaller than hub_outer_diameter {self.hub_outer_diameter} m")
-        b = t.face_width
-        if abs(self.web_offset) + self.web_thickness / 2 > b / 2 * (1 + 1e-12):
-            raise GeometryError("web_thickness", self.web_thickness,
-                                f"web (offset {self.web_offset} m) does not fit in the face width {b} m")
-        if abs(self.hub_offset - self.web_offset) + self.web_thickness / 2 > self.hub_length / 2 * (1 + 1e-12):
-            raise GeometryError("hub_length", self.hub_length, "hub must span the web thickness")
-        if isinstance(self.n_holes, bool) or not isinstance(self.n_holes, int) or self.n_holes < 0:
-            raise GeometryError("n_holes", self.n_holes, "must be an integer >= 0")
+        self._check_web_and_hub()
         if self.n_holes:
-            _positive("hole_diameter", self.hole_diameter)
-            rh = self.hole_pitch_radius
-            if rh - self.hole_diameter / 2 <= self.hub_outer_diameter / 2 or rh + self.hole_diameter / 2 >= self.rim_inner_diameter / 2:
-                raise GeometryError("hole_diameter", self.hole_diameter,
-                                    f"holes on pitch radius {rh:.6g} m do not fit between hub and rim")
-            if self.n_holes > 1 and 2 * rh * math.sin(math.pi / self.n_holes) <= self.hole_diameter:
-                raise GeometryError("hole_diameter", self.hole_diameter,
-                                    f"{self.n_holes} holes on pitch radius {rh:.6g} m overlap")
+            self._check_holes()
+
+    def _check_web_and_hub(self) -> None:
+        """The web lies inside the face width, the hub spans the web (offsets may be either
+        sign: a web or hub shifted towards -z). Blames the thickness or length when it
+        cannot fit at any offset, else the offset."""
+        b = self.teeth.face_width
+        if self.web_thickness > b * (1 + 1e-12):
+            raise GeometryError("web_thickness", self.web_thickness, f"thicker than the face width {b} m")
+        if abs(self.web_offset) + self.web_thickness / 2 > b / 2 * (1 + 1e-12):
+            raise GeometryError("web_offset", self.web_offset,
+                                f"a web of {self.web_thickness} m at this offset leaves the face width "
+                                f"[{-b / 2:.6g}, {b / 2:.6g}] m")
+        if self.hub_length < self.web_thickness * (1 - 1e-12):
+            raise GeometryError("hub_length", self.hub_length,
+                                f"hub must span the web thickness {self.web_thickness} m")
+        if abs(self.hub_offset - self.web_offset) + self.web_thickness / 2 > self.hub_length / 2 * (1 + 1e-12):
+            raise GeometryError("hub_offset", self.hub_offset,
+                                f"a hub of {self.hub_length} m at this offset does not span the web "
+                                f"(offset {self.web_offset} m, thickness {self.web_thickness} m)")
+
+    def _check_holes(self) -> None:
+        """Lightening holes fit between hub and rim and do not overlap."""
+        if self.hole_diameter <= 0:
+            raise GeometryError("hole_diameter", self.hole_diameter, "must be > 0 m when n_holes > 0")
+        rh = self.hole_pitch_radius
+        if rh - self.hole_diameter / 2 <= self.hub_outer_diameter / 2 or rh + self.hole_diameter / 2 >= self.rim_inner_diameter / 2:
+            blame = "hole_pitch_diameter" if self.hole_pitch_diameter is not None and \
+                self.hole_diameter < (self.rim_inner_diameter - self.hub_outer_diameter) / 2 else "hole_diameter"
+            raise GeometryError(blame, getattr(self, blame),
+                                f"holes of {self.hole_diameter} m on pitch radius {rh:.6g} m do not fit between "
+                                f"hub and rim")
+        if self.n_holes > 1 and 2 * rh * math.sin(math.pi / self.n_holes) <= self.hole_diameter:
+            raise GeometryError("hole_diameter", self.hole_diameter,
+                                f"{self.n_holes} holes on pitch radius {rh:.6g} m overlap")
 
     @property
     def hole_pitch_radius(self) -> float:
@@ -275,36 +285,27 @@ class CarrierParams:
     through-hole (e.g. for the sun shaft).  Angles in rad.
     """
 
-    planet_angles: tuple[float, ...] = field(metadata={"angle": True})
-    pin_pitch_radius: float
-    pin_bore_diameter: float
-    cheek_diameter: float
-    cheek_thickness: float
-    cheek_spacing: float
-    post_diameter: float
-    seat_a_diameter: float
-    seat_a_length: float
-    seat_b_diameter: float
-    seat_b_length: float
-    output_bore_diameter: float
-    center_hole_diameter: float = 0.0
-    post_radius: float | None = None
+    planet_angles: tuple[float, ...] = quantity("rad", angle=True)
+    pin_pitch_radius: float = quantity(**_LENGTH)
+    pin_bore_diameter: float = quantity(**_LENGTH)
+    cheek_diameter: float = quantity(**_LENGTH)
+    cheek_thickness: float = quantity(**_LENGTH)
+    cheek_spacing: float = quantity(**_LENGTH)
+    post_diameter: float = quantity(**_LENGTH)
+    seat_a_diameter: float = quantity(**_LENGTH)
+    seat_a_length: float = quantity(**_LENGTH)
+    seat_b_diameter: float = quantity(**_LENGTH)
+    seat_b_length: float = quantity(**_LENGTH)
+    output_bore_diameter: float = quantity(**_LENGTH)
+    center_hole_diameter: float = quantity(**_CLEARANCE, default=0.0)
+    post_radius: float | None = quantity("m", None, gt=0.0)
 
     def __post_init__(self) -> None:
-        try:
-            angles = tuple(float(a) for a in self.planet_angles)
-        except (TypeError, ValueError):
-            raise GeometryError("planet_angles", self.planet_angles, "must be a list of angles [rad]") from None
+        check_fields(self)
+        angles = tuple(float(a) for a in self.planet_angles)
         object.__setattr__(self, "planet_angles", angles)
-        if len(angles) < 2:
-            raise GeometryError("planet_angles", angles, "need at least 2 planets")
-        for name in ("pin_pitch_radius", "pin_bore_diameter", "cheek_diameter", "cheek_thickness",
-                     "cheek_spacing", "post_diameter", "seat_a_diameter", "seat_a_length",
-                     "seat_b_diameter", "seat_b_length", "output_bore_diameter"):
-            _positive(name, getattr(self, name))
-        _non_negative("center_hole_diameter", self.center_hole_diameter)
-        if self.post_radius is not None:
-            _positive("post_radius", self.post_radius)
+        if not 2 <= len(angles) <= MAX_PLANETS:
+            raise GeometryError("planet_angles", list(angles), f"needs 2 to {MAX_PLANETS} planets")
         r_p, d_p, R_c = self.pin_pitch_radius, self.pin_bore_diameter, self.cheek_diameter / 2
         if r_p + d_p / 2 >= R_c:
             raise GeometryError("pin_bore_diameter", d_p,
@@ -371,14 +372,12 @@ class CylinderParams:
     "end_a" (face z = 0) and "end_b" (face z = length).
     """
 
-    length: float
-    diameter: float
-    bore_diameter: float = 0.0
+    length: float = quantity(**_LENGTH)
+    diameter: float = quantity(**_LENGTH)
+    bore_diameter: float = quantity(**_CLEARANCE, default=0.0)
 
     def __post_init__(self) -> None:
-        _positive("length", self.length)
-        _positive("diameter", self.diameter)
-        _non_negative("bore_diameter", self.bore_diameter)
+        check_fields(self)
         if self.bore_diameter >= self.diameter:
             raise GeometryError("bore_diameter", self.bore_diameter,
                                 f"must be smaller than the diameter {self.diameter} m")

@@ -80,7 +80,8 @@ BAD = {  # case -> (scene text, expected path in the message, expected value tex
     "non-positive mass": (BASE.replace("mass = 2.0", "mass = 0.0", 1), "bodies[0].mass", "0.0"),
     "negative stiffness": (BASE.replace("k_radial = 3.5e8", "k_radial = -1.0", 1), "bearings[0].k_radial", "-1.0"),
     "zero mesh stiffness": (BASE.replace("stiffness = 2.0e8", "stiffness = 0.0"), "meshes[0].stiffness", "0.0"),
-    "helix 90 deg": (BASE + "helix_angle_deg = 90.0\n", "meshes[0].helix_angle", "1.57"),
+    # named as written: the degree key and the degree value
+    "helix 90 deg": (BASE + "helix_angle_deg = 90.0\n", "meshes[0].helix_angle_deg", "90.0"),
     "missing body": (BASE.replace('gear2 = "wheel"', 'gear2 = "whee1"'), "meshes[0].gear2", "whee1"),
     "missing frame": (BASE.replace('name = "wheel"', 'name = "wheel"\nframe = "carrier"'), "bodies[1].frame", "carrier"),
     "connected to nothing": (BASE + '\n[[bodies]]\nname = "loose"\nmass = 1.0\npolar_inertia = 1e-3\n',

@@ -110,3 +110,45 @@ def test_wheel_params_type_check():
                     hub_length=0.05, bore_diameter=0.05)
     with pytest.raises(GeometryError):
         PinionParams(PINION_SMOOTH.teeth, (ShaftSegment(0.1, 0.03),), gear_center=0.05)
+
+
+@pytest.mark.parametrize("params,field", [(PINION_SMOOTH, "gear_center"), (WHEEL_SMOOTH, "web_offset"),
+                                          (WHEEL_SMOOTH, "hub_offset"), (CARRIER, "cheek_spacing"),
+                                          (PINION_SMOOTH.teeth, "profile_shift")])
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf, 1e300, "0.01", True, None])
+def test_python_values_checked_before_any_relation(params, field, value):
+    # Built in Python: a NaN offset used to pass every comparison (all False) and hang in
+    # gmsh; a string or a bool is not a number. Refused first, naming the field.
+    with pytest.raises(GeometryError) as e:
+        dataclasses.replace(params, **{field: value})
+    assert e.value.parameter == field and "finite number" in str(e.value)
+
+
+def test_numpy_numbers_accepted():
+    import numpy as np
+    p = dataclasses.replace(PINION_SMOOTH, gear_center=np.float64(0.12))
+    assert p.gear_center == 0.12
+
+
+@pytest.mark.parametrize("field,value,blamed", [
+    # face width 0.04 m, web 0.012 m thick: |offset| + 0.006 must stay within 0.02 m
+    ("web_offset", 0.015, "web_offset"),
+    ("web_offset", -0.015, "web_offset"),
+    ("web_thickness", 0.05, "web_thickness"),     # thicker than the face: no offset fits
+    # hub 0.05 m long must span the web: |hub_offset - web_offset| + 0.006 <= 0.025 m
+    ("hub_offset", 0.03, "hub_offset"),
+    ("hub_length", 0.01, "hub_length"),           # shorter than the web is thick
+    # holes 0.03 m between hub (r 0.04 m) and rim (r 0.1 m): pitch radius in (0.055, 0.085) m
+    ("hole_pitch_diameter", 0.19, "hole_pitch_diameter"),
+    ("hole_diameter", 0.07, "hole_diameter"),     # wider than the 0.06 m web annulus
+])
+def test_wheel_blames_the_field_that_does_not_fit(field, value, blamed):
+    with pytest.raises(GeometryError) as e:
+        dataclasses.replace(WHEEL_SMOOTH, **{field: value})
+    assert e.value.parameter == blamed
+
+
+def test_offsets_of_either_sign_fit():
+    # a web shifted towards -z (inside the face width) and a hub following it are valid parts
+    w = dataclasses.replace(WHEEL_SMOOTH, web_offset=-0.01, hub_offset=-0.01)
+    assert w.web_offset == -0.01

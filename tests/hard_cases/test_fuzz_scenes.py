@@ -14,12 +14,14 @@ from assembly.schema import SCENE_DIR, scene_from_dict
 from fe_components.errors import GeometryError
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
-         for name in ("kahraman_beta20.toml", "lin_parker_n3.toml", "hs_parallel_stage.toml")}
+         for name in ("kahraman_beta20.toml", "lin_parker_n3.toml", "hs_parallel_stage.toml",
+                      "planetary_flexible_carrier.toml")}
 
 JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10**12, 10**12), st.text(max_size=8),
                  st.floats(allow_nan=True, allow_infinity=True), st.lists(st.integers(-3, 3), max_size=4),
                  st.dictionaries(st.text(max_size=5), st.integers(), max_size=2),
-                 st.sampled_from([0.0, -1.0, 1e300, -1e-300, math.inf, -math.inf, "housing", "", "x" * 50]))
+                 st.sampled_from([0.0, -1.0, 1e300, -1e-300, 1e-320, math.inf, -math.inf, math.nan, "1.0",
+                                  "housing", "", "x" * 50, "x" * 300, "a\x00b", "a/b", "a\nb"]))
 
 
 def _paths(node, prefix=()):

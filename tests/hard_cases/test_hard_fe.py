@@ -88,3 +88,37 @@ def test_shipped_reference_meshes_pass_quality():
     for f in sorted(REF_DIR.glob("*.msh")):
         raw = read_mesh(f)
         assert tet_quality(raw.points, raw.cells).min() > MIN_QUALITY, f.name
+
+
+def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path):
+    # Between what validation can prove before meshing (Weyl's count) and the mode limit,
+    # the reduction itself stops after MAX_MODES + 1 modes. With the limit lowered to 3 and
+    # a 20 kHz cutoff on the test pinion (first fixed-interface mode near 15 kHz, several
+    # below 20 kHz), the run ends in a SceneError naming the field that set the cutoff.
+    import assembly.flexible as fl
+    from assembly.components import CacheDirs
+    from assembly.errors import SceneError
+    monkeypatch.setattr(fl, "MAX_MODES", 3)
+    sc = load_scene(SCENE)
+    b0 = sc.bodies[0]
+    hi = dataclasses.replace(b0, flex=dataclasses.replace(b0.flex, n_modes=None, cutoff_hz=2.0e4))
+    with pytest.raises(SceneError) as e:
+        assemble(dataclasses.replace(sc, bodies=(hi,) + sc.bodies[1:]),
+                 caches=CacheDirs(meshes=tmp_path / "m", superelements=tmp_path / "se"))
+    assert e.value.path == "bodies[0].flex.cutoff_hz" and e.value.value == 2.0e4
+    assert "'pinion'" in str(e.value) and "4 fixed-interface modes" in str(e.value)
+
+
+def test_more_modes_than_the_mesh_has_names_the_body(tmp_path):
+    # n_modes within MAX_MODES passes validation but may exceed a coarse mesh's interior
+    # DOFs, known only after meshing: refused naming the body's table, not a bare n_modes.
+    from assembly.components import CacheDirs, component_params
+    from assembly.errors import SceneError
+    from assembly.flexible import flexible_body
+    sc = load_scene(SCENE)
+    b0 = sc.bodies[0]
+    opts = dataclasses.replace(b0.flex, n_modes=10**6)  # called directly: no scene validation
+    with pytest.raises(SceneError) as e:
+        flexible_body(b0, component_params(b0, "bodies[0].component"), opts, 3000.0,
+                      caches=CacheDirs(meshes=tmp_path / "m", superelements=tmp_path / "se"), path="bodies[0]")
+    assert e.value.path == "bodies[0].flex.n_modes" and "interior DOFs" in str(e.value)
