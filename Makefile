@@ -12,7 +12,7 @@ SYSTEM_PKGS := libglu1-mesa libgl1 libegl1 libxcursor1 libxft2 libxinerama1 libg
                libsuitesparse-dev libopenblas0-pthread build-essential
 STAMP := $(VENV)/.flexgear-installed
 
-.PHONY: setup sysdeps run test test-fast bench clean
+.PHONY: setup sysdeps run test test-fast fuzz bench clean
 
 sysdeps:
 	@if ! dpkg -s $(SYSTEM_PKGS) >/dev/null 2>&1 || ! $(PYTHON) -c 'import ensurepip' >/dev/null 2>&1; then \
@@ -43,6 +43,12 @@ test: setup
 # Everything but the tests marked slow (over 5 s each): a quick check while developing.
 test-fast: setup
 	$(PY) -m pytest -q -m "not slow"
+
+# The fuzz tests with 20x their CI examples, freshly random (CI draws a fixed set).
+fuzz: setup
+	FLEXGEAR_FUZZ_SCALE=20 HYPOTHESIS_PROFILE=explore $(PY) -m pytest -q tests/hard_cases/test_fuzz_scenes.py \
+	  tests/hard_cases/test_fuzz_solve.py tests/hard_cases/test_scene_files.py tests/hard_cases/test_magnitudes.py \
+	  tests/cms/test_cms_persistence.py tests/fe_components/test_fe_mesh_cache.py
 
 bench: setup
 	$(PY) -m pip install -q -e '.[bench]' || echo "note: exudyn not installed; cms bench runs without the Exudyn columns"

@@ -16,6 +16,7 @@ from cms.superelement import Superelement, read_sealed_npz, write_sealed_npz
 
 from tests.support.corruption import CORRUPTIONS, corrupt
 from tests.support.fe_models import box
+from tests.support.fuzz import examples
 
 MATERIAL = {"E": 210e9, "nu": 0.3, "rho": 7850.0}   # steel, SI
 
@@ -117,7 +118,7 @@ def sealed(tmp_path_factory):
     return _sealed_sample(tmp_path_factory.mktemp("sealed"))
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=examples(150), deadline=None)
 @given(how=CORRUPTIONS)
 def test_any_change_to_a_superelement_file_is_a_cache_error(sealed, how):
     # The seal covers every byte (zip comment = SHA-256 of all bytes before the digits):

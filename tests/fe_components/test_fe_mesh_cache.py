@@ -16,6 +16,7 @@ from fe_components.meshing import cached_mesh, mesh_content_hash, mesh_path, rea
 from fe_components.reference import CASES, REF_DIR
 
 from tests.support.corruption import CORRUPTIONS, corrupt
+from tests.support.fuzz import examples
 
 #: The smallest committed mesh (annulus, ~245 kB), the sample for byte-level corruption.
 ANNULUS = mesh_path(*CASES["annulus"], REF_DIR)
@@ -31,7 +32,7 @@ def test_every_committed_reference_mesh_verifies():
     assert raw.content_hash == mesh_content_hash(ANNULUS) and raw.cell_type == "tetra10"
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=examples(150), deadline=None)
 @given(how=CORRUPTIONS)
 def test_any_change_to_a_mesh_file_is_a_mesh_cache_error(how):
     # Every byte is covered by the hash (or is the hash), so every truncation, flipped

@@ -13,6 +13,8 @@ from assembly.errors import SceneError
 from assembly.schema import SCENE_DIR, scene_from_dict
 from fe_components.errors import GeometryError
 
+from tests.support.fuzz import examples
+
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
          for name in ("kahraman_beta20.toml", "lin_parker_n3.toml", "hs_parallel_stage.toml",
                       "planetary_flexible_carrier.toml")}
@@ -69,7 +71,7 @@ def mutated(draw):
     return tree
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(300), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(mutated())
 def test_malformed_scene_gives_one_clear_error(tree):
     try:

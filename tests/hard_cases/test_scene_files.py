@@ -6,8 +6,6 @@ the working folder first, then a shipped example, and the CLI says which on stde
 bytes at all (mutated scenes, other encodings, garbage) end in a Scene or one SceneError
 line, never another exception: non-UTF-8 input names the byte offset where decoding failed.
 """
-import os
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -18,6 +16,8 @@ from assembly.errors import SceneError
 from assembly.modal import solve_modes
 from assembly.model import assemble
 from assembly.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
+
+from tests.support.fuzz import examples
 
 NAMES = [p.name for p in shipped_scenes()]
 
@@ -104,12 +104,12 @@ def mutated_bytes(draw):
     return bytes(raw)
 
 
-@settings(max_examples=int(os.environ.get("FLEXGEAR_FUZZ_EXAMPLES", 150)), deadline=None)
+@settings(max_examples=examples(150), deadline=None)
 @given(raw=mutated_bytes())
 def test_any_bytes_give_a_scene_or_one_scene_error(raw, tmp_path_factory):
     """File reading fuzz: bytes -> decode -> TOML -> scene -> assembly -> modes. A scene that
-    loads is solved too (12 DOFs: milliseconds). Set FLEXGEAR_FUZZ_EXAMPLES for a larger
-    search on demand (CI draws the same 150 every run)."""
+    loads is solved too (12 DOFs: milliseconds). ``make fuzz`` draws more (tests/support/fuzz.py;
+    CI draws the same 150 every run)."""
     f = tmp_path_factory.mktemp("fuzz") / "scene.toml"
     f.write_bytes(raw)
     try:
