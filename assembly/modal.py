@@ -2,7 +2,12 @@
 
 ``K phi = lambda M phi`` on the independent coordinates; frequencies ``f = sqrt(lambda)/2pi``.
 Each solve reports its largest relative eigen-residual (norm-wise backward error
-``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``) and groups repeated frequencies.
+``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``, of the scaled problem it solved)
+and groups repeated frequencies. The number of rigid-body modes comes from the model's
+structure (:mod:`assembly.nullity`); :mod:`assembly.resolution` checks that the solve
+resolves them and every elastic mode to FREQ_RTOL, and names the offending scene field
+otherwise. The same rules hold for the dense (all modes) and the sparse (lowest modes)
+path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii.
 """
 from __future__ import annotations
 
@@ -177,21 +182,13 @@ def _overflow(model):
     """SceneError for a K or M that overflowed while assembling, naming the largest
     spring stiffness (or, if K is finite, the largest body mass field)."""
     K_bad = not np.all(np.isfinite(model.K.data))
-    zero = np.zeros(model.K.shape[0])
-    cands = [c for el in model.elements for c in _element_candidates(model, el)] if K_bad else \
-        resolution.kinetic_energies(model, zero)
+    still = np.zeros(model.K.shape[0])
+    cands = (resolution.spring_energies if K_bad else resolution.kinetic_energies)(model, still)
     c = max(cands, key=lambda c: c.magnitude, default=None)
     if c is None:
         return SolverError("K, M", "non-finite", "assembled matrices contain inf or NaN")
     what = "stiffness" if K_bad else "mass matrix"
     return SceneError(c.path, c.value, f"too large: the assembled {what} overflows double precision")
-
-
-def _element_candidates(model, el):
-    for j, k in enumerate(el.k):
-        field = el.fields[j] if el.fields else "stiffness"
-        path, value = resolution.element_field(model, el, field)
-        yield resolution.Candidate(path, value, field, float(k), 0.0)
 
 
 def _sparse_lowest(K, M, k):
