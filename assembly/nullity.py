@@ -17,7 +17,6 @@ rank is read from the singular values with :data:`STRUCT_RTOL`.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 #: Singular values of the row- and column-normalised spring matrix below this fraction of
 #: the largest count as zero. Dependent rows give ~1e-16 (round-off of the unit rows); a

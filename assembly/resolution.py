@@ -11,13 +11,13 @@ one loses its digits. :func:`check` compares the computed spectrum with that bou
 - the lowest elastic frequency must be resolved to FREQ_RTOL.
 
 Otherwise it raises :class:`~assembly.errors.SceneError` naming the field whose magnitude
-sets the spread: the spring carrying the most strain energy, or the body field (mass,
-inertia) carrying the most kinetic energy, in the highest mode or in the unresolved one --
-whichever lies furthest from the scene's median of its kind (N/m, N m/rad, kg, kg m^2).
+sets the spread (:func:`culprit`): a stiff spring or light body taking part in the highest
+mode when that one lies further above the band than the lowest elastic mode lies below it,
+else a soft spring or heavy body -- the one furthest, in decades, from the median of the
+scene's other values of its unit (N/m, N m/rad, kg, kg m^2).
 """
 from __future__ import annotations
 
-import logging
 import math
 from dataclasses import dataclass
 
@@ -27,7 +27,6 @@ from .errors import SceneError
 from .flexible import DEFAULT_BAND_HZ
 from .validate import body_origins
 
-log = logging.getLogger(__name__)
 
 #: Documented accuracy: every reported elastic frequency is resolved to this relative
 #: error. It matches the tolerance under which frequencies count as repeated
@@ -146,7 +145,8 @@ def culprit(model, top: np.ndarray, end: str, why: str) -> SceneError:
     springs, bodies = spring_energies(model, top), kinetic_energies(model, top)
     everything = springs + bodies
     if end == "top":
-        pool = [(c, 1) for c in _participating(springs)] + [(c, -1) for c in _participating(bodies) + _moving(bodies)]
+        pool = [(c, 1) for c in _participating(springs)]
+        pool += [(c, -1) for c in _participating(bodies) + _moving(bodies)]
     else:
         pool = [(c, -1) for c in springs] + [(c, 1) for c in bodies]
     best, dev = None, -math.inf
