@@ -132,35 +132,49 @@ class Candidate:
         return _UNITS.get(self.field)
 
 
+#: A body field is named instead of the spring only when it lies this many decades
+#: further from its median than the spring does: masses and inertias of one drivetrain
+#: differ by a factor of 100 as a matter of course (shaft against gear wheel), and a whole
+#: class of springs scaled together (all bearings x1e7) moves the median with it.
+BODY_MARGIN_DECADES = 2.0
+
+
 def culprit(model, top: np.ndarray, end: str, why: str) -> SceneError:
     """SceneError naming the field whose magnitude makes the spectrum unresolvable.
 
-    ``end = "top"``: the highest frequency is out of place (compared with the band), so
-    the culprit is a stiff spring or a light body field that takes part in the highest
-    mode ``top``; ``"low"``: the lowest elastic mode is, so it is a soft spring or a heavy
-    body field (the mode itself is lost in round-off, so every field qualifies). Among
-    these, the field furthest (in decades) from the median of the scene's other values
-    of the same unit is named.
+    ``end = "top"``: the highest frequency is out of place (compared with the band): the
+    culprit is the stiffest spring taking part in the highest mode ``top`` (its strain
+    energy sets lambda_max), or the lightest body field moving in it if that lies
+    BODY_MARGIN_DECADES further from its median. ``"low"``: the lowest elastic mode is out
+    of place (and lost in round-off, so every field qualifies): the softest spring, or the
+    heaviest body field by the same margin. "Stiff", "light", ... are measured in decades
+    from the median of the scene's other values of the same unit.
     """
     springs, bodies = spring_energies(model, top), kinetic_energies(model, top)
     everything = springs + bodies
+    sign = 1 if end == "top" else -1
     if end == "top":
-        pool = [(c, 1) for c in _participating(springs)]
-        pool += [(c, -1) for c in _participating(bodies) + _moving(bodies)]
-    else:
-        pool = [(c, -1) for c in springs] + [(c, 1) for c in bodies]
-    best, dev = None, -math.inf
-    for c, sign in pool:
-        ref = _median_of_others(c, everything)
-        d = sign * math.log10(c.magnitude / ref) if ref and c.magnitude > 0 else 0.0
-        if d > dev:
-            best, dev = c, d
-    if best is None:
+        springs, bodies = _participating(springs), _participating(bodies) + _moving(bodies)
+    def most(cands, sgn):
+        """(decades, candidate) furthest in direction ``sgn``; ties go to the larger energy."""
+        scored = [(sgn * _decades(c, everything), c.log_energy, c) for c in cands]
+        return max(scored, key=lambda t: t[:2], default=None)
+
+    s, b = most(springs, sign), most(bodies, -sign)
+    if s is None and b is None:
         return SceneError("scene", model.scene.name, why)
+    best = b[2] if s is None or (b is not None and b[0] > s[0] + BODY_MARGIN_DECADES) else s[2]
     ref = _median_of_others(best, everything)
     if ref and best.magnitude > 0:
         why = f"{best.magnitude / ref:.1e} x the median of the scene's other {best.unit} values ({ref:.3g}); {why}"
     return SceneError(best.path, best.value, why)
+
+
+def _decades(c: Candidate, cands: list) -> float:
+    """log10 of ``c``'s magnitude over the median of the other values of its unit (0 if
+    it has none)."""
+    ref = _median_of_others(c, cands)
+    return math.log10(c.magnitude / ref) if ref and c.magnitude > 0 else 0.0
 
 
 def _participating(cands: list) -> list:
@@ -256,6 +270,11 @@ def _member(exp, origin: dict, body: str) -> str:
     return path
 
 
+def _plain(v):
+    """A numpy scalar as the Python number a user would have written."""
+    return v.item() if isinstance(v, np.generic) else v
+
+
 def body_field(model, body: str, field: str) -> tuple:
     """(path, value) of a body's mass field as the user wrote it."""
     src, exp, origin = _origin(model)
@@ -267,7 +286,7 @@ def body_field(model, body: str, field: str) -> tuple:
         field = "inertia_tensor"
     elif field == "transverse_inertia" and b.transverse_inertia is None:
         field = "polar_inertia"      # transverse defaults to polar / 2
-    return f"{path}.{field}", getattr(b, field)
+    return f"{path}.{field}", _plain(getattr(b, field))
 
 
 def element_field(model, el, field: str) -> tuple:
@@ -276,9 +295,9 @@ def element_field(model, el, field: str) -> tuple:
     table, i = el.item
     item = getattr(exp, table)[i]
     if i < len(getattr(src, table)):
-        return f"{table}[{i}].{field}", getattr(item, field)
+        return f"{table}[{i}].{field}", _plain(getattr(item, field))
     if table == "bearings":
-        return f"{_member(exp, origin, item.body)}.bearing.{field}", getattr(item, field)
+        return f"{_member(exp, origin, item.body)}.bearing.{field}", _plain(getattr(item, field))
     role1 = next(b.role for b in exp.bodies if b.name == item.gear1)
     key = "k_mesh_sun" if role1 == "sun" else "k_mesh_ring"
-    return f"{origin[item.gear1]}.{key}", item.stiffness
+    return f"{origin[item.gear1]}.{key}", _plain(item.stiffness)
