@@ -18,6 +18,7 @@ scene's other values of its unit (N/m, N m/rad, kg, kg m^2).
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 
@@ -27,6 +28,8 @@ from .errors import SceneError
 from .flexible import DEFAULT_BAND_HZ
 from .validate import body_origins
 
+log = logging.getLogger(__name__)
+
 
 #: Documented accuracy: every reported elastic frequency is resolved to this relative
 #: error. It matches the tolerance under which frequencies count as repeated
@@ -34,6 +37,10 @@ from .validate import body_origins
 #: and the in-band error of the default Craig-Bampton reduction (2e-6, docs/benchmarks.md),
 #: so the eigen solve never dominates the model's own error.
 FREQ_RTOL = 1e-6
+#: Above this bound on the lowest elastic frequency's relative error (a hundredth of
+#: FREQ_RTOL: the round-off is no longer negligible against the documented accuracy) the
+#: solve logs a warning naming the field that sets the spread.
+WARN_RTOL = 1e-8
 #: Eigenvalue round-off of the dense solve, in units of ``eps * lambda_max``. Measured
 #: against an 80-digit solve (mpmath) of the same matrices, near-rigid constraints switched
 #: off, over the Kahraman pairs and Lin & Parker N = 3 with mesh stiffness x1e-8 ... 1e12
@@ -96,7 +103,7 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
                f"with the highest frequency at {f_max:.3g} Hz)")
         raise culprit(model, top, "top", why)
     rtol = frequency_rtol(spec, n_zero)
-    if rtol > FREQ_RTOL:
+    if rtol > FREQ_RTOL or rtol > WARN_RTOL:
         low = lam[n_zero]
         what = (f"resolves the lowest elastic mode ({spec.hz(low):.4g} Hz) only to {rtol:.1e} relative"
                 if low > spec.roundoff else f"loses the lowest elastic mode in its round-off (below {f_round:.3g} Hz)")
@@ -105,7 +112,9 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
         f_low = spec.hz(max(low, spec.roundoff))
         band = model.scene.band_hz or DEFAULT_BAND_HZ
         end = "top" if math.log(f_max / band) >= math.log(band / max(f_low, 1e-300)) else "low"
-        raise culprit(model, top, end, why)
+        if rtol > FREQ_RTOL:
+            raise culprit(model, top, end, why)
+        log.warning("accuracy: %s", culprit(model, top, end, why.replace(", needs <= ", ", within ")))
     if not math.isfinite(f_max):
         raise culprit(model, top, "top", "the frequencies exceed double precision")
     return rtol
