@@ -119,7 +119,7 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
                f"with the highest frequency at {f_max:.3g} Hz)")
         raise culprit(model, top, "top", why)
     rtol = frequency_rtol(spec, n_zero)
-    if rtol > FREQ_RTOL or rtol > WARN_RTOL:
+    if rtol > WARN_RTOL:            # WARN_RTOL < FREQ_RTOL
         low, f_round = lam[n_zero], spec.hz(bound[n_zero])
         what = (f"resolves the lowest elastic mode ({spec.hz(low):.4g} Hz) only to {rtol:.1e} relative"
                 if low > bound[n_zero] else f"loses the lowest elastic mode in its round-off (below {f_round:.3g} Hz)")
