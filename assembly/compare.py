@@ -54,7 +54,7 @@ def compare(scene, n_rows: int | None = None, given=None) -> Comparison:
             res[name] = given
             m = given.model
         else:
-            m = assemble(sc)
+            m = assemble(sc, source=scene)
             res[name] = solve_modes(m)
         total = time.perf_counter() - t0
         if name == top and given is not None:  # its cost was paid by the caller's solve

@@ -18,12 +18,11 @@ from .scene import DOF_NAMES, Bearing, Body, Scene, derive
 
 log = logging.getLogger(__name__)
 
-#: A bearing direction stiffer than RIGID_RATIO x the scene's reference stiffness (largest
-#: gear-mesh or shaft stiffness, N/m; times the largest base radius squared for rotations)
-#: is modelled as an exact constraint. Such a spring changes the physical frequencies by
-#: about 1/RIGID_RATIO relative, but as a spring it puts eigenvalues RIGID_RATIO times
-#: above the physics and costs the low modes their accuracy (eps * lambda_max).
-RIGID_RATIO = 1e8
+#: A bearing direction becomes an exact constraint only when that shifts no mode at or
+#: below the scene's band by more than this relative frequency: a tenth of the solve's
+#: documented accuracy (:data:`assembly.resolution.FREQ_RTOL`), so that a few constrained
+#: directions acting on one mode still add up to less than it.
+CONSTRAINT_RTOL = 1e-7
 
 
 def can_constrain(bearing: Bearing, body: Body) -> bool:
@@ -35,37 +34,66 @@ def can_constrain(bearing: Bearing, body: Body) -> bool:
     return body.component is None and own_frame and at_body
 
 
-def reference_stiffness(scene: Scene) -> tuple[float, float] | None:
-    """(translational N/m, rotational N m/rad) scale of the scene's gear meshes and shafts,
-    or None when it has neither."""
-    ks = [m.stiffness for m in scene.meshes] + [max(s.k_axial, s.k_shear) for s in scene.shafts]
-    if not ks or max(ks) <= 0:
-        return None
-    k_ref = max(ks)
-    r = max([abs(m.base_radius1) for m in scene.meshes] + [abs(m.base_radius2) for m in scene.meshes] + [0.0])
-    kr_ref = max([k_ref * r * r] + [max(s.k_torsion, s.k_bending) for s in scene.shafts])
-    return k_ref, kr_ref
-
-
-def rigidify(scene: Scene) -> tuple[Scene, list]:
-    """Scene (stages expanded) with near-rigid bearing directions replaced by ``inf``
-    (constraints), and the list of (bearing, direction, stiffness) converted. Only
-    bearings that :func:`can_constrain` are converted."""
-    ref = reference_stiffness(scene)
-    if ref is None:
-        return scene, []
-    k_ref, kr_ref = ref
+def candidates(scene: Scene) -> list:
+    """(bearing index, field) of every finite, non-zero bearing stiffness that
+    :func:`can_constrain` allows to become a constraint (stages expanded)."""
     by_name = {b.name: b for b in scene.bodies}
-    out, changed = [], []
-    for br in scene.bearings:
-        new = {}
+    out = []
+    for i, br in enumerate(scene.bearings):
         if can_constrain(br, by_name[br.body]):
-            for f, k in (("k_radial", k_ref), ("k_axial", k_ref), ("k_tilt", kr_ref), ("k_torsion", kr_ref)):
-                v = getattr(br, f)
-                if math.isfinite(v) and v > RIGID_RATIO * k:
-                    new[f] = math.inf
-                    changed.append((br.name or br.body, f, v))
-        out.append(dataclasses.replace(br, **new) if new else br)
+            out += [(i, f) for f in dict.fromkeys(Bearing.FIELDS) if 0 < getattr(br, f) < math.inf]
+    return out
+
+
+def without_candidates(scene: Scene) -> Scene:
+    """``scene`` with every :func:`candidates` stiffness set to 0: its assembled K holds the
+    coupling stiffness that the candidate springs are judged against."""
+    new = list(scene.bearings)
+    for i, f in candidates(scene):
+        new[i] = dataclasses.replace(new[i], **{f: 0.0})
+    return derive(scene, bearings=tuple(new))
+
+
+def constraint_shift(k: float, coupling: float, mass: float, band_hz: float) -> float:
+    """First-order bound on the relative frequency shift that holding a DOF rigidly, instead
+    of by a grounded spring ``k``, causes in any mode at or below ``band_hz``.
+
+    With the DOF x held by ``k`` (N/m or N m/rad) and the rest r, a mode phi at lambda
+    moves by ``delta lambda = |(K_xr - lambda M_xr) phi|^2 / k`` to first order. Cauchy-Schwarz
+    on the positive semi-definite coupling stiffness K' (everything but the candidate
+    bearing springs) and on M gives ``|K_xr phi|^2 <= K'_xx lambda`` and ``|M_xr phi|^2 <=
+    M_xx``, so the relative frequency shift is at most
+    ``0.5 (sqrt(K'_xx / k) + omega_band sqrt(M_xx / k))^2``: small when the spring is stiff
+    against both the springs it works with (``coupling``) and the inertia it carries
+    (``mass``, kg or kg m^2) at the top of the band.
+    """
+    w = 2 * math.pi * band_hz
+    root_k = math.sqrt(k)      # square roots first: no overflow for any k > 0
+    r = (math.sqrt(coupling) + w * math.sqrt(mass)) / root_k if root_k > 0 else math.inf
+    return 0.5 * r * r if r < 1e150 else math.inf
+
+
+def rigidify(scene: Scene, diagonal: dict, band_hz: float) -> tuple[Scene, list]:
+    """Scene (stages expanded) with near-rigid bearing directions replaced by ``inf``
+    (constraints), and the list of (bearing, field, stiffness) converted.
+
+    ``diagonal`` maps each independent DOF name (``body.x``) to (K'_xx, M_xx) of the model
+    assembled from :func:`without_candidates`. A candidate direction becomes a constraint
+    when :func:`constraint_shift` is at most CONSTRAINT_RTOL on every independent DOF it
+    acts on (a direction acting on no independent DOF, e.g. the radial bearing of a
+    torsional body, is left as it is: it does nothing). A stiffer spring left elastic
+    raises the highest frequency; :func:`assembly.modal.solve_modes` then checks that the
+    low modes are still resolved and names the spring if they are not.
+    """
+    out, changed = list(scene.bearings), []
+    for i, f in candidates(scene):
+        br = out[i]
+        k = getattr(br, f)
+        dofs = [f"{br.body}.{d}" for d, g in zip(DOF_NAMES, Bearing.FIELDS) if g == f and f"{br.body}.{d}" in diagonal]
+        shift = max((constraint_shift(k, *diagonal[d], band_hz) for d in dofs), default=math.inf)
+        if shift <= CONSTRAINT_RTOL:
+            out[i] = dataclasses.replace(br, **{f: math.inf})
+            changed.append((br.name or br.body, f, k))
     if not changed:
         return scene, []
     log.info("near-rigid bearing directions modelled as constraints: %s", changed)

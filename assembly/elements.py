@@ -23,7 +23,10 @@ class Element:
     """Springs ``k`` (one per row of ``B``) on the motions of bodies at ``point``.
 
     ``bodies`` has one or two names; ``None`` stands for the housing (no motion).
-    ``B`` has 6 columns per entry of ``bodies`` (global axes).
+    ``B`` has 6 columns per entry of ``bodies`` (global axes). ``fields`` names the scene
+    field behind each row's stiffness (e.g. ``k_radial``, ``stiffness``) and ``item`` the
+    scene table entry that made the element (e.g. ``("bearings", 2)``, expanded scene), so
+    that a spring can be named in an error message.
     """
 
     name: str
@@ -33,6 +36,8 @@ class Element:
     B: np.ndarray
     k: np.ndarray
     interfaces: tuple = (None, None)
+    fields: tuple = ()
+    item: tuple = ()
 
     def stiffness(self) -> np.ndarray:
         """Element stiffness on the stacked attachment motions (global axes), exactly
@@ -44,10 +49,11 @@ class Element:
 
 
 def relative_spring(name: str, kind: str, body_a, body_b, point, axes: np.ndarray,
-                    k_diag) -> Element:
+                    k_diag, fields: tuple = ()) -> Element:
     """Diagonal 6x6 spring on the motion of ``body_a`` relative to ``body_b`` at ``point``.
 
-    ``axes`` (3x3, columns = local x, y, z) orient ``k_diag`` = (kx, ky, kz, krx, kry, krz).
+    ``axes`` (3x3, columns = local x, y, z) orient ``k_diag`` = (kx, ky, kz, krx, kry, krz);
+    ``fields`` optionally names the scene field of each of the six entries.
     Zero entries are dropped; infinite entries must have been turned into constraints.
     """
     k = np.asarray(k_diag, float)
@@ -56,7 +62,8 @@ def relative_spring(name: str, kind: str, body_a, body_b, point, axes: np.ndarra
     Rt = block_rotation(axes).T
     keep = k > 0
     B = np.hstack([Rt, -Rt])[keep]
-    return Element(name, kind, (body_a, body_b), np.asarray(point, float), B, k[keep])
+    kept = tuple(f for f, k_on in zip(fields, keep) if k_on) if fields else ()
+    return Element(name, kind, (body_a, body_b), np.asarray(point, float), B, k[keep], fields=kept)
 
 
 def line_of_action(axis, c1, c2, r1: float, r2: float, pressure_angle: float,
@@ -116,4 +123,5 @@ def gear_mesh(name: str, body1: str, body2: str, axis, c1, c2, r1, r2, pressure_
     g1 = np.concatenate([n, np.zeros(3)])
     g2 = -np.concatenate([n, np.zeros(3)]) @ rigid_transfer(pts[1], pts[0])
     g = np.concatenate([g1, g2])
-    return Element(name, "mesh", (body1, body2), pts[0], g[None, :], np.array([float(stiffness)]))
+    return Element(name, "mesh", (body1, body2), pts[0], g[None, :], np.array([float(stiffness)]),
+                   fields=("stiffness",))

@@ -2,26 +2,33 @@
 
 ``K phi = lambda M phi`` on the independent coordinates; frequencies ``f = sqrt(lambda)/2pi``.
 Each solve reports its largest relative eigen-residual (norm-wise backward error
-``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``) and groups repeated frequencies.
+``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``, of the scaled problem it solved)
+and groups repeated frequencies. The number of rigid-body modes comes from the model's
+structure (:mod:`assembly.nullity`); :mod:`assembly.resolution` checks that the solve
+resolves them and every elastic mode to FREQ_RTOL, and names the offending scene field
+otherwise. The same rules hold for the dense (all modes) and the sparse (lowest modes)
+path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii.
 """
 from __future__ import annotations
 
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
+from . import resolution
 from .errors import SceneError, SolverError
+from .nullity import rigid_body_count
 
 log = logging.getLogger(__name__)
 
 #: Relative frequency tolerance under which modes count as one repeated frequency.
 REPEAT_RTOL = 1e-6
-#: Modes with f below this fraction of the highest frequency are rigid-body (0 Hz) modes.
-ZERO_RTOL = 1e-6
 
 
 @dataclass
@@ -53,18 +60,16 @@ class ModalResult:
         return bm.rigid_motion(self.abs_shapes[self.model.body_slice(body), mode])
 
 
-def group_repeated(freqs: np.ndarray, rtol: float = REPEAT_RTOL) -> list:
-    """Indices of (sorted) frequencies grouped where neighbours agree within ``rtol``."""
-    fmax = max(float(np.max(np.abs(freqs))), 1e-300) if len(freqs) else 1.0
-    groups, cur = [], [0] if len(freqs) else []
-    for i in range(1, len(freqs)):
-        a, b = freqs[i - 1], freqs[i]
-        zero = abs(a) < ZERO_RTOL * fmax and abs(b) < ZERO_RTOL * fmax
-        if zero or abs(b - a) <= rtol * max(abs(a), abs(b)):
-            cur.append(i)
-        else:
+def group_repeated(freqs: np.ndarray, rtol: float = REPEAT_RTOL, n_zero: int = 0) -> list:
+    """Indices of (sorted) frequencies grouped where neighbours agree within ``rtol``; the
+    first ``n_zero`` (rigid-body modes) form one group."""
+    groups = [list(range(n_zero))] if n_zero else []
+    cur = []
+    for i in range(n_zero, len(freqs)):
+        if cur and abs(freqs[i] - freqs[i - 1]) > rtol * max(abs(freqs[i]), abs(freqs[i - 1])):
             groups.append(cur)
-            cur = [i]
+            cur = []
+        cur.append(i)
     if cur:
         groups.append(cur)
     return groups
@@ -87,15 +92,19 @@ def _norm1(A) -> float:
 DENSE_MAX = 3000
 #: Dense problems up to this size are solved on one BLAS thread.
 SMALL_DENSE = 500
-#: Sparse solves: eigenvalues below this fraction of the median K_ii/M_ii are rigid-body.
-SPARSE_ZERO_RTOL = 1e-10
 #: Default number of modes of a sparse (large) solve.
 SPARSE_DEFAULT_MODES = 30
 
 
 def solve_modes(model, n_modes: int | None = None) -> ModalResult:
     """All (or the lowest ``n_modes``, an integer >= 1; more than the model has gives all
-    of them, n - 1 for a sparse model above DENSE_MAX DOFs) modes of ``model``."""
+    of them, n - 1 for a sparse model above DENSE_MAX DOFs) modes of ``model``.
+
+    The number of rigid-body (0 Hz) modes comes from the model's structure
+    (:func:`assembly.nullity.rigid_body_count`), never from the size of the computed
+    eigenvalues; :func:`assembly.resolution.check` then verifies that the solve resolves
+    them and the lowest elastic mode (SceneError naming the field otherwise).
+    """
     if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
                                 or n_modes < 1):
         raise SceneError("n_modes", n_modes, "must be an integer >= 1 (or None: all modes)")
@@ -103,50 +112,94 @@ def solve_modes(model, n_modes: int | None = None) -> ModalResult:
     K, M = model.K, model.M
     data = [getattr(A, "data", A) for A in (K, M)]
     if not all(np.all(np.isfinite(d)) for d in data):
-        raise SolverError("K, M", "non-finite", "assembled matrices contain inf or NaN")
+        raise _overflow(model)
     n = K.shape[0]
+    n_zero = rigid_body_count(model)
     if n <= DENSE_MAX:
-        Kd = K.toarray() if hasattr(K, "toarray") else K
-        Md = M.toarray() if hasattr(M, "toarray") else M
-        # Symmetric diagonal scaling (unit mass diagonal): a rotor of 4e7 kg m^2 and a
-        # generator of 534 kg m^2 behind 97:1 then share one scale; eigenvectors are
-        # scaled back, eigenvalues are unchanged.
-        d = np.diag(Md)
-        if np.any(d <= 0):
-            raise SolverError("M", "diagonal <= 0", "mass matrix is not positive definite")
-        sc = 1.0 / np.sqrt(d)
-        try:
-            subset = None if n_modes is None else (0, min(n_modes, n) - 1)
-            # one BLAS thread below SMALL_DENSE: waking OpenBLAS threads for a 100-DOF
-            # reduced model cost 0.1-0.2 s spikes (median 8 ms vs 2 ms measured, n = 118)
-            with threadpool_limits(1 if n <= SMALL_DENSE else None):
-                lam, Phi = sla.eigh(sc[:, None] * Kd * sc[None, :], sc[:, None] * Md * sc[None, :],
-                                    subset_by_index=subset)
-        except np.linalg.LinAlgError as exc:
-            raise SolverError("M", "not positive definite", f"mass matrix is singular ({exc})") from exc
-        Phi = sc[:, None] * Phi
-        res = residuals(Kd, Md, lam, Phi)
+        spec, Phi, top, res = _dense(model, n_modes)
     else:
-        lam, Phi = _sparse_lowest(K, M, n_modes or SPARSE_DEFAULT_MODES)
-        res = residuals(K, M, lam, Phi)
-        # Rigid-body eigenvalues of an unreduced FE model carry an absolute error of about
-        # eps * |K|/|M|; judge them against that scale (the median diagonal ratio), since
-        # only the lowest modes are computed.
-        scale = float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300)))
-        zero_lam = SPARSE_ZERO_RTOL * scale
-    fmax_guess = np.sqrt(max(lam.max(), 0.0)) / (2 * np.pi) if len(lam) else 0.0
-    if np.any(lam < -1e-8 * max(abs(lam).max(), 1e-300)):
+        spec, Phi, top = _sparse(K, M, n_modes or SPARSE_DEFAULT_MODES)
+        res = residuals(K, M, spec.lam, Phi)
+    lam = spec.unscaled()
+    if np.any(spec.lam < -spec.roundoff):
         log.warning("negative eigenvalues down to %.3e (stiffness not positive semi-definite?)", lam.min())
-    f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
-    if n <= DENSE_MAX:
-        n_rigid = int(np.sum(f < ZERO_RTOL * max(fmax_guess, 1e-300)))
-    else:
-        n_rigid = int(np.sum(lam < zero_lam))
+    rtol = resolution.check(model, spec, n_zero, top)
+    f = spec.hz(spec.lam)
     dt = time.perf_counter() - t0
-    out = ModalResult(model, lam, f, Phi, model.T @ Phi, group_repeated(f), float(res.max(initial=0)),
-                      dt, n_rigid)
-    log.info("%d modes in %.3f s, max residual %.2e, %d rigid-body", len(f), dt, out.max_residual, n_rigid)
+    out = ModalResult(model, lam, f, Phi, model.T @ Phi, group_repeated(f, n_zero=n_zero),
+                      float(res.max(initial=0)), dt, n_zero, {"frequency_rtol": rtol})
+    log.info("%d modes in %.3f s, max residual %.2e, %d rigid-body, lowest elastic frequency resolved to %.1e",
+             len(f), dt, out.max_residual, n_zero, rtol)
     return out
+
+
+def _dense(model, n_modes):
+    """Dense generalized solve on symmetrically scaled matrices: unit mass diagonal (a rotor
+    of 4e7 kg m^2 and a generator of 534 kg m^2 behind 97:1 then share one scale) and the
+    largest K_ii / M_ii at 1, formed without overflow for any finite K, M. Returns the
+    spectrum (scaled), mass-normalised shapes, the highest mode and the backward errors."""
+    Kd = model.K.toarray()
+    Md = model.M.toarray()
+    d, kd = np.diag(Md), np.diag(Kd)
+    if np.any(d <= 0):
+        raise SolverError("M", "diagonal <= 0", "mass matrix is not positive definite")
+    ld = np.log(d)
+    with np.errstate(divide="ignore"):
+        lrho = np.where(kd > 0, np.log(np.where(kd > 0, kd, 1.0)) - ld, -np.inf)
+    # K is scaled by a power of 4 near 1 / max(K_ii / M_ii): exact in binary, so models
+    # without extreme magnitudes get the very same eigenvalues as with unit mass scaling
+    p4 = int(round(-float(lrho.max()) / math.log(4))) if np.isfinite(lrho.max()) else 0
+    u = 1.0 / np.sqrt(d)                                     # unit mass diagonal
+    v = np.where(kd > 0, np.ldexp(u, p4), 0.0)
+    A = (v[:, None] * Kd) * v[None, :]
+    B = (u[:, None] * Md) * u[None, :]
+    n = len(d)
+    subset = None if n_modes is None or n_modes >= n else (0, n_modes - 1)
+    try:
+        # one BLAS thread below SMALL_DENSE: waking OpenBLAS threads for a 100-DOF
+        # reduced model cost 0.1-0.2 s spikes (median 8 ms vs 2 ms measured, n = 118)
+        with threadpool_limits(1 if n <= SMALL_DENSE else None):
+            lam, Phi = sla.eigh(A, B, subset_by_index=subset)
+            lam_top, top = (lam[-1], Phi[:, -1]) if subset is None else \
+                sla.eigh(A, B, subset_by_index=(n - 1, n - 1))
+    except np.linalg.LinAlgError:
+        # numerically singular mass: its near-null direction has an unbounded frequency
+        w, V = np.linalg.eigh(B)
+        raise resolution.culprit(model, u * V[:, 0], "top", f"the mass matrix is singular to working "
+                                 f"precision (smallest scaled eigenvalue {w[0]:.1e})") from None
+    res = residuals(A, B, lam, Phi)
+    lam_max = float(np.max(lam_top))
+    spec = resolution.Spectrum(lam, lam_max, resolution.mode_weights(lam, lam_max, Phi, _norm1(B)), p4)
+    return spec, u[:, None] * Phi, u * np.ravel(top), res
+
+
+def _sparse(K, M, k):
+    """Lowest ``k`` modes by the sparse solve; the highest eigenvalue is estimated by the
+    largest K_ii / M_ii (a lower bound: the Rayleigh quotient of that unit vector), whose
+    unit vector stands in for the highest mode: the sparse checks are an estimate, lenient
+    by the factor between that and the true highest eigenvalue."""
+    lam, Phi = _sparse_lowest(K, M, k)
+    d = M.diagonal()
+    rho = K.diagonal() / d
+    top = np.zeros(K.shape[0])
+    top[int(np.argmax(rho))] = 1.0
+    u = sp.diags(1.0 / np.sqrt(d))
+    X = np.sqrt(d)[:, None] * Phi            # the modes of the unit-diagonal problem
+    weights = resolution.mode_weights(lam, float(rho.max()), X, _norm1(u @ M @ u))
+    return resolution.Spectrum(lam, float(rho.max()), weights), Phi, top
+
+
+def _overflow(model):
+    """SceneError for a K or M that overflowed while assembling, naming the largest
+    spring stiffness (or, if K is finite, the largest body mass field)."""
+    K_bad = not np.all(np.isfinite(model.K.data))
+    still = np.zeros(model.K.shape[0])
+    cands = (resolution.spring_energies if K_bad else resolution.kinetic_energies)(model, still)
+    c = max(cands, key=lambda c: c.magnitude, default=None)
+    if c is None:
+        return SolverError("K, M", "non-finite", "assembled matrices contain inf or NaN")
+    what = "stiffness" if K_bad else "mass matrix"
+    return SceneError(c.path, c.value, f"too large: the assembled {what} overflows double precision")
 
 
 def _sparse_lowest(K, M, k):

@@ -21,11 +21,11 @@ import scipy.sparse as sp
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, component_params, mass_properties
-from .constraints import constrained_dofs, rigidify
+from .constraints import candidates, constrained_dofs, rigidify, without_candidates
 from .elements import Element, gear_mesh, relative_spring
 from .flexible import DEFAULT_BAND_HZ, flexible_body
 from .kinematics import axis_frame, block_rotation, rigid_transfer
-from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene
+from .scene import DOF_NAMES, HOUSING, Bearing, FlexOptions, Scene, Shaft
 from .validate import body_origins
 
 log = logging.getLogger(__name__)
@@ -45,6 +45,9 @@ class AssembledModel:
     K: sp.csr_matrix = field(repr=False)
     M: sp.csr_matrix = field(repr=False)
     timings: dict = field(default_factory=dict)
+    q_slices: dict = field(default_factory=dict)   # body -> its columns of q
+    source: Scene = None                           # the scene as the user gave it (for field paths)
+    rigidified: list = field(default_factory=list)
 
     @property
     def n_abs(self) -> int:
@@ -115,25 +118,25 @@ def build_elements(scene: Scene, bodies: dict, masters: dict) -> list:
         point, iface = bearing_point(br, body, masters, f"bearings[{i}]")
         k = np.where(np.isinf(br.diagonal()), 0.0, br.diagonal())
         el = relative_spring(br.name or f"bearing[{i}]:{br.body}", "bearing", br.body,
-                             None if frame == HOUSING else frame, point, bodies[br.body].axes, k)
-        elements.append(_with_interfaces(el, (iface, br.frame_interface)))
+                             None if frame == HOUSING else frame, point, bodies[br.body].axes, k, Bearing.FIELDS)
+        elements.append(_with_interfaces(el, (iface, br.frame_interface), ("bearings", i)))
     for i, s in enumerate(scene.shafts):
         point, i1, i2 = shaft_points(s, by_name[s.body1], by_name[s.body2], masters, f"shafts[{i}]")
         el = relative_spring(s.name or f"shaft[{i}]:{s.body1}-{s.body2}", "shaft", s.body1, s.body2, point,
-                             bodies[s.body1].axes, s.diagonal())
-        elements.append(_with_interfaces(el, (i1, i2)))
+                             bodies[s.body1].axes, s.diagonal(), Shaft.FIELDS)
+        elements.append(_with_interfaces(el, (i1, i2), ("shafts", i)))
     for i, m in enumerate(scene.meshes):
         b1, b2 = by_name[m.gear1], by_name[m.gear2]
         c1, c2, i1, i2 = mesh_centers(m, b1, b2, masters, f"meshes[{i}]")
         el = gear_mesh(m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}", m.gear1, m.gear2, b1.axis, c1, c2,
                        m.base_radius1, m.base_radius2, m.pressure_angle, m.helix_angle, m.drive_sign,
                        m.stiffness, m.contact_point)
-        elements.append(_with_interfaces(el, (i1, i2)))
+        elements.append(_with_interfaces(el, (i1, i2), ("meshes", i)))
     return elements
 
 
-def _with_interfaces(el: Element, ifaces) -> Element:
-    return dataclasses.replace(el, interfaces=tuple(ifaces))
+def _with_interfaces(el: Element, ifaces, item: tuple) -> Element:
+    return dataclasses.replace(el, interfaces=tuple(ifaces), item=item)
 
 
 def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches: CacheDirs | None = None,
@@ -165,29 +168,46 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
 
 
 def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
-             caches: CacheDirs | None = None) -> AssembledModel:
+             caches: CacheDirs | None = None, source: Scene | None = None) -> AssembledModel:
     """Assemble ``scene`` (stages expanded) into sparse K, M on independent coordinates.
 
     ``full_fe=True`` keeps flexible bodies unreduced (every FE DOF): the reference model.
     ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants);
-    ``caches`` says where meshes and reductions are cached.
+    ``caches`` says where meshes and reductions are cached. ``source``: the scene as the
+    user wrote it when ``scene`` was derived from it (e.g. a fidelity variant), so that
+    errors name the user's fields (default ``scene``).
+
+    Near-rigid bearing directions become constraints (:func:`assembly.constraints.rigidify`),
+    judged on the diagonal of a first assembly without them.
     """
     t0 = time.perf_counter()
-    sc, rigidified = rigidify(scene.expanded())
+    sc = scene.expanded()
     order = _frame_order(sc)
     if bodies is None:
         bodies = build_body_models(sc, full_fe=full_fe, caches=caches, paths=body_origins(scene, scene.expanded()))
     t_bodies = time.perf_counter() - t0
+    rigidified = []
+    if candidates(sc):
+        probe = _model_on(without_candidates(sc), order, bodies)
+        diagonal = dict(zip(probe.dof_names, zip(probe.K.diagonal(), probe.M.diagonal())))
+        sc, rigidified = rigidify(sc, diagonal, sc.band_hz or DEFAULT_BAND_HZ)
+    model = _model_on(sc, order, bodies)
+    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
+    model.rigidified = rigidified
+    model.source = source if source is not None else scene
+    log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(model.elements),
+             len(model.dof_names))
+    return model
+
+
+def _model_on(sc: Scene, order: list, bodies: dict) -> AssembledModel:
+    """K, M of the expanded scene ``sc`` on its independent coordinates."""
     model = _absolute_model(sc, order, bodies)
-    model.T, model.dof_names = _independent_coordinates(sc, order, bodies)
+    model.T, model.dof_names, model.q_slices = _independent_coordinates(sc, order, bodies)
     K = (model.T.T @ model.K_abs @ model.T).tocsr()
     M = (model.T.T @ model.M_abs @ model.T).tocsr()
     model.K = ((K + K.T) * 0.5).tocsr()
     model.M = ((M + M.T) * 0.5).tocsr()
-    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
-    model.rigidified = rigidified
-    log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(model.elements),
-             len(model.dof_names))
     return model
 
 
@@ -209,7 +229,7 @@ def _absolute_model(sc: Scene, order: list, bodies: dict) -> AssembledModel:
 
 
 def _independent_coordinates(sc: Scene, order: list, bodies: dict):
-    """(T, names) with z = T q: rigid bodies move with their frame plus their free relative
+    """(T, names, body -> slice of q) with z = T q: rigid bodies move with their frame plus their free relative
     DOFs (local axes, at the body's axis point); flexible bodies (housing frame only) keep
     all their DOFs."""
     held = constrained_dofs(sc)
@@ -235,7 +255,8 @@ def _independent_coordinates(sc: Scene, order: list, bodies: dict):
             iface = _frame_interface(sc, b)
             blk = blk + sp.csr_matrix(bodies[b.frame].motion_at(bm.position, iface)) @ rows[b.frame]
         rows[b.name] = blk.tocsr()
-    return sp.vstack([rows[b.name] for b in order]).tocsr(), names
+    slices = {b.name: slice(col0[b.name], col0[b.name] + ncols[b.name]) for b in order}
+    return sp.vstack([rows[b.name] for b in order]).tocsr(), names, slices
 
 
 def _frame_interface(scene: Scene, body) -> str | None:

@@ -143,9 +143,11 @@ class Bearing:
     interface: Optional[str] = None
     frame_interface: Optional[str] = None
 
+    #: The field behind each entry of :meth:`diagonal` (local x, y, z, rx, ry, rz).
+    FIELDS = ("k_radial", "k_radial", "k_axial", "k_tilt", "k_tilt", "k_torsion")
+
     def diagonal(self) -> np.ndarray:
-        return np.array([self.k_radial, self.k_radial, self.k_axial,
-                         self.k_tilt, self.k_tilt, self.k_torsion], float)
+        return np.array([getattr(self, f) for f in self.FIELDS], float)
 
 
 @dataclass(frozen=True)
@@ -196,9 +198,11 @@ class Shaft:
     interface1: Optional[str] = None
     interface2: Optional[str] = None
 
+    #: The field behind each entry of :meth:`diagonal` (local x, y, z, rx, ry, rz).
+    FIELDS = ("k_shear", "k_shear", "k_axial", "k_bending", "k_bending", "k_torsion")
+
     def diagonal(self) -> np.ndarray:
-        return np.array([self.k_shear, self.k_shear, self.k_axial,
-                         self.k_bending, self.k_bending, self.k_torsion], float)
+        return np.array([getattr(self, f) for f in self.FIELDS], float)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,79 @@
+"""Number of rigid-body (0 Hz) modes of an assembled model, from its structure alone.
+
+The stiffness is a sum of positive semi-definite parts: every spring row
+``k_j b_j b_j'`` (k_j > 0) and each flexible body's own stiffness. The null space of such
+a sum is the intersection of the parts' null spaces, so it does not depend on the
+stiffness values at all -- a mesh of 1e20 N/m or a polar inertia of 1e-300 kg m^2 cannot
+change it, while counting eigenvalues below a fraction of the largest one can.
+
+A flexible body's own stiffness vanishes exactly on its six rigid motions (a connected FE
+body; a superelement, deflated by :func:`assembly.flexible.deflate_rigid`), so every
+zero-energy motion moves each flexible body rigidly. The count is therefore the nullity of
+the spring rows restricted to ``W``: the free coordinates of the rigid bodies and the six
+rigid motions of each flexible body. Each row is scaled to unit length (the stiffness
+drops out) and each column to unit length (metres against radians, lever arms), and the
+rank is read from the singular values with :data:`STRUCT_RTOL`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Singular values of the row- and column-normalised spring matrix below this fraction of
+#: the largest count as zero. Dependent rows give ~1e-16 (round-off of the unit rows); a
+#: stiffness direction with a singular value s carries s^2 of a typical spring's
+#: stiffness, so s = 1e-8 is an eigenvalue ratio of 1e-16, below double precision
+#: anyway.
+STRUCT_RTOL = 1e-8
+#: Entries of a spring row below this fraction of the row's round-off scale
+#: (|b| |A| |T| |W|, the sum of the magnitudes multiplied) are round-off of a product
+#: that vanishes exactly (e.g. a planet bearing row seen from a torsional carrier).
+DROP_RTOL = 1e-10
+
+
+def zero_motion_basis(model) -> np.ndarray:
+    """``W`` (n_q x n_w): columns spanning every motion that strains no body -- the free
+    coordinates of each rigid body and the six rigid motions of each flexible body."""
+    blocks = []
+    for name, bm in model.bodies.items():
+        sl = model.q_slices[name]
+        n = sl.stop - sl.start
+        if n == 0:
+            continue
+        local = np.asarray(bm.rigid_local) if bm.flexible else np.eye(n)
+        W = np.zeros((model.K.shape[0], local.shape[1]))
+        W[sl] = local
+        blocks.append(W)
+    return np.hstack(blocks) if blocks else np.zeros((model.K.shape[0], 0))
+
+
+def spring_rows(model, W: np.ndarray) -> np.ndarray:
+    """Every spring row ``b_j A_e T W`` (one per non-zero stiffness), round-off entries
+    zeroed, zero rows dropped, each row scaled to unit length."""
+    TW = model.T @ W
+    absTW = abs(model.T) @ np.abs(W)
+    rows = []
+    for el in model.elements:
+        A = model.attachment_operator(el)
+        G = el.B @ (A @ TW)
+        scale = np.abs(el.B) @ (abs(A) @ absTW)
+        G[np.abs(G) <= DROP_RTOL * scale.max(axis=1, keepdims=True)] = 0.0
+        rows.append(G)
+    G = np.vstack(rows) if rows else np.zeros((0, W.shape[1]))
+    norms = np.linalg.norm(G, axis=1)
+    keep = norms > 0
+    return G[keep] / norms[keep, None]
+
+
+def rigid_body_count(model) -> int:
+    """Number of independent zero-energy motions (rigid-body modes) of ``model``."""
+    W = zero_motion_basis(model)
+    if W.shape[1] == 0:
+        return 0
+    G = spring_rows(model, W)
+    if G.shape[0] == 0:
+        return W.shape[1]
+    cn = np.linalg.norm(G, axis=0)
+    G = G[:, cn > 0] / cn[cn > 0]
+    s = np.linalg.svd(G, compute_uv=False)
+    rank = int(np.sum(s > STRUCT_RTOL * s[0])) if len(s) and s[0] > 0 else 0
+    return W.shape[1] - rank
