@@ -31,6 +31,8 @@ from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.schema import SCENE_DIR, scene_from_dict
 from assembly.scene import DOF_NAMES, Bearing
 
+from tests.support.fuzz import examples
+
 ROOT = Path(__file__).resolve().parents[2]
 TREES = {n: tomllib.loads((SCENE_DIR / n).read_text())
          for n in ("kahraman_beta0.toml", "kahraman_beta20.toml", "lin_parker_n3.toml")}
@@ -149,7 +151,7 @@ def _check_refusal(tree, exc):
     assert field_at(tree, exc.path) == exc.value, (exc.path, exc.value)
 
 
-@settings(max_examples=50, deadline=None)
+@settings(max_examples=examples(50), deadline=None)
 @given(name=st.sampled_from(sorted(TREES)), mesh=st.integers(-8, 12), bearing=st.integers(-3, 12),
        body=st.integers(0, 5), mass=st.integers(-15, 15), inertia=st.integers(-15, 15))
 def test_extreme_magnitudes_refused_or_accurate(name, mesh, bearing, body, mass, inertia):
