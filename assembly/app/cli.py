@@ -13,8 +13,6 @@ import json
 import logging
 import signal
 import sys
-import threading
-from contextlib import contextmanager
 from pathlib import Path
 
 log = logging.getLogger("flexgear")
@@ -35,21 +33,9 @@ class Terminated(BaseException):
     """SIGTERM arrived; a BaseException like KeyboardInterrupt, so cleanup code runs."""
 
 
-@contextmanager
-def _sigterm_raises():
-    """While inside: SIGTERM raises :class:`Terminated` (main thread only); restored after."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def handler(signum, frame):
-        raise Terminated()
-
-    before = signal.signal(signal.SIGTERM, handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, before if before is not None else signal.SIG_DFL)
+def _raise_terminated(signum, frame):
+    """SIGTERM handler: unwind like Ctrl-C."""
+    raise Terminated()
 
 
 def user_errors() -> tuple:
@@ -223,8 +209,10 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    from .output import signal_handler
+
     try:
-        with _sigterm_raises():
+        with signal_handler(_raise_terminated, (signal.SIGTERM,)):  # main thread only
             if getattr(args, "check", None) is not None:
                 args.check(args)
             return args.func(args)

@@ -305,21 +305,31 @@ def recover_output(out_dir) -> list[str]:
 # --------------------------------------------------------------------------------------
 
 @contextmanager
-def _signals_held():
-    """Hold back SIGINT and SIGTERM until the block ends (then they reach the handlers from
-    before), so that handlers which turn them into exceptions cannot stop a swap between its
-    renames. Python runs signal handlers in the main thread only: elsewhere nothing to do."""
+def signal_handler(handler, signals):
+    """Install ``handler(signum, frame)`` for ``signals`` while inside; the handlers from
+    before are put back after. Python runs signal handlers in the main thread only:
+    elsewhere nothing is installed."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    caught = []
-    before = {s: signal.signal(s, lambda signum, frame: caught.append(signum))
-              for s in (signal.SIGINT, signal.SIGTERM)}
+    before = {s: signal.signal(s, handler) for s in signals}
     try:
         yield
     finally:
-        for s, handler in before.items():
-            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        for s, h in before.items():
+            signal.signal(s, h if h is not None else signal.SIG_DFL)
+
+
+@contextmanager
+def _signals_held():
+    """Hold back SIGINT and SIGTERM until the block ends (then they reach the handlers from
+    before), so that handlers which turn them into exceptions cannot stop a swap between its
+    renames."""
+    caught = []
+    try:
+        with signal_handler(lambda signum, frame: caught.append(signum), (signal.SIGINT, signal.SIGTERM)):
+            yield
+    finally:
         for s in caught:
             signal.raise_signal(s)
 
