@@ -398,7 +398,8 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
     return dataclasses.replace(scene, bodies=pick(scene.bodies), stages=tuple(stages))
 
 
-_STIFFNESSES = ("k_radial", "k_axial", "k_tilt", "k_torsion")
+#: The bearing stiffness fields, each once, in field order.
+_STIFFNESSES = tuple(dict.fromkeys(Bearing.FIELDS))
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:

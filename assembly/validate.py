@@ -49,13 +49,13 @@ def check_body(b: Body, path: str) -> None:
         raise SceneError(f"{path}.name", b.name, "must be a name other than 'housing'")
     if b.component is not None:
         _check_component_body(b, path)
-        return
-    if b.fidelity == "flexible":
+    elif b.fidelity == "flexible":
         raise SceneError(f"{path}.fidelity", b.fidelity,
                          "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder)")
-    if b.flex is not None:
+    elif b.flex is not None:
         raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
-    _check_mass_properties(b, path)
+    else:
+        _check_mass_properties(b, path)
     _nonzero_axis(f"{path}.axis", b.axis)
 
 
@@ -66,7 +66,6 @@ def _check_component_body(b: Body, path: str) -> None:
                              "a body with a component takes mass and inertia from its mesh")
     if b.flex is not None:
         check_flex(b.flex, f"{path}.flex")
-    _nonzero_axis(f"{path}.axis", b.axis)
 
 
 def _check_mass_properties(b: Body, path: str) -> None:

@@ -115,7 +115,6 @@ class CoupledModel:
         kinds = np.concatenate([self.retained % 3] + [np.arange(6)] * len(self.masters))
         return points, kinds
 
-
     def rigid_body_basis(self, reference=(0.0, 0.0, 0.0)) -> np.ndarray:
         """(n_c, 6) rigid-body motions on q_c, columns [tx, ty, tz, rx, ry, rz] (m, rad) about
         ``reference`` (m): the basis a Craig-Bampton reductor needs for its mechanism and
