@@ -282,6 +282,11 @@ def to_dict(obj) -> dict:
     return out
 
 
+def is_bare_name(path) -> bool:
+    """A file name without any folder part (``kahraman_beta0.toml``, not ``./x.toml``)."""
+    return Path(path).name == str(path)
+
+
 def resolve_scene_path(path) -> Path:
     """The scene file to read: ``path`` as given if it exists; a bare file name (no folder
     part) that does not exist here names a scene shipped in ``assembly/scenes``. A path with
@@ -291,7 +296,7 @@ def resolve_scene_path(path) -> Path:
     if p.exists():
         return p
     shipped = SCENE_DIR / p.name
-    if p.name == str(path) and shipped.exists():
+    if is_bare_name(path) and shipped.exists():
         log.info("%s: not in the working folder; reading the shipped example %s", path, shipped)
         return shipped
     hint = ""

@@ -61,10 +61,10 @@ def scene_file(args) -> str:
     """The scene file ``args.scene`` names. A bare name may be a file here or a shipped
     example, so the file it resolved to is announced on stderr; a path with a folder part
     is read as given (never a shipped example)."""
-    from ..schema import SCENE_DIR, resolve_scene_path
+    from ..schema import SCENE_DIR, is_bare_name, resolve_scene_path
 
     path = resolve_scene_path(args.scene)
-    if Path(args.scene).name == str(args.scene) and not getattr(args, "quiet", False):
+    if is_bare_name(args.scene) and not getattr(args, "quiet", False):
         shipped = " (shipped example)" if path.parent.resolve() == SCENE_DIR.resolve() else ""
         print(f"flexgear: scene file {path.resolve()}{shipped}", file=sys.stderr)
     return str(path)
