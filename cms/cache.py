@@ -99,8 +99,7 @@ class SuperelementCache:
         p = self.path(key)
         se.metadata.setdefault("cache_key", key)
         try:
-            os.makedirs(self.directory, exist_ok=True)
-            se.save(p)
+            se.save(p)                      # creates the folder if needed
         except OSError as exc:
             log.warning("cannot store superelement in %s: %s; continuing without caching it",
                         self.directory, exc.strerror or exc)
