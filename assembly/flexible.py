@@ -27,7 +27,7 @@ from typing import Optional
 import numpy as np
 import scipy.sparse as sp
 
-from cms.errors import ModeLimitError
+from cms.errors import CacheError, ModeLimitError
 
 from .components import CacheDirs, build_fe, mesh_entry, mesh_size, placement
 from .errors import SceneError, SolverError
@@ -85,7 +85,6 @@ class FlexibleBodyModel:
             built = self.superelement.metadata.get("mesh_sha256") if self.reduced else None
             fe, cm = _coupled_model(self.params, self.options, self.caches, mesh_sha256=built)
             if self.reduced and fe.mesh_sha256 != built:
-                from cms.errors import CacheError
                 raise CacheError(f"{self.name}: the mesh {fe.mesh_file} is not the one this body's reduction was "
                                  f"built from (content {str(built)[:16]}); it changed during this run, so its "
                                  "stresses would not match the modes: run again to reduce the current mesh",
@@ -299,7 +298,6 @@ _SE_METADATA = ("mesh_sha256", "masters", "center_of_mass", "mass", "inertia")
 def _check_reduction(se, mesh_sha256: str) -> None:
     """Reject a superelement not built from the mesh with content hash ``mesh_sha256``
     (or lacking what a flexible body reads): the cache then reduces again."""
-    from cms.errors import CacheError
     md = se.metadata
     missing = [k for k in _SE_METADATA if k not in md]
     if missing:

@@ -82,6 +82,9 @@ class SuperelementCache:
             return None
 
     def _discard(self, p: str, exc: Exception) -> None:
+        """Rename an unusable entry to ``<name>.corrupt-<UTC time>-<pid>`` and warn. The mesh
+        cache (fe_components.meshing) moves bad files aside by the same rule, in its own
+        copy: the two packages import nothing of each other."""
         self.discarded += 1
         dest = f"{p}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}"
         try:
@@ -99,8 +102,7 @@ class SuperelementCache:
         p = self.path(key)
         se.metadata.setdefault("cache_key", key)
         try:
-            os.makedirs(self.directory, exist_ok=True)
-            se.save(p)
+            se.save(p)                      # creates the folder if needed
         except OSError as exc:
             log.warning("cannot store superelement in %s: %s; continuing without caching it",
                         self.directory, exc.strerror or exc)

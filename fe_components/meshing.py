@@ -187,7 +187,9 @@ def _load_entry(path: Path, reader, heal: bool | None):
 
 
 def _move_aside(path: Path, reason: str) -> None:
-    """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn."""
+    """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn. The
+    superelement cache (cms.cache) moves bad files aside by the same rule, in its own copy:
+    the two packages import nothing of each other."""
     dest = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}")
     try:
         os.replace(path, dest)
