@@ -108,12 +108,12 @@ class FlexibleBodyModel:
         return recover_stress(self.stress_basis(), self.expand(zb), m.E, m.nu)
 
     def stress_basis(self):
-        """Vector basis for stress recovery, integrated at order 2p: the L2 projection
-        needs an exact (non-singular) mass matrix; the stiffness basis uses order 2p-2."""
+        """Vector basis for stress recovery (:func:`cms.stress.projection_basis` of the
+        stiffness basis: order 2p), built once per body and reused for every load case."""
         if self.info.get("_stress_basis") is None:
-            from skfem import Basis
+            from cms.stress import projection_basis
             fe, _ = self.coupled()
-            self.info["_stress_basis"] = Basis(fe.mesh, fe.basis.elem, intorder=2 * fe.order)
+            self.info["_stress_basis"] = projection_basis(fe.basis)
         return self.info["_stress_basis"]
 
     def nodes_global(self) -> np.ndarray:
