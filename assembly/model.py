@@ -64,16 +64,18 @@ class AssembledModel:
 
     def attachment_operator(self, el: Element) -> sp.csr_matrix:
         """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
-        blocks = []
-        for b, iface in zip(el.bodies, el.interfaces):
+        rows, cols, vals = [], [], []
+        for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
             if b is None:
-                blocks.append(sp.csr_matrix((6, self.n_abs)))
-                continue
-            P = sp.csr_matrix(self.bodies[b].motion_at(el.point, iface))
-            o = self.offsets[b]
-            P = sp.hstack([sp.csr_matrix((6, o)), P, sp.csr_matrix((6, self.n_abs - o - P.shape[1]))])
-            blocks.append(P.tocsr())
-        return sp.vstack(blocks).tocsr()
+                continue              # the housing: no motion
+            P = sp.coo_matrix(self.bodies[b].motion_at(el.point, iface))
+            rows.append(P.row + 6 * j)
+            cols.append(P.col + self.offsets[b])
+            vals.append(P.data)
+        if not vals:
+            return sp.csr_matrix((6 * len(el.bodies), self.n_abs))
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(6 * len(el.bodies), self.n_abs))
 
     def rigid_coordinates(self, Z: np.ndarray) -> np.ndarray:
         """Rigid-equivalent motion (6 per body, global axes, at each COM) of columns of Z."""
