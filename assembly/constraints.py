@@ -45,15 +45,6 @@ def candidates(scene: Scene) -> list:
     return out
 
 
-def without_candidates(scene: Scene) -> Scene:
-    """``scene`` with every :func:`candidates` stiffness set to 0: its assembled K holds the
-    coupling stiffness that the candidate springs are judged against."""
-    new = list(scene.bearings)
-    for i, f in candidates(scene):
-        new[i] = dataclasses.replace(new[i], **{f: 0.0})
-    return derive(scene, bearings=tuple(new))
-
-
 def constraint_shift(k: float, coupling: float, mass: float, band_hz: float) -> float:
     """First-order bound on the relative frequency shift that holding a DOF rigidly, instead
     of by a grounded spring ``k``, causes in any mode at or below ``band_hz``.
@@ -78,7 +69,8 @@ def rigidify(scene: Scene, diagonal: dict, band_hz: float) -> tuple[Scene, list]
     (constraints), and the list of (bearing, field, stiffness) converted.
 
     ``diagonal`` maps each independent DOF name (``body.x``) to (K'_xx, M_xx) of the model
-    assembled from :func:`without_candidates`. A candidate direction becomes a constraint
+    assembled without the :func:`candidates` springs (K': the coupling stiffness they are
+    judged against; :func:`assembly.model.assemble`). A candidate direction becomes a constraint
     when :func:`constraint_shift` is at most CONSTRAINT_RTOL on every independent DOF it
     acts on (a direction acting on no independent DOF, e.g. the radial bearing of a
     torsional body, is left as it is: it does nothing). A stiffer spring left elastic

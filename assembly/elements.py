@@ -62,7 +62,7 @@ def relative_spring(name: str, kind: str, body_a, body_b, point, axes: np.ndarra
     Rt = block_rotation(axes).T
     keep = k > 0
     B = np.hstack([Rt, -Rt])[keep]
-    kept = tuple(f for f, k_on in zip(fields, keep) if k_on) if fields else ()
+    kept = tuple(f for f, k_on in zip(fields, keep) if k_on)
     return Element(name, kind, (body_a, body_b), np.asarray(point, float), B, k[keep], fields=kept)
 
 

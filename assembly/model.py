@@ -21,7 +21,7 @@ import scipy.sparse as sp
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, component_params, mass_properties
-from .constraints import candidates, constrained_dofs, rigidify, without_candidates
+from .constraints import candidates, constrained_dofs, rigidify
 from .elements import Element, gear_mesh, relative_spring
 from .flexible import DEFAULT_BAND_HZ, flexible_body
 from .kinematics import axis_frame, block_rotation, rigid_transfer
@@ -64,16 +64,18 @@ class AssembledModel:
 
     def attachment_operator(self, el: Element) -> sp.csr_matrix:
         """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
-        blocks = []
-        for b, iface in zip(el.bodies, el.interfaces):
+        rows, cols, vals = [], [], []
+        for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
             if b is None:
-                blocks.append(sp.csr_matrix((6, self.n_abs)))
-                continue
-            P = sp.csr_matrix(self.bodies[b].motion_at(el.point, iface))
-            o = self.offsets[b]
-            P = sp.hstack([sp.csr_matrix((6, o)), P, sp.csr_matrix((6, self.n_abs - o - P.shape[1]))])
-            blocks.append(P.tocsr())
-        return sp.vstack(blocks).tocsr()
+                continue              # the housing: no motion
+            P = sp.coo_matrix(self.bodies[b].motion_at(el.point, iface))
+            rows.append(P.row + 6 * j)
+            cols.append(P.col + self.offsets[b])
+            vals.append(P.data)
+        if not vals:
+            return sp.csr_matrix((6 * len(el.bodies), self.n_abs))
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(6 * len(el.bodies), self.n_abs))
 
     def rigid_coordinates(self, Z: np.ndarray) -> np.ndarray:
         """Rigid-equivalent motion (6 per body, global axes, at each COM) of columns of Z."""
@@ -178,20 +180,24 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     errors name the user's fields (default ``scene``).
 
     Near-rigid bearing directions become constraints (:func:`assembly.constraints.rigidify`),
-    judged on the diagonal of a first assembly without them.
+    judged on the diagonal of the same assembly without their springs; the model is
+    assembled again only if some direction became a constraint.
     """
     t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)
     if bodies is None:
-        bodies = build_body_models(sc, full_fe=full_fe, caches=caches, paths=body_origins(scene, scene.expanded()))
+        bodies = build_body_models(sc, full_fe=full_fe, caches=caches, paths=body_origins(scene, sc))
     t_bodies = time.perf_counter() - t0
+    # every spring of a bearing with candidates is a candidate (its other directions are
+    # 0 or inf, which make no spring): leaving out the whole element leaves out exactly them
+    judged = {("bearings", i) for i, _ in candidates(sc)}
+    model, diagonal = _model_on(sc, order, bodies, judged)
     rigidified = []
-    if candidates(sc):
-        probe = _model_on(without_candidates(sc), order, bodies)
-        diagonal = dict(zip(probe.dof_names, zip(probe.K.diagonal(), probe.M.diagonal())))
-        sc, rigidified = rigidify(sc, diagonal, sc.band_hz or DEFAULT_BAND_HZ)
-    model = _model_on(sc, order, bodies)
+    if judged:
+        held, rigidified = rigidify(sc, diagonal, sc.band_hz or DEFAULT_BAND_HZ)
+        if rigidified:
+            model, _ = _model_on(held, order, bodies)
     model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
     model.rigidified = rigidified
     model.source = source if source is not None else scene
@@ -200,19 +206,28 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     return model
 
 
-def _model_on(sc: Scene, order: list, bodies: dict) -> AssembledModel:
-    """K, M of the expanded scene ``sc`` on its independent coordinates."""
-    model = _absolute_model(sc, order, bodies)
+def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[AssembledModel, dict]:
+    """K, M of the expanded scene ``sc`` on its independent coordinates, and the diagonal
+    that :func:`assembly.constraints.rigidify` judges on: DOF name -> (K'_xx, M_xx), K'
+    being K without the elements whose ``item`` is in ``judged`` (empty without any)."""
+    model, K_judged = _absolute_model(sc, order, bodies, judged)
     model.T, model.dof_names, model.q_slices = _independent_coordinates(sc, order, bodies)
-    K = (model.T.T @ model.K_abs @ model.T).tocsr()
-    M = (model.T.T @ model.M_abs @ model.T).tocsr()
-    model.K = ((K + K.T) * 0.5).tocsr()
-    model.M = ((M + M.T) * 0.5).tocsr()
-    return model
+    model.K, model.M = _on_q(model.T, model.K_abs), _on_q(model.T, model.M_abs)
+    if not judged:
+        return model, {}
+    return model, dict(zip(model.dof_names, zip(_on_q(model.T, K_judged).diagonal(), model.M.diagonal())))
 
 
-def _absolute_model(sc: Scene, order: list, bodies: dict) -> AssembledModel:
-    """Body mass and stiffness blocks plus every element, on the absolute coordinates z."""
+def _on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
+    """``T' A T`` symmetrised: a matrix of absolute coordinates on the independent ones."""
+    A = (T.T @ A @ T).tocsr()
+    return ((A + A.T) * 0.5).tocsr()
+
+
+def _absolute_model(sc: Scene, order: list, bodies: dict,
+                    judged=frozenset()) -> tuple[AssembledModel, sp.csr_matrix | None]:
+    """Body mass and stiffness blocks plus every element, on the absolute coordinates z;
+    and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
     offsets, n = {}, 0
     for b in order:
         offsets[b.name] = n
@@ -223,9 +238,11 @@ def _absolute_model(sc: Scene, order: list, bodies: dict) -> AssembledModel:
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
     model = AssembledModel(sc, {b.name: bodies[b.name] for b in order}, offsets, elements, K_abs, M_abs,
                            None, [], abs_names, None, None)
-    parts = [K_abs] + [model.element_stiffness_abs(el) for el in elements]
-    model.K_abs = sum(parts[1:], parts[0]).tocsr()
-    return model
+    parts = [model.element_stiffness_abs(el) for el in elements]
+    model.K_abs = sum(parts, K_abs).tocsr()
+    if not judged:
+        return model, None
+    return model, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()
 
 
 def _independent_coordinates(sc: Scene, order: list, bodies: dict):

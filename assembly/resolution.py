@@ -31,7 +31,7 @@ import numpy as np
 
 from .errors import SceneError
 from .flexible import DEFAULT_BAND_HZ
-from .validate import body_origins
+from .validate import body_origins, element_paths
 
 log = logging.getLogger(__name__)
 
@@ -241,12 +241,13 @@ def spring_energies(model, q: np.ndarray) -> list:
     """One Candidate per spring row of ``model`` with its strain energy in the motion
     ``q`` (independent coordinates)."""
     z = model.T @ q
+    paths = scene_paths(model)
     out = []
     for el in model.elements:
         e = el.B @ (model.attachment_operator(el) @ z)
         for j, (k, ej) in enumerate(zip(el.k, e)):
             field = el.fields[j] if el.fields else "stiffness"
-            path, value = element_field(model, el, field)
+            path, value = element_field(paths, el, field)
             out.append(Candidate(path, value, field, float(k), _log_energy(k, ej)))
     return out
 
@@ -255,11 +256,12 @@ def kinetic_energies(model, q: np.ndarray) -> list:
     """One Candidate per body mass field (mass, polar/transverse inertia; a flexible
     body's component) with its kinetic energy in the motion ``q``."""
     z = model.T @ q
+    paths = scene_paths(model)
     out = []
     for name, bm in model.bodies.items():
         zb = z[model.body_slice(name)]
         if bm.flexible:
-            path, value = body_field(model, name, "component")
+            path, value = body_field(paths, name, "component")
             out.append(Candidate(path, value, "component", 0.0, _log_energy(zb @ (bm.M @ zb), 1.0)))
             continue
         R = bm.axes
@@ -269,21 +271,33 @@ def kinetic_energies(model, q: np.ndarray) -> list:
         for field, mag, energy in (("mass", bm.mass, _log_energy(bm.mass, np.linalg.norm(u))),
                                    ("polar_inertia", J[2, 2], _log_energy(J[2, 2], th[2])),
                                    ("transverse_inertia", jt, _log_energy(jt, np.linalg.norm(th[:2])))):
-            path, value = body_field(model, name, field)
+            path, value = body_field(paths, name, field)
             out.append(Candidate(path, value, field, float(mag), energy))
     return out
 
 
 # ---------------------------------------------------------------- scene paths
-def _origin(model) -> tuple:
-    """(user scene, expanded, body -> table path) for naming fields; the model's own
-    scene when the user's does not expand to the same tables."""
+@dataclass(frozen=True)
+class ScenePaths:
+    """Where each body and spring of a model was written in the user's scene."""
+
+    bodies: dict            # body name -> (table path, the body as written; stages expanded)
+    elements: dict          # element item, e.g. ("bearings", 2) -> (table path, the item as written)
+
+
+def scene_paths(model) -> ScenePaths:
+    """The :class:`ScenePaths` of ``model``'s source scene (the scene as the user gave it);
+    of its own scene when the user's does not expand to the same tables."""
     src = model.source if model.source is not None else model.scene
     exp = src.expanded()
     same = all(len(getattr(exp, k)) == len(getattr(model.scene, k)) for k in ("bodies", "bearings", "meshes"))
     if not same:
         src = exp = model.scene
-    return src, exp, body_origins(src, exp)
+    origin = body_origins(src, exp)
+    # stages make bodies, bearings and meshes: every shaft is one of the user's own
+    elements = {(key, i): entry for key, attr in (("bearings", "body"), ("shafts", "body1"), ("meshes", "gear1"))
+                for i, entry in enumerate(element_paths(src, exp, key, origin, attr))}
+    return ScenePaths({b.name: (origin[b.name], b) for b in exp.bodies}, elements)
 
 
 def _plain(v):
@@ -291,11 +305,9 @@ def _plain(v):
     return v.item() if isinstance(v, np.generic) else v
 
 
-def body_field(model, body: str, field: str) -> tuple:
+def body_field(paths: ScenePaths, body: str, field: str) -> tuple:
     """(path, value) of a body's mass field as the user wrote it."""
-    src, exp, origin = _origin(model)
-    b = next(b for b in exp.bodies if b.name == body)
-    path = origin[body]
+    path, b = paths.bodies[body]
     if b.component is not None:
         return f"{path}.component", b.component.get("kind")
     if b.inertia_tensor is not None and field != "mass":
@@ -305,15 +317,11 @@ def body_field(model, body: str, field: str) -> tuple:
     return f"{path}.{field}", _plain(getattr(b, field))
 
 
-def element_field(model, el, field: str) -> tuple:
+def element_field(paths: ScenePaths, el, field: str) -> tuple:
     """(path, value) of the scene field behind one spring row of element ``el``."""
-    src, exp, origin = _origin(model)
-    table, i = el.item
-    item = getattr(exp, table)[i]
-    if i < len(getattr(src, table)):
-        return f"{table}[{i}].{field}", _plain(getattr(item, field))
-    if table == "bearings":
-        return f"{origin[item.body]}.bearing.{field}", _plain(getattr(item, field))
-    role1 = next(b.role for b in exp.bodies if b.name == item.gear1)
-    key = "k_mesh_sun" if role1 == "sun" else "k_mesh_ring"
-    return f"{origin[item.gear1].split('.')[0]}.{key}", _plain(item.stiffness)
+    path, item = paths.elements[el.item]
+    if el.item[0] == "meshes" and path.startswith("stages["):
+        # a stage's mesh: its stiffness is the stage's k_mesh_sun or k_mesh_ring
+        sun = paths.bodies[item.gear1][1].role == "sun"
+        return f"{path}.{'k_mesh_sun' if sun else 'k_mesh_ring'}", _plain(item.stiffness)
+    return f"{path}.{field}", _plain(getattr(item, field))

@@ -9,6 +9,7 @@ naming a field that exists in the scene (with its value), or frequencies that ma
 documented bound. Rules: assembly/resolution.py, assembly/constraints.py, assembly/nullity.py.
 """
 import copy
+import dataclasses
 import math
 import re
 import subprocess
@@ -29,7 +30,7 @@ from assembly.errors import SceneError
 from assembly.flexible import DEFAULT_BAND_HZ
 from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene import DOF_NAMES, Bearing
+from assembly.scene import DOF_NAMES, Bearing, derive
 
 from tests.support.fuzz import examples
 
@@ -116,6 +117,16 @@ def field_at(tree, path):
     return node
 
 
+def without_candidates(sc):
+    """The expanded scene ``sc`` with every candidate bearing stiffness
+    (:func:`assembly.constraints.candidates`) set to 0: its K is the coupling stiffness
+    K' the candidates are judged against."""
+    new = list(sc.bearings)
+    for i, f in ac.candidates(sc):
+        new[i] = dataclasses.replace(new[i], **{f: 0.0})
+    return derive(sc, bearings=tuple(new))
+
+
 def all_elastic_eigenvalues(scene) -> tuple:
     """(exact eigenvalues, round-off of the part assembled in double, DOFs) of ``scene``
     with every bearing kept a spring. The candidate bearing springs act on one independent
@@ -124,7 +135,7 @@ def all_elastic_eigenvalues(scene) -> tuple:
     assembling them in double would bury a planet's coordinates under the round-off of
     1e20 N/m springs seen through the carrier's frame."""
     sc = scene.expanded()
-    probe = assemble(ac.without_candidates(sc))
+    probe = assemble(without_candidates(sc))
     index = {n: i for i, n in enumerate(probe.dof_names)}
     add = {}
     for i, f in ac.candidates(sc):
@@ -196,6 +207,22 @@ def test_extreme_magnitudes_refused_or_accurate(name, mesh, bearing, body, mass,
     tol = r.info["frequency_rtol"] + n_held * ac.CONSTRAINT_RTOL + 0.5 * probe_round.max() / lam_ref[1:1 + k]
     err = np.abs(r.frequencies_hz[1:1 + k] / f_ref[:k] - 1)
     assert np.all(err <= tol), (err, tol)
+
+
+@pytest.mark.parametrize("name", sorted(TREES))
+@pytest.mark.parametrize("bearing", [1e6, 1e8, 1e10, 1e12])
+def test_constraint_decision_is_judged_without_candidate_springs(name, bearing):
+    # assemble judges the candidates on the diagonal of its own assembly with their bearing
+    # elements left out; that must be the diagonal of the scene with the candidate
+    # stiffnesses set to 0 (the definition of K' in assembly.constraints.constraint_shift),
+    # so the same directions become constraints. Bearings x1e6 ... 1e12 turn none, some
+    # and most of the candidates into constraints.
+    scene = scene_from_dict(scaled_tree(name, 1.0, bearing, 0, 1.0, 1.0))
+    sc = scene.expanded()
+    probe = assemble(without_candidates(sc))
+    diagonal = dict(zip(probe.dof_names, zip(probe.K.diagonal(), probe.M.diagonal())))
+    _, expected = ac.rigidify(sc, diagonal, sc.band_hz or DEFAULT_BAND_HZ)
+    assert assemble(scene).rigidified == expected
 
 
 def test_soft_mesh_keeps_bearing_modes(caplog):
