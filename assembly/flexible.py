@@ -43,8 +43,6 @@ log = logging.getLogger(__name__)
 #: the two-gear test pair < 1e-4 % (plain CB 0.67 % up to 6x). 1.5x rather than 1x
 #: keeps the modes just above the band within 0.02 % too.
 CUTOFF_FACTOR = 1.5
-#: Band of interest (Hz) when a scene does not give ``band_hz``.
-DEFAULT_BAND_HZ = 3000.0
 _DOFS6 = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 

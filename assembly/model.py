@@ -23,7 +23,7 @@ from .bodies import RigidBodyModel
 from .components import CacheDirs, component_params, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
 from .elements import Element, gear_mesh, relative_spring
-from .flexible import DEFAULT_BAND_HZ, flexible_body
+from .flexible import flexible_body
 from .kinematics import axis_frame, block_rotation, rigid_transfer
 from .scene import DOF_NAMES, HOUSING, Bearing, FlexOptions, Scene, Shaft
 from .validate import body_origins
@@ -149,7 +149,7 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
     the body's name)."""
     paths = paths or {}
     caches = caches or CacheDirs()
-    band = scene.band_hz or DEFAULT_BAND_HZ
+    band = scene.band
     out = {}
     for b in _frame_order(scene):
         if b.component is None:
@@ -195,7 +195,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     model, diagonal = _model_on(sc, order, bodies, judged)
     rigidified = []
     if judged:
-        held, rigidified = rigidify(sc, diagonal, sc.band_hz or DEFAULT_BAND_HZ)
+        held, rigidified = rigidify(sc, diagonal, sc.band)
         if rigidified:
             model, _ = _model_on(held, order, bodies)
     model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
-from .flexible import DEFAULT_BAND_HZ
 from .validate import body_origins, element_paths
 
 log = logging.getLogger(__name__)
@@ -126,7 +125,7 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
         why = (f"the eigen solve {what}, needs <= {FREQ_RTOL:g}: eigenvalue round-off grows with the highest "
                f"frequency, {f_max:.3g} Hz")
         f_low = spec.hz(max(low, bound[n_zero]))
-        band = model.scene.band_hz or DEFAULT_BAND_HZ
+        band = model.scene.band
         end = "top" if math.log(f_max / band) >= math.log(band / max(f_low, 1e-300)) else "low"
         if rtol > FREQ_RTOL:
             raise culprit(model, top, end, why)

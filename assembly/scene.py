@@ -34,6 +34,8 @@ from fe_components.params import MAX_PLANETS
 from .errors import SceneError
 
 HOUSING = "housing"
+#: Band of interest (Hz) when a scene does not give ``band_hz``.
+DEFAULT_BAND_HZ = 3000.0
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 Fidelity = Literal["torsional", "rigid", "flexible"]
 Vec3 = tuple[float, float, float]
@@ -347,6 +349,11 @@ class Scene:
             cached = derive(self, **expand_stages(self), stages=())
             object.__setattr__(self, "_expanded", cached)
         return cached
+
+    @property
+    def band(self) -> float:
+        """The band of interest (Hz): ``band_hz``, or DEFAULT_BAND_HZ when not given."""
+        return self.band_hz or DEFAULT_BAND_HZ
 
     def body(self, name: str) -> Body:
         for b in self.expanded().bodies:

@@ -22,7 +22,7 @@ from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .components import component_params
 from .constraints import can_constrain
 from .errors import SceneError
-from .flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ, cutoff_source, weyl_mode_count
+from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .kinematics import unit
 from .scene import MAX_MODES, HOUSING, DOF_NAMES, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
 from .schema import check_instance
@@ -373,7 +373,7 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
     lower bound of the component's volume (:func:`assembly.flexible.weyl_mode_count`,
     which underestimates: only a cutoff that surely needs too many modes is refused here;
     the reduction itself stops at MAX_MODES + 1 modes for the rest)."""
-    band = scene.band_hz or DEFAULT_BAND_HZ
+    band = scene.band
     for b in expanded.bodies:
         opts = b.flex or FlexOptions()
         if b.fidelity != "flexible" or b.component is None or opts.n_modes is not None:

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..components import CacheDirs, forget_fe_models
-from ..flexible import CUTOFF_FACTOR, DEFAULT_BAND_HZ
+from ..flexible import CUTOFF_FACTOR
 from ..modal import solve_modes
 from ..model import assemble, build_body_models
 from ..scene import FlexOptions, scale_bearings
@@ -71,7 +71,7 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
     """
 
     scene = load_scene(scene_name)
-    band = scene.band_hz or DEFAULT_BAND_HZ
+    band = scene.band
     forget_fe_models()
     t0 = time.perf_counter()
     full_model = assemble(scene, full_fe=True)

@@ -27,10 +27,9 @@ import assembly.constraints as ac
 import assembly.modal as am
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
-from assembly.flexible import DEFAULT_BAND_HZ
 from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene import DOF_NAMES, Bearing, derive
+from assembly.scene import DEFAULT_BAND_HZ, DOF_NAMES, Bearing, derive
 
 from tests.support.fuzz import examples
 
