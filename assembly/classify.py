@@ -5,7 +5,9 @@ Parker): ``rotational`` (central members only spin, and move axially if helical)
 ``translational`` (central members only translate in-plane, and tilt if helical),
 ``planet`` (central members at rest), ``out-of-plane`` (a rotational or translational
 mode whose energy is mostly axial/tilt), ``global`` (energy spread over several stages),
-``mixed`` (none of these), ``rigid-body`` (0 Hz). Scenes without planetary stages are
+``mixed`` (none of these), ``rigid-body`` (0 Hz), ``elastic`` (the mode is mostly the
+elastic deformation of one flexible body: :data:`ELASTIC_SHARE`; ``ModeInfo.body`` names
+it and ``nodal_diameters`` counts its circumferential waves). Scenes without planetary stages are
 classified by the dominant motion type (spin -> rotational, in-plane -> translational,
 axial/tilt -> out-of-plane).
 
@@ -19,12 +21,19 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .energy import kinetic_by_body, kinetic_by_category
+from .energy import kinetic_by_body, kinetic_by_category, strain_energy_by_body
+from .harmonics import body_nodal_diameters
 
 #: Relative energy below which a class condition counts as zero. Exact models give
 #: zeros to round-off; FE-based bodies are symmetric only to mesh accuracy (~1e-4).
 CLASS_TOL = 1e-3
 CENTRAL = ("sun", "ring", "carrier")
+#: A mode is the elastic deformation of flexible body b when more than half of its energy
+#: is b's elastic energy. Over a cycle a mode's energy is half kinetic, half strain
+#: (time averages of T and V are equal at resonance), so the share is the mean of b's
+#: strain-energy share (its own stiffness vs the whole model's, springs included) and
+#: its kinetic-energy share beyond its rigid-equivalent motion.
+ELASTIC_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -35,13 +44,26 @@ class ModeInfo:
     mode_class: str
     stage: str | None
     dominant_bodies: tuple
+    body: str | None = None              # elastic modes: the deforming flexible body
+    nodal_diameters: int | None = None   # elastic modes: circumferential harmonic number
+
+    @property
+    def label(self) -> str:
+        """Class as shown: ``"elastic stage.carrier, 2 ND"`` for an elastic mode, else the class."""
+        if self.mode_class != "elastic":
+            return self.mode_class
+        nd = f", {self.nodal_diameters} ND" if self.nodal_diameters is not None else ""
+        return f"elastic {self.body}{nd}"
 
 
 def _stage_of(model):
     return [model.scene.body(b).stage or f"body:{b}" for b in model.bodies]
 
 
-def classify_modes(result) -> list[ModeInfo]:
+def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
+    """Class of every mode (see the module doc). ``nodal_diameters``: count them for the
+    elastic modes (back-expands each such mode of a flexible body to its FE mesh, which
+    loads the body's FE model once)."""
     model = result.model
     names = list(model.bodies)
     sc_bodies = {b.name: b for b in model.scene.bodies}
@@ -51,13 +73,20 @@ def classify_modes(result) -> list[ModeInfo]:
     E = kinetic_by_category(result)
     share = kinetic_by_body(result)
     mult = result.multiplicity()
+    U = strain_energy_by_body(result) if any(bm.flexible for bm in model.bodies.values()) else None
     out = [None] * len(result.frequencies_hz)
     for g in result.groups:
         Eg = E[g].sum(axis=0)  # (n_bodies, 4)
         total = Eg.sum()
-        f0 = float(result.frequencies_hz[g[0]])
+        body = nd = None
         if g[0] < result.n_rigid or total <= 0:
             cls, st = "rigid-body", None
+        elif U is not None and (body := _elastic_body(U[g].mean(axis=0), Eg[:, 4] / total, names)):
+            cls = "elastic"
+            st = model.scene.body(body).stage
+            if nodal_diameters:
+                bm = model.bodies[body]
+                nd = body_nodal_diameters(bm, result.abs_shapes[model.body_slice(body)][:, g])
         else:
             per_stage = {s: Eg[[i for i, x in enumerate(stage) if x == s]].sum() / total for s in groups_of}
             st = max(per_stage, key=per_stage.get)
@@ -79,9 +108,16 @@ def classify_modes(result) -> list[ModeInfo]:
                 cum += share[i, j]
                 if cum >= 0.8:
                     break
-            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st, tuple(dom))
-        del f0
+            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st, tuple(dom), body, nd)
     return out
+
+
+def _elastic_body(strain_share: np.ndarray, elastic_ke_share: np.ndarray, names) -> str | None:
+    """The flexible body holding more than :data:`ELASTIC_SHARE` of a mode's energy as
+    elastic energy (mean of its strain and elastic kinetic shares), or None."""
+    e = 0.5 * (strain_share + elastic_ke_share)
+    j = int(np.argmax(e))
+    return names[j] if e[j] > ELASTIC_SHARE else None
 
 
 def _motion_class(cat: np.ndarray) -> str:
