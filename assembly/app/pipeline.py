@@ -41,7 +41,7 @@ from ..static import solve_static
 from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
-from .tables import dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv, write_modes_csv
+from .tables import comparison_cells, dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv, write_modes_csv
 
 log = logging.getLogger(__name__)
 
@@ -215,10 +215,6 @@ def step_plots(ctx: RunContext, bar) -> None:
     ctx.plots.append((rel, "natural frequencies (Hz) per fidelity; lines join modes paired by MAC"))
 
 
-def _fmt(v, spec):
-    return "" if v is None else format(v, spec)
-
-
 def build_report(ctx: RunContext) -> dict:
     """Plain dict for :func:`assembly.app.html_report.render_index`."""
     res = ctx.result
@@ -230,27 +226,10 @@ def build_report(ctx: RunContext) -> dict:
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
-        fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
-        top = fids[-1]
-        rows, classes = [], []
-        for r in ctx.comparison:
-            cells = [r["mode"]] + [_fmt(r.get(f), ".2f") for f in fids]
-            for f in fids[:-1]:
-                v = r.get(f)
-                cells.append(_fmt(100.0 * (r[top] / v - 1) if v else None, "+.2f"))
-            mac = r.get(f"mac_{fids[-2]}") if len(fids) > 1 else None
-            cells += [_fmt(mac, ".3f"), r["class"], r["dominant_body"] or ""]
-            rows.append(cells)
-            classes.append("unpaired" if mac is None else ("weak" if mac < 0.8 else ""))
-        n = len(fids)
-        comp = dict(header=[f"{top} mode"] + [f"f {f} [Hz]" for f in fids]
-                    + [f"shift vs {f} [%]" for f in fids[:-1]] + ["MAC", "class", "dominant body"],
-                    rows=rows, row_classes=classes, left=(2 * n + 1, 2 * n + 2),
-                    note=f"Each elastic {top} mode is paired, one fidelity down at a time, with the mode of "
-                         "largest MAC (mass-weighted on rigid-equivalent body motions; subspace MAC for "
-                         "repeated frequencies; one-to-one assignment). Shift = f_" + top + " / f_other - 1. "
-                         "Orange: MAC < 0.8; grey: no partner in the lower-fidelity model. Rayleigh-Ritz: "
-                         "the k-th frequency obeys flexible <= rigid <= torsional.")
+        cells = comparison_cells(ctx.comparison, [f for f in ALL_FIDELITIES if f in ctx.variants])
+        comp = dict(header=cells["header"], rows=cells["rows"], row_classes=cells["row_classes"],
+                    left=cells["left"], note=" ".join(cells["notes"])
+                    + " Orange rows: a MAC < 0.8; grey: no partner one fidelity down.")
     meta = [f"scene: {ctx.scene.name} ({ctx.scene_source})",
             f"{len(ctx.model.bodies)} bodies, {len(ctx.model.elements)} springs, {ctx.model.K.shape[0]} DOFs, "
             f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "

@@ -96,30 +96,86 @@ def modes_json(result) -> dict:
     }
 
 
+#: MAC below which a pairing is flagged weak (the shapes differ noticeably).
+WEAK_MAC = 0.8
+#: MAC below which a pair has no meaningful partner: its frequency shift is not shown.
+NO_PARTNER_MAC = 0.5
+SHORT = {"torsional": "tors", "rigid": "rigid", "flexible": "flex"}
+
+
+def comparison_cells(rows, fids) -> dict:
+    """Cells of the fidelity comparison, shared by the text table and the HTML report.
+
+    ``rows``: :func:`assembly.compare.compare` rows; ``fids``: the fidelities present, low to
+    high. A lower fidelity's shift (%) is shown only when every MAC on the pairing chain
+    down to it is at least :data:`NO_PARTNER_MAC` ("--" otherwise); a MAC below
+    :data:`WEAK_MAC` is starred. Returns header, rows (strings), row_classes ("weak",
+    "unpaired" or ""), notes (footnotes, each once) and left (indices of text columns)."""
+    top, lows = fids[-1], fids[-2::-1]      # lower fidelities from the next one down
+    header = ["mode"] + [f"{f} [Hz]" for f in fids]
+    header += [f"shift vs {f} [%]" for f in lows]
+    chain = [top] + list(lows)
+    header += [f"MAC {SHORT[a]}-{SHORT[b]}" for a, b in zip(chain, chain[1:])]
+    header += ["class", "dominant body"]
+    out, classes, hidden, weak = [], [], False, False
+    for r in rows:
+        cells = [str(r["mode"])] + [("-" if r.get(f) is None else f"{r[f]:.2f}") for f in fids]
+        macs = [r.get(f"mac_{f}") for f in lows]
+        shifts, mac_cells, ok = [], [], True
+        for f, mac in zip(lows, macs):
+            ok = ok and mac is not None and mac >= NO_PARTNER_MAC
+            v = r.get(f)
+            if v is None or mac is None or not v > 0 or r["class"] == "rigid-body":
+                shifts.append("-")
+            elif not ok:
+                shifts.append("--")
+                hidden = True
+            else:
+                shifts.append(f"{100.0 * (r[top] / v - 1):+.2f}")
+            mac_cells.append("-" if mac is None else f"{mac:.2f}" + ("*" if mac < WEAK_MAC else ""))
+        weak = weak or any(m is not None and m < WEAK_MAC for m in macs)
+        out.append(cells + shifts + mac_cells + [r["class"], r.get("dominant_body") or ""])
+        classes.append("unpaired" if macs[0] is None else
+                       ("weak" if any(m is not None and m < WEAK_MAC for m in macs) else ""))
+    notes = [f"shift = f_{top} / f_other - 1 of the MAC-paired modes; MAC mass-weighted on the "
+             "rigid-equivalent body motions, one fidelity down at a time (subspace MAC for repeated "
+             "frequencies, one-to-one assignment)."]
+    if weak:
+        notes.append(f"* MAC < {WEAK_MAC}: weak pairing, the partner's shape differs noticeably.")
+    if hidden:
+        notes.append(f"-- MAC < {NO_PARTNER_MAC} on the pairing chain: no meaningful partner in that model "
+                     "(the paired mode has another shape), so no shift is given.")
+    notes.append(f"Rayleigh-Ritz: each lower fidelity constrains the next, so the k-th frequency in "
+                 f"ascending order obeys {' <= '.join(chain)}; a MAC pair need not be the k-th with "
+                 "the k-th, so a paired shift can be positive.")
+    left = (len(header) - 2, len(header) - 1)
+    return dict(header=header, rows=out, row_classes=classes, notes=notes, left=left)
+
+
+def text_table(header, rows, left=()) -> str:
+    """Plain-text table, every column as wide as its widest cell (header included);
+    columns in ``left`` left-aligned, the others right-aligned."""
+    w = [max(len(str(x)) for x in col) for col in zip(header, *rows)]
+    fmt = lambda cells: "  ".join(str(c).ljust(w[k]) if k in left else str(c).rjust(w[k])
+                                  for k, c in enumerate(cells)).rstrip()
+    return "\n".join([fmt(header)] + [fmt(r) for r in rows])
+
+
 def comparison_table(c) -> str:
     """Text table of a :class:`assembly.compare.Comparison`: frequencies (Hz) per fidelity,
-    shifts (%), MAC, class and dominant body of each mode."""
-    cols = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
-    top = cols[-1]
-    head = f"{'mode':>4}  " + "  ".join(f"{k + ' [Hz]':>15}" for k in cols)
-    head += "  " + "  ".join(f"{'shift ' + k[:4] + ' %':>13}" for k in cols[:-1]) + f"  {'MAC':>5}  {'class':<13} dominant"
-    lines = [head]
-    for r in c.rows:
-        cells = []
-        for k in cols:
-            v = r.get(k)
-            cells.append(f"{v:>15.2f}" if v is not None else f"{'-':>15}")
-        shifts = []
-        for k in cols[:-1]:
-            v = r.get(k)
-            ok = v is not None and r["class"] != "rigid-body" and v > 0
-            shifts.append(f"{100 * (r[top] / v - 1):>13.2f}" if ok else f"{'-':>13}")
-        mac = r.get(f"mac_{cols[-2]}") if len(cols) > 1 else None
-        mac_s = "-" if mac is None else f"{mac:.2f}"
-        lines.append(f"{r['mode']:>4}  " + "  ".join(cells) + "  " + "  ".join(shifts)
-                     + f"  {mac_s:>5}  {r['class']:<13} {r['dominant_body']}")
-    t = ", ".join(f"{k}: {v['n_dofs']} DOFs {v['total_s']:.2f} s" for k, v in c.timings.items())
-    lines.append(f"shift = {top} / other - 1; MAC of the {top} mode with its partner one fidelity down. {t}")
+    shifts (%), MACs along the pairing chain, class and dominant body of each mode, then
+    the footnotes and the cost of each model."""
+    fids = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
+    if len(fids) < 2:
+        cells = dict(header=["mode", f"{fids[0]} [Hz]", "class", "dominant body"], left=(2, 3), notes=[],
+                     rows=[[str(r["mode"]), f"{r[fids[0]]:.2f}", r["class"], r.get("dominant_body") or ""]
+                           for r in c.rows])
+    else:
+        cells = comparison_cells(c.rows, fids)
+    lines = [text_table(cells["header"], cells["rows"], set(cells["left"]))]
+    lines += cells["notes"]
+    lines.append("models: " + ", ".join(f"{k}: {v['n_dofs']} DOFs {v['total_s']:.2f} s"
+                                       for k, v in c.timings.items()))
     return "\n".join(lines)
 
 
