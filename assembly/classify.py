@@ -99,17 +99,23 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
                 cls = _motion_class(Eg.sum(axis=0))
             st = None if st.startswith("body:") else st
         for i in g:
-            order = np.argsort(-share[i])
-            dom, cum = [], 0.0
-            for j in order[:3]:
-                if share[i, j] <= 0:
-                    break
-                dom.append((names[j], float(share[i, j])))
-                cum += share[i, j]
-                if cum >= 0.8:
-                    break
-            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st, tuple(dom), body, nd)
+            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st,
+                              dominant_bodies(share[i], names), body, nd)
     return out
+
+
+def dominant_bodies(share: np.ndarray, names, cover: float = 0.8, most: int = 3) -> tuple:
+    """((name, kinetic-energy share), ...) of the bodies holding a mode's kinetic energy:
+    largest first, until they hold ``cover`` of it or ``most`` are listed."""
+    dom, cum = [], 0.0
+    for j in np.argsort(-share)[:most]:
+        if share[j] <= 0:
+            break
+        dom.append((names[j], float(share[j])))
+        cum += share[j]
+        if cum >= cover:
+            break
+    return tuple(dom)
 
 
 def _elastic_body(strain_share: np.ndarray, elastic_ke_share: np.ndarray, names) -> str | None:

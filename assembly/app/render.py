@@ -479,34 +479,104 @@ class View:
     size: float
 
 
+#: Vertical / horizontal fraction of the image the fitted drawing may fill (the rest:
+#: title band at the top, colour bar and scale bar at the bottom).
+FILL_V, FILL_H = 0.76, 0.97
+#: Side view (perpendicular to the shafts) when the bodies' centres spread along the shaft
+#: axis by more than this fraction of the largest body radius (stages one behind another).
+SIDE_VIEW_SPREAD = 0.5
+#: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
+CONTEXT_OPACITY = 0.25
+
+
+def view_axes(axis, side: bool = False, across=None) -> tuple[np.ndarray, np.ndarray]:
+    """(direction from the focal point towards the camera, view-up), unit vectors.
+
+    Oblique front view along the shaft ``axis`` (default), or a side view looking
+    perpendicular to the axis and to ``across`` (the transverse direction along which the
+    shafts lie apart), slightly from the front and above, so shafts appear side by side."""
+    R = axis_frame(np.asarray(axis, float))
+    ax, e1, e2 = R[:, 2], R[:, 0], R[:, 1]
+    if side:
+        a = e2 if across is None else np.asarray(across, float) - (np.asarray(across, float) @ ax) * ax
+        a = a / np.linalg.norm(a) if np.linalg.norm(a) > 1e-12 else e2
+        n = np.cross(ax, a)
+        direction, up0 = n + 0.30 * ax + 0.25 * a, a
+    else:
+        direction, up0 = ax * 1.0 + e1 * 0.35 - e2 * 0.45, e2
+    direction = direction / np.linalg.norm(direction)
+    up = up0 - (up0 @ direction) * direction
+    return direction, up / np.linalg.norm(up)
+
+
+def _fit(P: np.ndarray, direction, up, window_size, size: float, margin: float) -> View:
+    """Parallel-projection view of points ``P`` (n, 3) seen along ``direction``, with
+    ``margin`` (m) around them, between the title band and the colour bar."""
+    right = np.cross(up, direction)
+    x, y = P @ right, P @ up
+    xc, yc = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
+    half_w = 0.5 * (x.max() - x.min()) + margin
+    half_h = 0.5 * (y.max() - y.min()) + margin
+    aspect = window_size[0] / window_size[1]
+    scale = max(half_h / FILL_V, half_w / aspect / FILL_H)
+    focal = P.mean(axis=0)
+    focal = focal + right * (xc - focal @ right) + up * (yc - focal @ up) + up * 0.04 * scale
+    return View(focal, np.asarray(direction, float), np.asarray(up, float), float(scale), float(size))
+
+
 def assembly_view(shapes: dict, window_size=WINDOW_SIZE, extra_points=None) -> View:
     """Oblique front view along the (first) gear axis, fitted to the undeformed bodies (and
     ``extra_points``, e.g. spring ends) plus the largest drawn displacement, leaving room
-    for the title (top) and the colour bar (bottom)."""
+    for the title (top) and the colour bar (bottom). Side view for bodies stacked along
+    the axis (:func:`wants_side_view`)."""
     first = next(iter(shapes.values()))
-    R = axis_frame(first.axes[:, 2])
-    ax, e1, e2 = R[:, 2], R[:, 0], R[:, 1]
-    direction = ax * 1.0 + e1 * 0.35 - e2 * 0.45
-    direction /= np.linalg.norm(direction)
-    up = e2 - (e2 @ direction) * direction
-    up /= np.linalg.norm(up)
-    right = np.cross(up, direction)
+    side, across = wants_side_view(shapes)
+    direction, up = view_axes(first.axes[:, 2], side, across)
     size = assembly_size(shapes)
     pts = [solid_surface(s, n_radial=1)[0] for s in shapes.values()]
     if extra_points is not None and len(extra_points):
         pts.append(np.asarray(extra_points, float).reshape(-1, 3))
-    P = np.vstack(pts)
-    x, y = P @ right, P @ up
-    m = (DEFORMATION_FRACTION + 0.02) * size  # room for the largest drawn displacement
-    xc, yc = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
-    half_w = 0.5 * (x.max() - x.min()) + m
-    half_h = 0.5 * (y.max() - y.min()) + m
-    aspect = window_size[0] / window_size[1]
-    scale = max(half_h / 0.76, half_w / aspect / 0.97)
-    # Shift so the drawing sits between the title band (top) and the colour bar (bottom).
-    focal = P.mean(axis=0)
-    focal = focal + right * (xc - focal @ right) + up * (yc - focal @ up) + up * 0.04 * scale
-    return View(focal, direction, up, float(scale), size)
+    return _fit(np.vstack(pts), direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
+
+
+def wants_side_view(shapes: dict) -> tuple[bool, np.ndarray | None]:
+    """(side view?, transverse direction along which the bodies lie apart): side view when
+    the body centres spread along the shaft axis by more than :data:`SIDE_VIEW_SPREAD` x the
+    largest body radius (a multi-stage box, where the front view hides stages)."""
+    first = next(iter(shapes.values()))
+    ax = first.axes[:, 2]
+    P = np.array([s.position for s in shapes.values()])
+    z = P @ ax
+    T = P - np.outer(z, ax)
+    T = T - T.mean(axis=0)
+    across = None
+    if len(P) > 1 and np.abs(T).max() > 0:
+        across = np.linalg.svd(T, full_matrices=False)[2][0]
+    r_max = max(s.r_outer for s in shapes.values())
+    return bool(np.ptp(z) > SIDE_VIEW_SPREAD * r_max), across
+
+
+def frame_view(lo, hi, axis, window_size=WINDOW_SIZE, side: bool = False, across=None) -> View:
+    """Camera framing the box ``lo``..``hi`` (m, global axes; e.g. a mode's dominant
+    bodies) seen obliquely along the shaft ``axis`` (or from the side: :func:`view_axes`),
+    with room for a drawn displacement of :data:`DEFORMATION_FRACTION` of the box diagonal
+    (the ``size`` of the returned view)."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    corners = np.array([[(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]]
+                        for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    size = float(np.linalg.norm(hi - lo))
+    direction, up = view_axes(axis, side, across)
+    return _fit(corners, direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
+
+
+def project(view: View, points, window_size=WINDOW_SIZE) -> np.ndarray:
+    """Pixel coordinates (x right, y up from the bottom-left corner) of ``points`` (n, 3)
+    in the image of ``view`` (parallel projection, as :func:`_camera` sets it)."""
+    W, H = window_size
+    right = np.cross(view.up, view.direction)
+    d = np.asarray(points, float).reshape(-1, 3) - view.focal
+    half = H / 2 / view.parallel_scale   # pixels per metre
+    return np.column_stack([W / 2 + (d @ right) * half, H / 2 + (d @ view.up) * half])
 
 
 def _camera(plotter, view: View):
@@ -597,9 +667,9 @@ class AssemblyRenderer:
                 P = P + scale * rigid_displacement(rigid_part(bm, z), bm.position, P)
             pl.add_mesh(pv.Line(*P), color="black", line_width=4, render_lines_as_tubes=True)
 
-    def _scale_bar(self, pl):
+    def _scale_bar(self, pl, view=None):
         pv = _pyvista()
-        v = self.view
+        v = view or self.view
         right = np.cross(v.up, v.direction)
         L = _nice_length(0.2 * v.size)
         W, H = self.window_size
@@ -614,24 +684,26 @@ class AssemblyRenderer:
                         color="black", line_width=4)
         pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black")
 
-    def _finish(self, pl, path):
-        """Scale bar, the assembly's camera, and the PNG written to ``path``."""
-        self._scale_bar(pl)
-        _camera(pl, self.view)
+    def _finish(self, pl, path, view=None):
+        """Scale bar, the camera (the assembly's unless ``view``), and the PNG at ``path``."""
+        view = view or self.view
+        self._scale_bar(pl, view)
+        _camera(pl, view)
         pl.screenshot(str(path))
 
-    def _springs(self, pl, shape_of, scale):
+    def _springs(self, pl, shape_of, scale, view=None):
         pv = _pyvista()
+        view = view or self.view
         colors = {"bearing": BEARING_COLOR, "mesh": MESH_COLOR, "shaft": SHAFT_COLOR}
         ground_pts = []
         for g in self.glyphs:
-            pts, _, _ = _spring_points(self.model, g, shape_of, scale, self.view)
+            pts, _, _ = _spring_points(self.model, g, shape_of, scale, view)
             pl.add_mesh(pv.lines_from_points(pts), color=colors.get(g.kind, BEARING_COLOR), line_width=4,
                         render_lines_as_tubes=True)
             if g.ground:
                 ground_pts.append(g.b)
         if ground_pts:
-            # Ground: a small flat square at each fixed end.
+            # Ground: a small flat square at each fixed end (sized on the assembly).
             v = self.view
             for q in ground_pts:
                 pl.add_mesh(pv.Cube(center=q, x_length=0.025 * v.size, y_length=0.025 * v.size,
@@ -646,7 +718,8 @@ class AssemblyRenderer:
                        "#da8bc3", "#8c8c8c", "#ccb974", "#64b5cd"]
             for k, name in enumerate(self.model.bodies):
                 ref = reference_surface(self.model, name, self.shapes, self._cache)
-                pl.add_mesh(ref, color=palette[k % len(palette)], smooth_shading=False)
+                pl.add_mesh(ref, color=palette[k % len(palette)], smooth_shading=True, split_sharp_edges=True,
+                            feature_angle=40.0)
             self._springs(pl, lambda b: None, 0.0)
             labels, pts = [], []
             for name, s in self.shapes.items():
@@ -664,27 +737,50 @@ class AssemblyRenderer:
             pl.close()
         return Path(path)
 
-    def mode_scale(self, result, mode: int) -> tuple[float, float]:
-        """(deformation scale, largest unscaled displacement in m) of ``mode``."""
+    def mode_scale(self, result, mode: int, size: float | None = None) -> tuple[float, float]:
+        """(deformation scale, largest unscaled displacement in m over every drawn surface
+        point) of ``mode``; the scale draws that displacement as :data:`DEFORMATION_FRACTION`
+        of ``size`` (m; default the assembly size)."""
         dmax = 0.0
         for name in self.model.bodies:
             z = result.abs_shapes[self.model.body_slice(name), mode]
-            ref = reference_surface(self.model, name, self.shapes, self._cache)
-            if self.model.bodies[name].flexible:
-                d = np.asarray(body_actor(self.model, name, z, 0.0).point_data["displacement_m"])
-            else:
-                bm = self.model.bodies[name]
-                d = np.linalg.norm(rigid_displacement(rigid_part(bm, z), bm.position,
-                                                      np.asarray(ref.points)), axis=1)
-            dmax = max(dmax, float(d.max(initial=0.0)))
+            dmax = max(dmax, float(np.asarray(body_actor(self.model, name, z, 0.0, self.shapes, self._cache)
+                                              .point_data["displacement_m"]).max(initial=0.0)))
         if dmax <= 0:
             return 0.0, 0.0
-        return DEFORMATION_FRACTION * self.view.size / dmax, dmax
+        return DEFORMATION_FRACTION * (size or self.view.size) / dmax, dmax
 
-    def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "") -> Path:
-        """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG)."""
+    def focus_bodies(self, result, mode: int) -> tuple:
+        """Names of the bodies holding most of ``mode``'s kinetic energy
+        (:func:`assembly.classify.dominant_bodies`; all bodies for a motionless mode)."""
+        from ..classify import dominant_bodies
+        from ..energy import kinetic_by_body
+        key = ("shares", id(result))
+        if key not in self._cache:
+            self._cache[key] = kinetic_by_body(result)
+        names = list(self.model.bodies)
+        dom = tuple(b for b, _ in dominant_bodies(self._cache[key][mode], names))
+        return dom or tuple(names)
+
+    def mode_view(self, focus) -> View:
+        """Camera framing the bodies ``focus`` (their undeformed surfaces)."""
+        P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
+                       for n in focus])
+        first = next(iter(self.shapes.values()))
+        side, across = wants_side_view(self.shapes)
+        return frame_view(P.min(axis=0), P.max(axis=0), first.axes[:, 2], self.window_size, side, across)
+
+    def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "",
+                    focus=None) -> Path:
+        """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG),
+        framed on the bodies ``focus`` (default: the mode's dominant bodies,
+        :meth:`focus_bodies`); the other bodies are drawn faint, as context. The colour bar
+        runs from 0 to the largest displacement stated in the caption line (the same
+        quantity over the same drawn points)."""
         sign = _sign(result.abs_shapes[:, mode])
-        scale, dmax = self.mode_scale(result, mode)
+        focus = tuple(focus) if focus else self.focus_bodies(result, mode)
+        view = self.mode_view(focus)
+        scale, dmax = self.mode_scale(result, mode, view.size)
 
         def shape_of(b):
             return sign * result.abs_shapes[self.model.body_slice(b), mode]
@@ -692,32 +788,46 @@ class AssemblyRenderer:
         pl = self._plotter()
         try:
             self._ghost(pl)
-            meshes = [body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
-                      for n in self.model.bodies]
             clim = (0.0, dmax if dmax > 0 else 1.0)
-            for k, m in enumerate(meshes):
-                pl.add_mesh(m, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=(k == 0),
-                            scalar_bar_args=dict(title="", vertical=False,
-                                                 position_x=0.55, position_y=0.04, width=0.4, height=0.07,
-                                                 fmt="%.2e", n_labels=3, color="black",
-                                                 title_font_size=16, label_font_size=14))
+            bar = dict(title="", vertical=False, position_x=0.55, position_y=0.04, width=0.4, height=0.07,
+                       fmt=BAR_FMT, n_labels=3, color="black", title_font_size=16, label_font_size=14)
+            first = True
+            for n in self.model.bodies:
+                m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
+                pl.add_mesh(m, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=first,
+                            scalar_bar_args=bar, opacity=1.0 if n in focus else CONTEXT_OPACITY,
+                            smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)
+                first = False
             if pl.scalar_bar is not None:
                 pl.scalar_bar.SetTextPositionToPrecedeScalarBar()  # labels below the bar
             pl.add_text("displacement magnitude [m] (modal mass 1 kg)",
                         position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
                         font_size=11, color="black")
-            self._springs(pl, shape_of, scale)
+            self._springs(pl, shape_of, scale, view)
             self._marks(pl, shape_of, scale)
             pl.add_text(title, position="upper_left", font_size=15, color="black")
-            text = (f"deformation drawn x {scale:.3g} (largest displacement = "
-                    f"{100 * DEFORMATION_FRACTION:.0f} % of assembly size {self.view.size:.3g} m)")
+            text = mode_caption(dmax, scale, view.size, focus, len(focus) < len(self.model.bodies))
             if subtitle:
                 text = subtitle + "\n" + text
             pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
-            self._finish(pl, path)
+            self._finish(pl, path, view)
         finally:
             pl.close()
         return Path(path)
+
+
+#: Number format of the colour-bar labels and of the largest displacement in the caption.
+BAR_FMT = "%.3g"
+
+
+def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:
+    """Caption line of a mode image: the largest displacement (m; the colour-bar maximum,
+    same format), the drawing scale and the framed bodies."""
+    text = (f"largest displacement {BAR_FMT % dmax} m (colour-bar maximum); drawn x {scale:.3g} "
+            f"= {100 * DEFORMATION_FRACTION:.0f} % of the framed size {size:.3g} m")
+    if faint:
+        text += "\nframed on " + ", ".join(focus) + " (most kinetic energy); other bodies faint"
+    return text
 
 
 def _sign(v: np.ndarray) -> float:
@@ -729,8 +839,10 @@ def _sign(v: np.ndarray) -> float:
 
 
 def mode_title(scene_name: str, info) -> str:
-    """Image title: mode number, frequency (Hz), class (and multiplicity)."""
+    """Image title: mode number, frequency (Hz), class (elastic: body and nodal diameters)
+    and multiplicity."""
     mult = f", x{info.multiplicity} repeated" if info.multiplicity > 1 else ""
-    stage = f", stage '{info.stage}'" if info.stage else ""
+    stage = f", stage '{info.stage}'" if info.stage and info.mode_class != "elastic" else ""
+    label = getattr(info, "label", info.mode_class)
     return (f"{scene_name}\nmode {info.index + 1}: {info.frequency_hz:.2f} Hz, "
-            f"{info.mode_class}{stage}{mult}")
+            f"{label}{stage}{mult}")

@@ -7,19 +7,34 @@ _SURF: dict = {}
 
 
 def fe_surface(body, shape, scale: float):
-    """Outer surface of a flexible body's mesh (corner nodes, global axes), moved by
-    ``scale`` x the back-expanded displacement of body DOFs ``shape`` (None: undeformed).
-    Point arrays: ``displacement_m`` (unscaled magnitude, m) and, for a shape,
-    ``von_mises_Pa`` when stresses were requested via ``body.info['render_stress']``."""
+    """Outer surface of a flexible body's mesh (global axes), moved by ``scale`` x the
+    back-expanded displacement of body DOFs ``shape`` (None: undeformed). Point array
+    ``displacement_m`` (unscaled magnitude, m).
+
+    The P2 (10-node) tetrahedra are drawn with their mid-side nodes: each quadratic surface
+    triangle becomes four flat triangles through its six nodes (VTK nonlinear subdivision,
+    level 1), so curved faces follow the FE geometry and the quadratic displacement field.
+    Every drawn point is an FE node (matched once by position), so the displacement is
+    the nodal one, not an interpolation."""
     import pyvista as pv
+    from scipy.spatial import cKDTree
     fe, _ = body.coupled()
     key = id(fe)
     if key not in _SURF:
-        nv = fe.mesh.p.shape[1]
-        pts = body.origin + fe.mesh.p.T @ body.axes.T
-        grid = pv.UnstructuredGrid({pv.CellType.TETRA: fe.mesh.t[:4].T.astype(np.int64)}, pts)
-        surf = grid.extract_surface(pass_pointid=True, algorithm="dataset_surface")
-        _SURF[key] = (surf, np.asarray(surf.point_data["vtkOriginalPointIds"]), nv)
+        m = fe.mesh
+        pts = body.origin + np.asarray(m.p).T @ body.axes.T
+        if m.t.shape[0] == 4 and hasattr(m, "t2e") and m.p.shape[1] > int(m.t.max()) + 1:
+            # skfem's edge order per tetra (01, 12, 02, 03, 13, 23) is VTK's quadratic-tetra order.
+            conn = np.vstack([m.t, int(m.t.max()) + 1 + m.t2e]).T.astype(np.int64)
+            grid = pv.UnstructuredGrid({pv.CellType.QUADRATIC_TETRA: conn}, pts)
+            surf = grid.extract_surface(pass_pointid=False, pass_cellid=False, nonlinear_subdivision=1,
+                                        algorithm="dataset_surface")
+        else:
+            grid = pv.UnstructuredGrid({pv.CellType.TETRA: m.t[:4].T.astype(np.int64)}, pts)
+            surf = grid.extract_surface(pass_pointid=False, pass_cellid=False, algorithm="dataset_surface")
+        # Nodes in DOF order (what displacement_global returns), global axes.
+        _, ids = cKDTree(body.origin + np.asarray(fe.nodes) @ body.axes.T).query(np.asarray(surf.points, float))
+        _SURF[key] = (surf, ids, fe.nodes.shape[0])
     surf, ids, nv = _SURF[key]
     out = surf.copy()
     if shape is None:

@@ -113,3 +113,43 @@ def test_rigid_displacement_small_rotation():
     z = np.array([1.0, 0, 0, 0, 0, 2.0])
     d = rigid_displacement(z, np.zeros(3), np.array([[1.0, 0, 0]]))
     assert np.allclose(d, [[1.0, 2.0, 0.0]])
+
+
+@pytest.mark.parametrize("side", [False, True])
+def test_frame_view_fits_the_focus_box(side):
+    """The framed box lies inside the drawing band of the image (below the title, above
+    the colour bar) and fills a good part of it, for the oblique and the side view."""
+    from assembly.app.render import FILL_H, FILL_V, frame_view, project
+
+    W, H = 1200, 900
+    lo, hi = np.array([0.30, -0.05, 0.10]), np.array([0.42, 0.07, 0.16])   # a small pinion far off-centre
+    axis = np.array([0.0, 0.0, 1.0])
+    v = frame_view(lo, hi, axis, (W, H), side=side, across=np.array([1.0, 0.0, 0.0]))
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    px = project(v, corners, (W, H))
+    assert px[:, 0].min() >= 0 and px[:, 0].max() <= W
+    band = (0.5 - 0.5 * FILL_V) * H, (0.5 + 0.5 * FILL_V) * H + 0.04 * H
+    assert px[:, 1].min() >= 0.5 * (1 - FILL_V) * H - 0.04 * H - 1 and px[:, 1].max() <= band[1]
+    fill = max(np.ptp(px[:, 0]) / (FILL_H * W), np.ptp(px[:, 1]) / (FILL_V * H))
+    assert 0.5 < fill <= 1.0
+    if side:   # looking across the shafts: the axis lies (nearly) in the image plane
+        assert abs(v.direction @ axis) < 0.35
+    else:
+        assert v.direction @ axis > 0.7
+
+
+def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tmp_path):
+    sc, m, r, infos, rnd = planetary
+    i = r.n_rigid + 5
+    focus = rnd.focus_bodies(r, i)
+    assert focus == tuple(b for b, _ in infos[i].dominant_bodies)
+    view = rnd.mode_view(focus)
+    assert view.size < rnd.view.size or len(focus) == len(m.bodies)
+    scale, dmax = rnd.mode_scale(r, i, view.size)
+    # The colour bar's maximum is the largest displacement over every drawn surface point.
+    from assembly.app.render import body_actor, mode_caption
+    d = max(float(np.max(body_actor(m, n, r.abs_shapes[m.body_slice(n), i], 0.0).point_data["displacement_m"]))
+            for n in m.bodies)
+    assert dmax == pytest.approx(d, rel=1e-12)
+    assert f"largest displacement {dmax:.3g} m (colour-bar maximum)" in mode_caption(dmax, scale, view.size,
+                                                                                    focus, True)
