@@ -10,7 +10,8 @@ its body -- worked out body by body, riders before their frames -- in the held d
 only; what remains in the free directions is the solve's own imbalance, which the torque
 balance then shows. Conventions (docs/static.md):
 
-* mesh ``force_N`` > 0: the loaded flank (``drive_sign``) in compression;
+* mesh ``force_N`` > 0: the flank ``drive_sign`` names in compression (``drive_flank``);
+  < 0: the linear spring is in tension there, i.e. the load case drives the other flank;
 * bearing reaction: the force and moment the bearing exerts on its body, in the body's
   axes at the bearing point (a rigid direction: the constraint reaction of that DOF);
 * shaft section load: ``k`` times (body1 - body2) relative motion, body1's axes; the torque
@@ -153,7 +154,7 @@ def _mesh_row(model, el, force: float) -> dict:
     axial = float(n @ ez)
     return dict(mesh=el.name, gear1=el.bodies[0], gear2=el.bodies[1], force_N=float(force),
                 transverse_N=float(force * math.sqrt(max(0.0, 1.0 - axial * axial))), axial_N=float(force * axial),
-                force_on_gear2_N=(force * n).tolist())
+                force_on_gear2_N=(force * n).tolist(), drive_flank=bool(force >= 0.0))
 
 
 def _constraint_reactions(model, frames, totals, refs, held, load) -> dict:
