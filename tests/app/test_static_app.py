@@ -7,36 +7,10 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.app.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
+from tests.assembly.test_core_cli import BASE
 
-# The Peeters et al. (2006) spur pair (r_b 50 mm, 20 deg) in TOML, two load cases.
-PAIR = """
-name = "pair with two load cases"
-[[bodies]]
-name = "pinion"
-mass = 2.0
-polar_inertia = 2.9e-3
-[[bodies]]
-name = "wheel"
-mass = 2.0
-polar_inertia = 2.9e-3
-position = [0.10641777724759122, 0.0, 0.0]
-[[bearings]]
-body = "pinion"
-k_radial = 3.5e8
-k_axial = 1.0e8
-k_tilt = 2.775e5
-[[bearings]]
-body = "wheel"
-k_radial = 3.5e8
-k_axial = 1.0e8
-k_tilt = 2.775e5
-[[meshes]]
-gear1 = "pinion"
-gear2 = "wheel"
-stiffness = 2.0e8
-base_radius1 = 0.05
-base_radius2 = 0.05
-pressure_angle_deg = 20.0
+# The Peeters et al. (2006) spur pair (r_b 50 mm, 20 deg) of the CLI tests, two load cases.
+PAIR = BASE + """
 [[loads]]
 name = "rated"
 input = "pinion"
