@@ -294,14 +294,18 @@ class PlanetaryStage:
 
 @dataclass(frozen=True)
 class LoadCase:
-    """Rated-torque load case: ``torque`` (N m) about ``input``'s axis, reacted by holding
-    ``output`` against rotation. ``input_interface`` names where the torque enters a
-    flexible (component) body, e.g. its coupling seat."""
+    """Static load case: ``torque`` (N m) about ``input``'s axis, reacted by holding
+    ``output`` against rotation about its own axis (relative to the housing).
+    ``input_interface`` / ``output_interface`` name where the torque enters / where the
+    output is held on a component body (e.g. its coupling seat): the interface's master
+    node. A scene gives one ``[load]`` or a list ``[[loads]]`` (not both; names unique);
+    see docs/static.md."""
 
     input: str
     output: str
     torque: float = quantity("N m", nonzero=True)
     input_interface: Optional[str] = None
+    output_interface: Optional[str] = None
     name: str = name_field("rated torque")
 
 
@@ -329,9 +333,10 @@ class Scene:
     stages: tuple[PlanetaryStage, ...] = ()
     band_hz: Optional[float] = quantity("Hz", None, gt=0.0)
     load: Optional[LoadCase] = None
+    loads: tuple[LoadCase, ...] = ()
 
     def __post_init__(self):
-        for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages"):
+        for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages", "loads"):
             if isinstance(getattr(self, f), list):  # Python callers may pass lists
                 object.__setattr__(self, f, tuple(getattr(self, f)))
         if not _TRUSTED.get():
@@ -349,6 +354,12 @@ class Scene:
             cached = derive(self, **expand_stages(self), stages=())
             object.__setattr__(self, "_expanded", cached)
         return cached
+
+    def load_cases(self) -> tuple[tuple[str, LoadCase], ...]:
+        """(scene path, load case) of every static load case: ``[load]`` or ``[[loads]]``."""
+        if self.load is not None:
+            return (("load", self.load),)
+        return tuple((f"loads[{i}]", lc) for i, lc in enumerate(self.loads))
 
     @property
     def band(self) -> float:

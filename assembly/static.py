@@ -1,63 +1,96 @@
-"""The static load case: a torque into one body, reacted at another, and its stresses.
+"""Static load cases: a torque into one body, reacted by holding another, and the solve.
 
-The input torque (N m) acts about the input body's axis (at a flexible body, on the
-named interface master); the output body is held against rotation about its own axis
-(its reaction). Solved on the same assembled stiffness as the modes; flexible bodies are
-then back-expanded for stresses.
+The input torque (N m) acts about the input body's axis (at a flexible body, on the named
+interface master); the output body is held against rotation about its own axis
+(:mod:`assembly.loads`). Solved on the same assembled stiffness as the modes -- one
+factorisation per model serves every load case -- and the forces in every spring follow
+from the deflections (:mod:`assembly.reactions`); flexible bodies are back-expanded for
+stresses. Sign conventions and checks: docs/static.md.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from .errors import MechanismError
+from .loads import held_column, held_name, input_load, free_motions
 from .model import assemble
-from .scene import Fixed, LoadCase, derive
+from .scene import LoadCase
+
+#: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
+DENSE_MAX = 3000
 
 
 @dataclass
 class StaticResult:
+    """Static response of ``model`` to ``load`` (scene path ``path``): ``q`` on the
+    independent coordinates (0 at the held one), ``z = T q`` on the absolute ones (m, rad,
+    flexible bodies: component coordinates); ``held``: the column of q holding the output
+    (None when a constraint already holds it)."""
+
     model: object
     z: np.ndarray
     load: LoadCase
+    q: np.ndarray = None
+    held: int | None = None
+    path: str = "load"
 
     def body_dofs(self, name: str) -> np.ndarray:
         return self.z[self.model.body_slice(name)]
 
 
-def solve_static(scene, load: LoadCase, bodies: dict | None = None) -> StaticResult:
-    """Static response to ``load``; raises MechanismError if the held scene can still move."""
-    sc = scene.expanded()
-    held = derive(sc, fixed=sc.fixed + (Fixed(load.output, ("rz",)),))
-    m = assemble(held, bodies=bodies)
-    bm = m.bodies[load.input]
-    F = np.zeros(m.n_abs)
-    sl = m.body_slice(load.input)
-    if bm.flexible:
-        idx = bm.masters[load.input_interface][1]
-        Fb = np.zeros(bm.ndof)  # body DOFs are in local axes: z = the body's axis
-        Fb[idx[3:]] = [0.0, 0.0, load.torque]
-        F[sl] = Fb
-    else:
-        F[sl.start + 3:sl.start + 6] = load.torque * bm.axes[:, 2]
-    Fq = m.T.T @ F
-    K = m.K.toarray() if m.K.shape[0] <= 3000 else m.K
-    try:
-        if isinstance(K, np.ndarray):
-            w, V = np.linalg.eigh(K)
-            if w[0] <= 1e-12 * w[-1]:
-                free = V[:, 0]
-                j = int(np.argmax(np.abs(free)))
-                raise MechanismError(f"load case '{load.name}': the held assembly still moves freely "
-                                     f"(dominant DOF {m.dof_names[j]})", m.dof_names[j])
-            q = np.linalg.solve(K, Fq)
-        else:
-            from cms.linsolve import factor
-            q = factor(K.tocsc()).solve(Fq)
-    except np.linalg.LinAlgError as exc:
-        raise MechanismError(f"load case '{load.name}': singular stiffness ({exc})") from exc
-    return StaticResult(m, np.asarray(m.T @ q).ravel(), load)
+def solve_static(scene, load: LoadCase, bodies: dict | None = None, model=None,
+                 path: str = "load") -> StaticResult:
+    """Static response to ``load``; ``model``: the assembled ``scene`` to reuse (else it is
+    assembled, with pre-built ``bodies`` if given). Raises MechanismError naming ``path``
+    if the held assembly can still move."""
+    return solve_static_cases(scene, [(path, load)], bodies, model)[0]
+
+
+def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> list:
+    """:class:`StaticResult` of every (path, load case) in ``cases`` on one model
+    (default :meth:`Scene.load_cases`); cases holding the same coordinate share one
+    factorisation."""
+    m = model if model is not None else assemble(scene, bodies=bodies)
+    cases = list(scene.load_cases() if cases is None else cases)
+    out, solvers = [], {}
+    for path, load in cases:
+        col = held_column(m, load)
+        if col not in solvers:
+            _refuse_mechanism(m, load, path, col)
+            solvers[col] = _factor(m.K, col)
+        keep, solve = solvers[col]
+        Fq = np.asarray(m.T.T @ input_load(m, load)).ravel()
+        q = np.zeros(m.K.shape[0])
+        q[keep] = solve(Fq[keep])
+        out.append(StaticResult(m, np.asarray(m.T @ q).ravel(), load, q, col, path))
+    return out
+
+
+def _refuse_mechanism(m, load, path: str, col) -> None:
+    free = free_motions(m, col)
+    if free.shape[1]:
+        j = int(np.argmax(np.abs(free[:, 0])))
+        raise MechanismError(f"{path} ({load.name!r}): with {held_name(m, load)} held the assembly still has "
+                             f"{free.shape[1]} free motion(s) (dominant DOF {m.dof_names[j]}); no static "
+                             "solution", m.dof_names[j])
+
+
+def _factor(K, col):
+    """(kept columns, solve) for K without row/column ``col``."""
+    keep = np.ones(K.shape[0], bool)
+    if col is not None:
+        keep[col] = False
+    Kk = K[keep][:, keep]
+    if Kk.shape[0] <= DENSE_MAX:
+        import scipy.linalg as sla
+        c = sla.cho_factor(Kk.toarray() if sp.issparse(Kk) else Kk)
+        return keep, lambda b: sla.cho_solve(c, b)
+    from cms.linsolve import factor
+    f = factor(sp.csc_matrix(Kk))
+    return keep, f.solve
 
 
 def stress_summary(model, Z: np.ndarray, names=None) -> dict:

@@ -18,7 +18,7 @@ import numpy as np
 
 from fe_components.geometry import volume_lower_bound
 
-from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .attach import bearing_point, component_masters, interface_point, mesh_centers, shaft_points
 from .components import component_params
 from .constraints import can_constrain
 from .errors import SceneError
@@ -389,19 +389,37 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
                                           f"{MAX_MODES}; lower the cutoff or give flex.n_modes")
 
 
-def check_load(load: LoadCase, path: str, names: dict) -> None:
-    """The static load case names two different bodies (torque range: the field rule) and
-    the interface where a torque enters a component body."""
+def check_load(load: LoadCase, path: str, names: dict, masters: dict) -> None:
+    """A static load case names two different bodies (torque range: the field rule), the
+    output riding in the housing frame (it is held relative to the housing), and the
+    interface where the torque enters / the output is held on a component body."""
     for f in ("input", "output"):
         if getattr(load, f) not in names:
-            raise SceneError(f"{path}.{f}", getattr(load, f), "no body of that name")
+            raise SceneError(f"{path}.{f}", getattr(load, f), f"no body of that name; have {sorted(names)}")
     if load.input == load.output:
         raise SceneError(f"{path}.output", load.output, "input and output must differ")
-    if names[load.output].fidelity == "flexible":
-        raise SceneError(f"{path}.output", load.output, "the reacting body must be rigid or torsional")
-    if names[load.input].component is not None and load.input_interface is None:
-        raise SceneError(f"{path}.input_interface", None, f"{load.input} is a component: name the "
-                                                          "interface the torque enters at")
+    out = names[load.output]
+    if out.frame != HOUSING:
+        raise SceneError(f"{path}.output", load.output, f"the reacting body rides in {out.frame!r}'s frame; it is "
+                                                        "held against the housing, so it must ride in the housing frame")
+    for role in ("input", "output"):
+        body, iface = names[getattr(load, role)], getattr(load, f"{role}_interface")
+        if body.component is not None and iface is None:
+            raise SceneError(f"{path}.{role}_interface", None, f"{body.name} is a component: name the interface "
+                             + ("the torque enters at" if role == "input" else "it is held at")
+                             + f"; have {sorted(masters[body.name])}")
+        if iface is not None:
+            interface_point(body, iface, masters, f"{path}.{role}_interface")
+
+
+def check_loads(scene, names: dict, masters: dict) -> None:
+    """``[load]`` or ``[[loads]]`` (not both), every case valid, names unique."""
+    if scene.load is not None and scene.loads:
+        raise SceneError("loads", [lc.name for lc in scene.loads],
+                         "give either one [load] or a list [[loads]], not both")
+    unique_names(scene.loads, "loads")
+    for path, lc in scene.load_cases():
+        check_load(lc, path, names, masters)
 
 
 def everything_connected(expanded, names: dict, origin: dict) -> None:
@@ -439,6 +457,5 @@ def validate_scene(scene) -> None:
     mesh_geometry(scene, expanded, names, masters, origin)
     couplings_name_interfaces(expanded, masters, origin)
     cutoffs_bounded(scene, expanded, origin)
-    if scene.load is not None:
-        check_load(scene.load, "load", names)
+    check_loads(scene, names, masters)
     everything_connected(expanded, names, origin)

@@ -1,4 +1,4 @@
-"""``flexgear`` command line: modes, compare, run, sweep, demo, bench.
+"""``flexgear`` command line: modes, compare, static, run, sweep, demo, bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
@@ -103,6 +103,28 @@ def cmd_compare(args) -> int:
     return 0
 
 
+def cmd_static(args) -> int:
+    """``flexgear static``: mesh forces, bearing reactions, shaft loads and checks of
+    every load case of the scene."""
+    from ..errors import SceneError
+    from ..model import assemble
+    from ..reactions import static_report
+    from ..schema import load_scene
+    from ..static import solve_static_cases
+    from .static_tables import static_json, static_text
+
+    scene = load_scene(scene_file(args))
+    if not scene.load_cases():
+        raise SceneError("loads", [], "the scene has no load case: add a [load] table or [[loads]] tables")
+    reports = [static_report(st) for st in solve_static_cases(scene, None, model=assemble(scene))]
+    if args.json:
+        json.dump(static_json(scene.name, reports), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(static_text(reports, title=f"{scene.name}  ({args.scene})"))
+    return 0
+
+
 def cmd_run(args) -> int:
     """``flexgear run``: the whole pipeline into ``--out``."""
     from .pipeline import RunOptions, run_pipeline
@@ -196,6 +218,10 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     c.add_argument("--modes", type=int, default=20, help="rows of the table (default 20)")
     c.set_defaults(func=cmd_compare, check=lambda a: _at_least(a.modes, "--modes", 0))
+    s = sub.add_parser("static", help="static load cases: mesh forces, bearing reactions, shaft torques, checks")
+    s.add_argument("scene", help=SCENE_HELP)
+    s.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    s.set_defaults(func=cmd_static)
     d = sub.add_parser("demo", help="mode tables of the shipped example scenes")
     d.set_defaults(func=cmd_demo)
     b = sub.add_parser("bench", help="benchmarks (print tables; not tests)")

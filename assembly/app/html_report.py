@@ -57,7 +57,8 @@ def _img(src: str, caption: str, alt: str = "") -> str:
 
 def render_index(report: dict) -> str:
     """HTML text of the run page. ``report`` keys: title, scene, meta (list of str),
-    modes (header, rows), comparison (header, rows, row_classes, note) or None, overview
+    modes (header, rows), comparison (header, rows, row_classes, note) or None, sections
+    [{title, note, tables: [(title, header, rows, left columns)]}] (optional), overview
     (path, caption) or None, images [(path, caption)], plots [(path, caption)],
     files [(path, description)], notes [str]."""
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
@@ -78,6 +79,13 @@ def render_index(report: dict) -> str:
             parts.append(f'<p class="meta">{_e(comp["note"])}</p>')
         parts.append(_table(comp["header"], comp["rows"], left=set(comp.get("left", ())),
                             row_classes=comp.get("row_classes")))
+
+    for sec in report.get("sections", []):   # e.g. static load cases: (title, header, rows, left) tables
+        parts.append(f"<h2>{_e(sec['title'])}</h2>")
+        if sec.get("note"):
+            parts.append(f'<p class="meta">{_e(sec["note"])}</p>')
+        for title, header, rows, left in sec["tables"]:
+            parts.append(f"<h3>{_e(title)}</h3>" + _table(header, rows, left=set(left)))
 
     if report.get("plots"):
         parts.append("<h2>Plots</h2>")

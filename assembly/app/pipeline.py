@@ -13,7 +13,8 @@ into one ``--out DIR: writing ...: <reason>`` line.
 
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
-``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``.
+``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``; with a load case also
+``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`).
 """
 from __future__ import annotations
 
@@ -37,11 +38,14 @@ from ..errors import MechanismError, SceneError, SolverError
 from ..modal import solve_modes
 from ..model import assemble
 from ..schema import load_scene
-from ..static import solve_static
+from ..reactions import static_report
+from ..static import solve_static_cases
 from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
-from .tables import comparison_cells, dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv, write_modes_csv
+from .static_tables import static_json, static_tables, static_text, write_static_csv
+from .tables import (comparison_cells, dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv,
+                     write_modes_csv)
 
 log = logging.getLogger(__name__)
 
@@ -77,6 +81,8 @@ class RunContext:
     files: list = field(default_factory=list)         # (relpath, description)
     notes: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
+    statics: list = field(default_factory=list)       # StaticResult per load case (step_static)
+    static_reports: list = field(default_factory=list)  # StaticReport per load case
 
     def add_file(self, rel: str, description: str) -> Path:
         self.files.append((rel, description))
@@ -243,9 +249,39 @@ def build_report(ctx: RunContext) -> dict:
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta,
                 modes=(["mode", "f [Hz]", "mult.", "class", "stage", "dominant bodies (kinetic energy)", ""],
                        [r[:6] + [r[6]] for r in modes_rows]),
-                comparison=comp, overview=ctx.overview,
+                comparison=comp, sections=static_sections(ctx), overview=ctx.overview,
                 images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
                 files=files, notes=list(ctx.notes))
+
+
+def step_static(ctx: RunContext, bar) -> None:
+    """Every load case of the scene on the assembled model (one factorisation): mesh
+    forces, bearing reactions, shaft loads and checks -> ``static.csv``, ``static.json``,
+    ``static_table.txt`` and a report section; the solutions are kept for stress recovery."""
+    if not ctx.scene.load_cases():
+        bar.update(bar.total - bar.n)
+        return
+    ctx.statics = solve_static_cases(ctx.scene, None, model=ctx.model)
+    ctx.static_reports = [static_report(st) for st in ctx.statics]
+    write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
+                                                                   "checks (CSV; N, N m)"))
+    with open(ctx.add_file("static.json", "static load cases: forces, reactions, checks (JSON; N, N m)"), "w") as fh:
+        json.dump(static_json(ctx.scene.name, ctx.static_reports), fh, indent=1)
+    ctx.add_file("static_table.txt", "static load cases (text)").write_text(
+        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
+    for r in ctx.static_reports:
+        ctx.notes.append(f"load case {r.case!r}: output reaction {r.output_torque_Nm:.6g} N m on {r.output}; "
+                         f"torque balance error {r.balance['relative_error']:.1e}"
+                         + (f", ratio check error {r.ratio['relative_error']:.1e}"
+                            if r.ratio["relative_error"] is not None else f", ratio check: {r.ratio['note']}"))
+    bar.update(bar.total - bar.n)
+
+
+def static_sections(ctx) -> list:
+    """Report sections (title, note, tables) of the static load cases."""
+    return [dict(title=f"Static load case {r.case!r} ({r.torque_Nm:.6g} N m into {r.input}, {r.output} held)",
+                 note="Forces from the springs (stiffness x relative deflection); sign conventions: docs/static.md.",
+                 tables=[t for t in static_tables(r) if t[2]]) for r in ctx.static_reports]
 
 
 def _flexible_bodies(ctx) -> list:
@@ -253,7 +289,7 @@ def _flexible_bodies(ctx) -> list:
 
 
 def _recovery_total(ctx) -> int:
-    n_cases = 1 if ctx.scene.load is not None else 0
+    n_cases = len(ctx.scene.load_cases())
     return 1 + len(_flexible_bodies(ctx)) * (n_cases + min(ctx.options.n_modes, len(ctx.elastic_modes())))
 
 
@@ -268,9 +304,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
         return
     modes = ctx.elastic_modes()[: ctx.options.n_modes]
     cases = []  # (label, model, z)
-    if ctx.scene.load is not None:
-        st = solve_static(ctx.scene, ctx.scene.load, bodies=ctx.model.bodies)
-        cases.append((ctx.scene.load.name, st.model, st.z))
+    cases += [(st.load.name, st.model, st.z) for st in ctx.statics]   # solved by step_static
     bar.update(1)
     rows, collection = [], []
     for b in flex:
@@ -280,7 +314,8 @@ def step_recovery(ctx: RunContext, bar) -> None:
                      ctx.result.abs_shapes[:, i]) for i in modes]
         for k, (label, sl, z) in enumerate(entries):
             zb = z[sl]
-            tag = "load" if k < len(cases) else f"mode_{modes[k - len(cases)] + 1:03d}"
+            tag = ("load" if len(cases) == 1 else f"load_{k + 1:02d}") if k < len(cases) \
+                else f"mode_{modes[k - len(cases)] + 1:03d}"
             st = bm.stress(zb)
             j = int(np.argmax(st.von_mises))
             loc = bm.origin + bm.axes @ st.points[j]
@@ -338,6 +373,7 @@ DEFAULT_STEPS = [
     Step("tables", step_tables, writes=True),
     Step("mode-shape images", step_render, total=_render_total, unit="image", writes=True),
     Step("plots", step_plots, writes=True),
+    Step("static load cases", step_static, writes=True),
     Step("stress recovery and VTU", step_recovery, total=_recovery_total, unit="case", writes=True),
     Step("index.html", step_html, writes=True),
 ]

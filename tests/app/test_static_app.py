@@ -1,0 +1,73 @@
+"""``flexgear static`` and the run step for load cases: tables, JSON, files, one-line errors."""
+import csv
+import json
+import math
+
+import pytest
+
+from assembly.app.cli import main
+from assembly.app.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
+from tests.assembly.test_core_cli import BASE
+
+# The Peeters et al. (2006) spur pair (r_b 50 mm, 20 deg) of the CLI tests, two load cases.
+PAIR = BASE + """
+[[loads]]
+name = "rated"
+input = "pinion"
+output = "wheel"
+torque = 100.0
+[[loads]]
+name = "reverse"
+input = "pinion"
+output = "wheel"
+torque = -50.0
+"""
+
+
+@pytest.fixture
+def pair_file(tmp_path):
+    p = tmp_path / "pair.toml"
+    p.write_text(PAIR)
+    return p
+
+
+def test_static_json_gives_mesh_force_T_over_rb_per_case(pair_file, capsys):
+    assert main(["static", str(pair_file), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    cases = out["load_cases"]
+    assert [c["path"] for c in cases] == ["loads[0]", "loads[1]"]
+    for c, torque in zip(cases, (100.0, -50.0)):       # free body of the pinion: F = T / r_b
+        assert c["meshes"][0]["force_N"] == pytest.approx(torque / 0.05, rel=1e-12)
+        assert c["torque_balance"]["relative_error"] < 1e-12
+        assert c["ratio_check"]["relative_error"] < 1e-12
+
+
+def test_static_text_tables(pair_file, capsys):
+    assert main(["static", str(pair_file)]) == 0
+    out = capsys.readouterr().out
+    for word in ("gear meshes", "bearing reactions", "checks", "'reverse'", "opposite", "2000"):
+        assert word in out
+
+
+def test_static_refusals_are_one_line(pair_file, capsys, tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(PAIR.replace('output = "wheel"\ntorque = -50.0', 'output = "nothing"\ntorque = -50.0'))
+    assert main(["static", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("flexgear: error: loads[1].output = 'nothing': no body of that name")
+    assert main(["static", "lin_parker_n3.toml"]) == 2
+    assert "no load case" in capsys.readouterr().err
+
+
+def test_run_writes_static_files_and_section(pair_file, tmp_path):
+    steps = [s for s in DEFAULT_STEPS if s.name not in ("fidelity comparison", "mode-shape images", "plots")]
+    ctx = run_pipeline(pair_file, tmp_path / "out", RunOptions(images=False, compare=False), steps=steps)
+    out = tmp_path / "out"
+    data = json.loads((out / "static.json").read_text())
+    assert len(data["load_cases"]) == 2 and len(ctx.statics) == 2
+    rows = list(csv.DictReader(open(out / "static.csv")))
+    force = [float(r["value"]) for r in rows if r["kind"] == "mesh" and r["quantity"] == "force"]
+    assert force == pytest.approx([100.0 / 0.05, -50.0 / 0.05], rel=1e-12)
+    html = (out / "index.html").read_text()
+    assert "Static load case &#x27;rated&#x27;" in html and "bearing reactions" in html
+    assert math.isfinite(ctx.static_reports[0].output_torque_Nm)
