@@ -172,7 +172,7 @@ def _add_sweep(sub) -> None:
     p = sub.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
     p.add_argument("scene", help=SCENE_HELP)
     p.add_argument("--param", required=True, choices=PARAMS,
-                   help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
+                   help="helix: helix angle of every helical mesh (deg); bearing-factor: factor on all bearing stiffnesses")
     p.add_argument("--values", nargs="*", default=[], metavar="V",
                    help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
     p.add_argument("--out", required=True, help=OUT_HELP + " (sweep.csv, sweep.png)")
