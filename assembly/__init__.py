@@ -8,7 +8,7 @@ the command line starts without loading what a command does not need.
 """
 from __future__ import annotations
 
-import importlib
+from fe_components.lazy import lazy_exports
 
 # ``compare`` is also the name of a submodule: importing the submodule would rebind the
 # package attribute to the module, so the function is bound here once, eagerly.
@@ -30,13 +30,4 @@ __all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "Gea
                   "scale_bearings", "with_fidelity", *_EXPORTS])
 
 
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

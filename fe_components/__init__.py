@@ -5,8 +5,7 @@ package does not import gmsh (only meshing a new geometry does).
 """
 from __future__ import annotations
 
-import importlib
-
+from .lazy import lazy_exports
 #: Public name -> submodule, imported on first use (``from fe_components import X`` works), so
 #: importing ``fe_components.params`` does not load scikit-fem or meshio.
 _EXPORTS = {
@@ -23,13 +22,4 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

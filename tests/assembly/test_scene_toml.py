@@ -16,7 +16,7 @@ from assembly.scene_toml import save_scene, scene_to_toml, toml_text
 from fe_components.errors import GeometryError
 from fe_components.reference import CARRIER, PINION_SMOOTH
 
-from tests.support.fuzz import examples
+from tests.support.fuzz import examples, number_paths
 
 
 @pytest.mark.parametrize("path", shipped_scenes(), ids=lambda p: p.name)
@@ -49,17 +49,6 @@ MAGNITUDES = ("mass", "polar_inertia", "transverse_inertia", "stiffness", "k_rad
               "k_torsion", "k_bending", "k_shear", "k_mesh_sun", "k_mesh_ring", "torque", "band_hz", "cutoff_hz")
 
 
-def _leaves(node, prefix=()):
-    if isinstance(node, dict):
-        for k, v in node.items():
-            if k in MAGNITUDES and isinstance(v, (int, float)) and not isinstance(v, bool):
-                yield prefix + (k,)
-            yield from _leaves(v, prefix + (k,))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from _leaves(v, prefix + (i,))
-
-
 def _tables(node, prefix=()):
     """Paths of the tables that may hold a name or description string."""
     if isinstance(node, dict):
@@ -81,7 +70,7 @@ def _at(tree, path):
 @st.composite
 def fuzzed_scene(draw):
     tree = copy.deepcopy(BASES[draw(st.sampled_from(sorted(BASES)))])
-    leaves = sorted(_leaves(tree))
+    leaves = sorted(number_paths(tree, MAGNITUDES))
     for path in draw(st.lists(st.sampled_from(leaves), max_size=5, unique=True)):
         parent = _at(tree, path[:-1])
         if path[-1].startswith("k_") and draw(st.booleans()):
