@@ -12,7 +12,7 @@ SYSTEM_PKGS := libglu1-mesa libgl1 libegl1 libxcursor1 libxft2 libxinerama1 libg
                libsuitesparse-dev libopenblas0-pthread build-essential
 STAMP := $(VENV)/.flexgear-installed
 
-.PHONY: setup sysdeps run test test-fast fuzz bench clean
+.PHONY: setup sysdeps run test test-fast fuzz bench clean clean-cache
 
 sysdeps:
 	@if ! dpkg -s $(SYSTEM_PKGS) >/dev/null 2>&1 || ! $(PYTHON) -c 'import ensurepip' >/dev/null 2>&1; then \
@@ -54,5 +54,10 @@ bench: setup
 	$(PY) -m pip install -q -e '.[bench]' || echo "note: exudyn not installed; cms bench runs without the Exudyn columns"
 	$(VENV)/bin/flexgear bench all
 
+# meshes/cache: where versions before the user cache folder kept generated meshes.
 clean:
 	rm -rf $(VENV) meshes/cache results
+
+# The generated meshes and reductions (FLEXGEAR_CACHE_DIR, else the user's cache folder).
+clean-cache:
+	rm -rf "$${FLEXGEAR_CACHE_DIR:-$${XDG_CACHE_HOME:-$$HOME/.cache}/flexgear}"

@@ -2,18 +2,32 @@
 
 The model core (this package) never imports :mod:`assembly.app` (command line, pipeline,
 report, rendering, plots, studies, benchmarks) nor a plotting library.
+
+Public names are imported on first use (``from assembly import assemble`` works), so that
+the command line starts without loading what a command does not need.
 """
-from .classify import classify_modes, pair_modes
+from __future__ import annotations
+
+from fe_components.lazy import lazy_exports
+
+# ``compare`` is also the name of a submodule: importing the submodule would rebind the
+# package attribute to the module, so the function is bound here once, eagerly.
 from .compare import compare
-from .components import CacheDirs
 from .errors import MechanismError, SceneError, SolverError
-from .modal import solve_modes
-from .model import assemble
-from .schema import load_scene, scene_from_dict
 from .scene import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
                     Planets, Scene, Shaft, scale_bearings, with_fidelity)
 
-__all__ = ["Bearing", "BearingSpec", "Body", "CacheDirs", "Fixed", "FlexOptions", "GearMesh", "LoadCase",
-           "MechanismError", "Member", "PlanetaryStage", "Planets", "Scene", "SceneError", "Shaft", "SolverError",
-           "assemble", "classify_modes", "compare", "load_scene", "pair_modes", "scale_bearings", "scene_from_dict",
-           "solve_modes", "with_fidelity"]
+#: Public name -> submodule, imported on first use.
+_EXPORTS = {
+    "classify_modes": "classify", "pair_modes": "classify", "CacheDirs": "components",
+    "get_value": "edit", "with_value": "edit", "with_values": "edit",
+    "solve_modes": "modal", "assemble": "model", "load_scene": "schema", "scene_from_dict": "schema",
+    "save_scene": "scene_toml", "scene_to_toml": "scene_toml", "Branch": "tracking", "track_modes": "tracking",
+}
+
+__all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "GearMesh", "LoadCase", "MechanismError",
+                  "Member", "PlanetaryStage", "Planets", "Scene", "SceneError", "Shaft", "SolverError", "compare",
+                  "scale_bearings", "with_fidelity", *_EXPORTS])
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

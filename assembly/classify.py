@@ -19,7 +19,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from .energy import kinetic_by_body, kinetic_by_category, strain_energy_by_body
 from .harmonics import body_nodal_diameters
@@ -186,6 +185,17 @@ def pair_modes(res_a, res_b, W=None):
     A = res_a.model.rigid_coordinates(res_a.abs_shapes)
     B = res_b.model.rigid_coordinates(res_b.abs_shapes)
     W = res_b.model.rigid_mass_matrix() if W is None else W
-    mac = subspace_mac(A, B, res_b.groups, W)
+    return pair_shapes(A, B, res_b.groups, W)
+
+
+def pair_shapes(A: np.ndarray, B: np.ndarray, groups_b, W, groups_a=None) -> list:
+    """One-to-one pairing of the columns of A with those of B (repeated-frequency
+    ``groups_b``) maximising the total (subspace) MAC: a list of (i_a, i_b, mac).
+    ``groups_a``: repeated groups of A too; a pair then scores the larger of the two
+    subspace MACs (a mode of B lying in the span of a group of A matches it fully)."""
+    from scipy.optimize import linear_sum_assignment  # scipy.optimize is slow to import
+    mac = subspace_mac(A, B, groups_b, W)
+    if groups_a is not None:
+        mac = np.maximum(mac, subspace_mac(B, A, groups_a, W).T)
     ia, ib = linear_sum_assignment(-mac)
     return [(int(i), int(j), float(mac[i, j])) for i, j in zip(ia, ib)]

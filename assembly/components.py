@@ -7,8 +7,9 @@ content hash of the mesh they were assembled from, so the torsional, rigid and f
 variants of one scene assemble each mesh once; meshes are cached on disk in
 :class:`CacheDirs` (or read from the committed reference meshes).
 
-Caches: the default root is ``meshes/cache`` in the repository, or the folder named by the
-environment variable ``FLEXGEAR_CACHE_DIR`` (meshes in it, reductions in its ``cms``
+Caches: the default root is the folder named by the environment variable
+``FLEXGEAR_CACHE_DIR`` (``flexgear --cache-dir``), else the user's cache folder
+``$XDG_CACHE_HOME/flexgear`` or ``~/.cache/flexgear`` (meshes in it, reductions in its ``cms``
 subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
 with a warning (fe_components.meshing, cms.cache). A committed reference mesh that fails its
 check is never touched: the scene uses a mesh generated in the cache instead, with a warning.
@@ -18,7 +19,6 @@ Component placement: a local point ``x`` sits at ``position + R x`` with
 from __future__ import annotations
 
 import logging
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,16 +30,11 @@ from .schema import component_from_table
 
 log = logging.getLogger(__name__)
 
-#: Default folder of generated meshes and reductions (not in git).
-DEFAULT_CACHE = Path(__file__).resolve().parent.parent / "meshes" / "cache"
-#: Environment variable naming another default cache folder.
-CACHE_ENV = "FLEXGEAR_CACHE_DIR"
-
-
 def default_cache_root() -> Path:
-    """``$FLEXGEAR_CACHE_DIR`` if set (and not empty), else :data:`DEFAULT_CACHE`."""
-    env = os.environ.get(CACHE_ENV, "").strip()
-    return Path(env).expanduser() if env else DEFAULT_CACHE
+    """``$FLEXGEAR_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/flexgear`` or
+    ``~/.cache/flexgear`` (:func:`fe_components.meshing.default_cache_dir`)."""
+    from fe_components.meshing import default_cache_dir
+    return default_cache_dir()
 
 
 @dataclass(frozen=True)

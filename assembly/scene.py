@@ -366,6 +366,22 @@ class Scene:
         """The band of interest (Hz): ``band_hz``, or DEFAULT_BAND_HZ when not given."""
         return self.band_hz or DEFAULT_BAND_HZ
 
+    def get_value(self, path: str):
+        """The value at a scene path such as ``"bearings[2].k_radial"`` (:func:`assembly.edit.get_value`)."""
+        from .edit import get_value
+        return get_value(self, path)
+
+    def with_value(self, path: str, value) -> "Scene":
+        """New validated scene with the field at ``path`` (e.g. ``"shafts.quill.k_torsion"``,
+        ``"meshes[0].helix_angle_deg"``) set to ``value`` (:func:`assembly.edit.with_value`)."""
+        from .edit import with_value
+        return with_value(self, path, value)
+
+    def with_values(self, changes: dict) -> "Scene":
+        """New scene with every ``{path: value}`` set, validated once (:func:`assembly.edit.with_values`)."""
+        from .edit import with_values
+        return with_values(self, changes)
+
     def body(self, name: str) -> Body:
         for b in self.expanded().bodies:
             if b.name == name:

@@ -265,21 +265,37 @@ def _equally_spaced_planets(data: dict, path: str) -> dict:
     return data
 
 
-def to_dict(obj) -> dict:
-    """Plain-dict view of a dataclass tree (radians kept; None fields dropped)."""
-    out = {}
+def to_dict(obj, defaults: bool = True) -> dict:
+    """Plain-dict view of a dataclass tree (radians kept; None fields dropped; with
+    ``defaults=False`` also the fields at their default). A component's parameters
+    (fe_components) become a table with its ``kind`` first, as a scene file gives it."""
+    from fe_components.params import COMPONENT_KINDS, component_kind
+    out = {"kind": component_kind(obj)} if type(obj) in COMPONENT_KINDS.values() else {}
     for f in dataclasses.fields(obj):
         v = getattr(obj, f.name)
-        if v is None:
+        if v is None or not defaults and f.default is not dataclasses.MISSING and _same(v, f.default):
             continue
-        if dataclasses.is_dataclass(v):
-            v = to_dict(v)
-        elif isinstance(v, tuple) and v and dataclasses.is_dataclass(v[0]):
-            v = [to_dict(x) for x in v]
-        elif isinstance(v, tuple):
-            v = list(v)
-        out[f.name] = v
+        out[f.name] = _plain(v, defaults)
     return out
+
+
+def _plain(v, defaults: bool):
+    """A field value as plain data: dataclasses -> dicts, tuples -> lists (recursively)."""
+    if dataclasses.is_dataclass(v) and not isinstance(v, type):
+        return to_dict(v, defaults)
+    if isinstance(v, (tuple, list)):
+        return [_plain(x, defaults) for x in v]
+    if isinstance(v, dict):
+        return {k: _plain(x, defaults) for k, x in v.items()}
+    return v
+
+
+def _same(a, b) -> bool:
+    """``a == b`` for field values, of the same type (1 is not 1.0, True is not 1)."""
+    try:
+        return type(a) is type(b) and bool(a == b)
+    except (TypeError, ValueError):
+        return False
 
 
 def is_bare_name(path) -> bool:

@@ -10,15 +10,32 @@ Public API::
 Reduced coordinates: boundary DOFs first (in the given order), then the modal
 coordinates of the mass-normalised fixed-interface modes. SI units throughout.
 """
-from .cache import SuperelementCache, array_hash, cache_key
-from .craig_bampton import CraigBamptonReductor, SolverOptions, guyan
-from .eigen import count_rigid_modes, free_free_shift, lowest_modes
-from .errors import CacheError, EigenSolveError, InteriorMechanismError, ModeLimitError, ReductionError
-from .linsolve import cholmod_available, factor
-from .stress import NodalStress, recover_stress
-from .superelement import Superelement
+from __future__ import annotations
 
-__all__ = ["CraigBamptonReductor", "SolverOptions", "guyan", "Superelement", "SuperelementCache",
-           "array_hash", "cache_key", "lowest_modes", "free_free_shift", "count_rigid_modes",
-           "factor", "cholmod_available", "recover_stress", "NodalStress", "ReductionError",
-           "InteriorMechanismError", "EigenSolveError", "CacheError", "ModeLimitError"]
+import importlib
+
+#: Public name -> submodule; each is imported on first use (``from cms import X`` works), so
+#: importing ``cms.errors`` does not load scikit-fem or scipy.sparse.linalg.
+_EXPORTS = {
+    "SuperelementCache": "cache", "array_hash": "cache", "cache_key": "cache",
+    "CraigBamptonReductor": "craig_bampton", "SolverOptions": "craig_bampton", "guyan": "craig_bampton",
+    "count_rigid_modes": "eigen", "free_free_shift": "eigen", "lowest_modes": "eigen",
+    "CacheError": "errors", "EigenSolveError": "errors", "InteriorMechanismError": "errors",
+    "ModeLimitError": "errors", "ReductionError": "errors",
+    "cholmod_available": "linsolve", "factor": "linsolve",
+    "NodalStress": "stress", "recover_stress": "stress",
+    "Superelement": "superelement",
+}
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -3,19 +3,23 @@
 SI units throughout (m, kg, N, s, rad, Pa; frequencies in Hz).  Importing this
 package does not import gmsh (only meshing a new geometry does).
 """
-from .coupling import CoupledModel, couple, couple_nodes
-from .errors import CouplingError, GeometryError, MaterialError, MeshCacheError, MeshingError
-from .export import write_vtu
-from .fe_model import FEModel, Interface, build_component, default_mesh_size
-from .material import STEEL, Material
-from .meshing import MeshOptions
-from .params import (COMPONENT_KINDS, CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment,
-                     WheelParams)
+from __future__ import annotations
 
-__all__ = [
-    "CarrierParams", "CoupledModel", "CouplingError", "CylinderParams", "FEModel", "GearTeeth",
-    "GeometryError", "Interface", "Material", "MaterialError", "MeshCacheError", "MeshOptions",
-    "MeshingError",
-    "PinionParams", "STEEL", "ShaftSegment", "WheelParams", "build_component", "COMPONENT_KINDS",
-    "couple", "couple_nodes", "default_mesh_size", "write_vtu",
-]
+from .lazy import lazy_exports
+#: Public name -> submodule, imported on first use (``from fe_components import X`` works), so
+#: importing ``fe_components.params`` does not load scikit-fem or meshio.
+_EXPORTS = {
+    "CoupledModel": "coupling", "couple": "coupling", "couple_nodes": "coupling",
+    "CouplingError": "errors", "GeometryError": "errors", "MaterialError": "errors",
+    "MeshCacheError": "errors", "MeshingError": "errors",
+    "write_vtu": "export",
+    "FEModel": "fe_model", "Interface": "fe_model", "build_component": "fe_model", "default_mesh_size": "fe_model",
+    "STEEL": "material", "Material": "material",
+    "MeshOptions": "meshing",
+    "COMPONENT_KINDS": "params", "CarrierParams": "params", "CylinderParams": "params", "GearTeeth": "params",
+    "PinionParams": "params", "ShaftSegment": "params", "WheelParams": "params",
+}
+__all__ = sorted(_EXPORTS)
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

@@ -53,7 +53,26 @@ log = logging.getLogger(__name__)
 #: Bump when the geometry or meshing code changes the produced mesh.
 MESHER_VERSION = "2"  # 2: inverted curved P2 elements repaired by gmsh high-order optimisation
 
-DEFAULT_CACHE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "cache"
+#: Environment variable naming the cache root (meshes in it, reductions in its ``cms`` subfolder).
+CACHE_ENV = "FLEXGEAR_CACHE_DIR"
+#: A folder that replaces :func:`default_cache_dir` in this process, or None.
+DEFAULT_CACHE_DIR = None
+
+
+def default_cache_dir() -> Path:
+    """The cache root: ``$FLEXGEAR_CACHE_DIR`` if set (and not empty), else the user's cache
+    folder ``$XDG_CACHE_HOME/flexgear``, else ``~/.cache/flexgear`` (XDG Base Directory
+    Specification: a relative ``XDG_CACHE_HOME`` is ignored)."""
+    if DEFAULT_CACHE_DIR is not None:
+        return Path(DEFAULT_CACHE_DIR)
+    env = os.environ.get(CACHE_ENV, "").strip()
+    if env:
+        return Path(env).expanduser()
+    xdg = os.environ.get("XDG_CACHE_HOME", "").strip()
+    base = Path(xdg) if xdg and Path(xdg).is_absolute() else Path.home() / ".cache"
+    return base / "flexgear"
+
+
 #: Committed reference meshes: verified on load like the cache, but never moved or rewritten.
 REFERENCE_DIR = Path(__file__).resolve().parent.parent / "meshes" / "ref"
 
@@ -121,7 +140,7 @@ def _gmsh_version() -> str:
 
 def mesh_path(params, options: MeshOptions, cache_dir: str | os.PathLike | None = None) -> Path:
     """Cache file of the mesh of ``params`` meshed with ``options``."""
-    cache = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE_DIR
+    cache = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     digest = params_digest(params, options.digest_fields(), MESHER_VERSION, _gmsh_version())
     return cache / f"{component_kind(params)}-{digest}.msh"
 

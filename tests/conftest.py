@@ -10,3 +10,20 @@ from hypothesis import settings  # noqa: E402
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("explore", derandomize=False, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+# The test session never writes into the user's cache folder: unless FLEXGEAR_CACHE_DIR names
+# a cache to use (e.g. a shared one), meshes and reductions go to a temporary folder made
+# for this session (subprocesses inherit it) and removed at its end.
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
+
+_SESSION_CACHE = None
+if not os.environ.get("FLEXGEAR_CACHE_DIR", "").strip():
+    _SESSION_CACHE = tempfile.mkdtemp(prefix="flexgear-test-cache-")
+    os.environ["FLEXGEAR_CACHE_DIR"] = _SESSION_CACHE
+
+
+def pytest_unconfigure(config):
+    if _SESSION_CACHE is not None:
+        shutil.rmtree(_SESSION_CACHE, ignore_errors=True)

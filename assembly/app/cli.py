@@ -11,6 +11,7 @@ import argparse
 import importlib
 import json
 import logging
+import os
 import signal
 import sys
 from pathlib import Path
@@ -194,7 +195,7 @@ def _add_sweep(sub) -> None:
     p = sub.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
     p.add_argument("scene", help=SCENE_HELP)
     p.add_argument("--param", required=True, choices=PARAMS,
-                   help="helix: helix angle of every mesh (deg); bearing-factor: factor on all bearing stiffnesses")
+                   help="helix: helix angle of every helical mesh (deg); bearing-factor: factor on all bearing stiffnesses")
     p.add_argument("--values", nargs="*", default=[], metavar="V",
                    help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
     p.add_argument("--out", required=True, help=OUT_HELP + " (sweep.csv, sweep.png)")
@@ -206,6 +207,9 @@ def _add_sweep(sub) -> None:
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
     p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug)")
+    p.add_argument("--cache-dir", metavar="DIR", default=None,
+                   help="folder of generated meshes and reductions (flexible bodies; default $FLEXGEAR_CACHE_DIR, "
+                        "else $XDG_CACHE_HOME/flexgear or ~/.cache/flexgear)")
     sub = p.add_subparsers(dest="cmd", required=True)
     _add_run(sub)
     _add_sweep(sub)
@@ -237,6 +241,22 @@ def main(argv=None) -> int:
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     from .output import signal_handler
 
+    if args.cache_dir is not None:  # every cache default of this process reads it (CacheDirs)
+        from fe_components.meshing import CACHE_ENV
+        saved = os.environ.get(CACHE_ENV)
+        os.environ[CACHE_ENV] = str(Path(args.cache_dir).expanduser().absolute())
+        try:
+            return _run(args, signal_handler)
+        finally:
+            if saved is None:
+                os.environ.pop(CACHE_ENV, None)
+            else:
+                os.environ[CACHE_ENV] = saved
+    return _run(args, signal_handler)
+
+
+def _run(args, signal_handler) -> int:
+    """Run the chosen command; every user error ends in one line and exit code 2."""
     try:
         with signal_handler(_raise_terminated, (signal.SIGTERM,)):  # main thread only
             if getattr(args, "check", None) is not None:

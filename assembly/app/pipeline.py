@@ -37,6 +37,7 @@ from ..compare import compare
 from ..errors import MechanismError, SceneError, SolverError
 from ..modal import solve_modes
 from ..model import assemble
+from ..scene import Scene
 from ..schema import load_scene
 from ..reactions import static_report
 from ..static import solve_static_cases
@@ -112,8 +113,14 @@ class Step:
 # --------------------------------------------------------------------------------------
 
 def step_load(ctx: RunContext, bar) -> None:
+    """Read the scene file, unless the caller gave a Scene object (``ctx.scene``)."""
+    if ctx.scene is None:
+        ctx.scene = load_scene(ctx.scene_source)
 
-    ctx.scene = load_scene(ctx.scene_source)
+
+def scene_source(scene) -> str:
+    """What ``scene`` (a path, a shipped name or a Scene object) is called in the report."""
+    return f"Python scene object {scene.name!r}" if isinstance(scene, Scene) else str(scene)
 
 
 def step_assemble(ctx: RunContext, bar) -> None:
@@ -381,15 +388,15 @@ DEFAULT_STEPS = [
 
 def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=None,
                  steps: list | None = None) -> RunContext:
-    """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path or shipped name)
-    and place the results in ``out_dir`` atomically. Returns the final context."""
+    """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path, shipped name or a
+    :class:`~assembly.scene.Scene`) and place the results in ``out_dir`` atomically. Returns the final context."""
 
     options = options or RunOptions()
     progress = progress or Progress(enabled=False)
     out_dir = Path(out_dir).absolute()
     t_all = time.perf_counter()
     with staged_output(out_dir) as work:
-        ctx = RunContext(str(scene), out_dir, work, options)
+        ctx = RunContext(scene_source(scene), out_dir, work, options, scene=scene if isinstance(scene, Scene) else None)
         for st in steps or DEFAULT_STEPS:
             t0 = time.perf_counter()
             with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar, \

@@ -3,10 +3,11 @@
 Natural frequencies against one scene parameter (as Peeters et al., Wind Energy 9 (2006),
 Figs. 7 and 11a):
 
-* ``helix``: helix angle (values in deg; stored in rad) of every gear mesh, via
-  ``dataclasses.replace`` on the scene's meshes (a mesh keeps its hand: the sign of its own
-  non-zero helix angle) and on each planetary stage's ``helix_angle`` (its ring meshes get
-  the opposite sign from the stage builder);
+* ``helix``: helix angle (values in deg; stored in rad) of every helical gear mesh (spur
+  meshes stay spur), via ``dataclasses.replace`` on the scene's meshes (a mesh keeps its
+  hand: the sign of its helix angle) and on each helical planetary stage's ``helix_angle``
+  (its ring meshes get the opposite sign from the stage builder); a scene without a helical
+  mesh is refused;
 * ``bearing-factor``: common factor on all bearing stiffnesses (radial, axial, tilt) via
   :func:`assembly.scale_bearings`; plotted on log axes (bearing modes grow as sqrt(factor)
   while the gear modes level off).
@@ -28,21 +29,33 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import SceneError
+
 log = logging.getLogger(__name__)
 
 PARAMS = ("helix", "bearing-factor")
 DEFAULT_VALUES = {"helix": np.linspace(0.0, 30.0, 31), "bearing-factor": np.geomspace(1.0, 1e6, 25)}
 
 
-def with_helix_angle(scene, beta: float):
-    """Copy of ``scene`` with every gear mesh at helix angle ``beta`` (rad).
+def check_helical(scene) -> None:
+    """Refuse (SceneError) a scene without a helical gear mesh or stage: a helix sweep
+    changes only gears that are helical already."""
+    if not any(m.helix_angle for m in scene.meshes) and not any(st.helix_angle for st in scene.stages):
+        raise SceneError("meshes.helix_angle", 0.0, "no helical gear mesh or stage in this scene: the helix "
+                                                    "sweep changes only meshes that are helical already")
 
-    Plain meshes keep their hand (sign of a non-zero helix angle, + otherwise); planetary
-    stages get ``helix_angle = beta`` (the stage builder gives the ring meshes the
-    opposite sign)."""
-    meshes = tuple(dataclasses.replace(m, helix_angle=math.copysign(beta, m.helix_angle) if m.helix_angle else beta)
+
+def with_helix_angle(scene, beta: float):
+    """Copy of ``scene`` with its helical gear meshes at helix angle ``beta`` (rad).
+
+    Only meshes and planetary stages that are helical already (non-zero helix angle)
+    change, each keeping its hand (sign); spur gears stay spur. A plain mesh takes
+    ``copysign(beta, helix_angle)``, a stage ``helix_angle`` likewise (the stage builder gives
+    its ring meshes the opposite sign). A scene without a helical mesh is refused."""
+    check_helical(scene)
+    meshes = tuple(dataclasses.replace(m, helix_angle=math.copysign(beta, m.helix_angle)) if m.helix_angle else m
                    for m in scene.meshes)
-    stages = tuple(dataclasses.replace(st, helix_angle=math.copysign(beta, st.helix_angle) if st.helix_angle else beta)
+    stages = tuple(dataclasses.replace(st, helix_angle=math.copysign(beta, st.helix_angle)) if st.helix_angle else st
                    for st in scene.stages)
     return dataclasses.replace(scene, meshes=meshes, stages=stages)
 
@@ -151,6 +164,8 @@ def sweep_to_dir(scene_source, param: str, values, out_dir, progress=None, max_m
     t0 = time.perf_counter()
     check_output_dir(out_dir)  # refuse a foreign folder before the (possibly long) sweep
     scene = load_scene(scene_source)
+    if param == "helix":
+        check_helical(scene)  # before any output folder is made
     with staged_output(out_dir) as work:
         sr = run_sweep(scene, param, values, progress)
         with writing(out_dir, work, "sweep results"):

@@ -1,5 +1,6 @@
 """`flexgear sweep`: helix angle and bearing stiffness factor sweeps into CSV + PNG."""
 import csv
+import dataclasses
 import math
 
 import numpy as np
@@ -7,6 +8,7 @@ import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes
 from assembly.app.cli import build_parser, main
+from assembly.errors import SceneError
 from assembly.app.sweep import parse_values, run_sweep, with_helix_angle
 
 
@@ -16,16 +18,17 @@ def _parser():
 
 def test_helix_sweep_cli(tmp_path):
     out = tmp_path / "helix"
-    args = _parser().parse_args(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "0:20:3",
+    args = _parser().parse_args(["sweep", "kahraman_beta20.toml", "--param", "helix", "--values", "0:20:3",
                                  "--out", str(out), "-q"])
     assert args.func(args) == 0
     rows = list(csv.DictReader(open(out / "sweep.csv")))
     assert [float(r["helix_angle_deg"]) for r in rows] == [0.0, 10.0, 20.0]
     assert float(rows[2]["helix_angle_rad"]) == pytest.approx(math.radians(20))
-    # At 20 deg the sweep reproduces the shipped 20-deg scene (same pair, same convention).
-    ref = solve_modes(assemble(load_scene("kahraman_beta20.toml"))).frequencies_hz
-    got = [float(rows[2][f"f{j + 1}_hz"]) for j in range(len(ref))]
-    assert got == pytest.approx(np.sort(ref), rel=1e-7, abs=1e-6)
+    # At 0 and 20 deg the sweep reproduces the shipped 0- and 20-deg scenes (same pair, same convention).
+    for row, name in ((rows[0], "kahraman_beta0.toml"), (rows[2], "kahraman_beta20.toml")):
+        ref = solve_modes(assemble(load_scene(name))).frequencies_hz
+        got = [float(row[f"f{j + 1}_hz"]) for j in range(len(ref))]
+        assert got == pytest.approx(np.sort(ref), rel=1e-7, abs=1e-6)
     assert (out / "sweep.png").stat().st_size > 10_000
     assert sorted(p.name for p in tmp_path.iterdir()) == ["helix"]
 
@@ -44,13 +47,32 @@ def test_bearing_factor_sweep(tmp_path):
 
 
 def test_stage_helix_replaced():
-    sc = load_scene("lin_parker_n4.toml")
+    sc = load_scene("lin_parker_n4.toml").with_value("stages.stage.helix_angle_deg", 10.0)
     beta = math.radians(15)
     ex = with_helix_angle(sc, beta).expanded()
     assert {round(m.helix_angle, 12) for m in ex.meshes} == {round(beta, 12), round(-beta, 12)}
     r = run_sweep(sc, "helix", [0.0, 15.0])
     assert r.frequencies_hz.shape == (2, 21)
     assert not np.allclose(r.frequencies_hz[0], r.frequencies_hz[1])
+
+
+def test_helix_sweep_leaves_spur_meshes_spur(tmp_path, capsys):
+    # Two meshes: the shipped helical pair plus a spur pair on a third gear; only the
+    # helical one may change.
+    k20 = load_scene("kahraman_beta20.toml")
+    third = dataclasses.replace(k20.bodies[1], name="idler", position=(-k20.bodies[1].position[0], 0.0, 0.0))
+    spur = dataclasses.replace(k20.meshes[0], name="spur", gear2="idler", helix_angle=0.0)
+    sc = dataclasses.replace(k20, bodies=k20.bodies + (third,), meshes=k20.meshes + (spur,),
+                             bearings=k20.bearings + (dataclasses.replace(k20.bearings[1], body="idler"),))
+    out = with_helix_angle(sc, math.radians(5.0))
+    assert out.meshes[0].helix_angle == pytest.approx(math.radians(5.0)) and out.meshes[1].helix_angle == 0.0
+    # a scene without any helical mesh is refused in one line, before any output exists
+    with pytest.raises(SceneError, match="no helical gear mesh"):
+        with_helix_angle(load_scene("lin_parker_n4.toml"), 0.1)
+    assert main(["sweep", "kahraman_beta0.toml", "--param", "helix", "--out", str(tmp_path / "o"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no helical gear mesh" in err
+    assert not (tmp_path / "o").exists()
 
 
 def test_parse_values():

@@ -24,7 +24,7 @@ from assembly.modal import solve_modes
 from assembly.model import assemble
 from assembly.schema import SCENE_DIR, scene_from_dict
 
-from tests.support.fuzz import examples
+from tests.support.fuzz import examples, number_paths
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
          for name in ("kahraman_beta20.toml", "lin_parker_n3.toml", "peeters_parallel_torsional.toml")}
@@ -33,18 +33,6 @@ BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
 MAGNITUDES = ("mass", "polar_inertia", "transverse_inertia", "stiffness", "k_radial", "k_axial", "k_tilt",
               "k_torsion", "k_bending", "k_shear", "k_mesh_sun", "k_mesh_ring")
 EXAMPLES = examples(120)
-
-
-def _magnitude_paths(node, prefix=()):
-    if isinstance(node, dict):
-        for k, v in node.items():
-            if k in MAGNITUDES and isinstance(v, (int, float)) and not isinstance(v, bool) and 0 < v < float("inf"):
-                yield prefix + (k,)
-            else:
-                yield from _magnitude_paths(v, prefix + (k,))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from _magnitude_paths(v, prefix + (i,))
 
 
 def _get(tree, path):
@@ -68,7 +56,7 @@ REF_RIGID = {name: _reference_rigid_count(name) for name in BASES}
 def scaled_scene(draw):
     name = draw(st.sampled_from(sorted(BASES)))
     tree = copy.deepcopy(BASES[name])
-    paths = sorted(_magnitude_paths(tree))
+    paths = sorted(number_paths(tree, MAGNITUDES))
     for path in draw(st.lists(st.sampled_from(paths), min_size=1, max_size=3, unique=True)):
         _set(tree, path, _get(tree, path) * 10.0 ** draw(st.integers(-40, 40)))
     return name, tree

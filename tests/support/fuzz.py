@@ -6,3 +6,17 @@ import os
 
 def examples(ci_count: int) -> int:
     return ci_count * max(1, int(os.environ.get("FLEXGEAR_FUZZ_SCALE", "1")))
+
+
+def number_paths(node, names, prefix=()):
+    """Paths (tuples of keys and indices) to every positive finite number of a TOML tree
+    stored under a key in ``names``."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            if k in names and isinstance(v, (int, float)) and not isinstance(v, bool) and 0 < v < float("inf"):
+                yield prefix + (k,)
+            else:
+                yield from number_paths(v, names, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from number_paths(v, names, prefix + (i,))
