@@ -69,7 +69,7 @@ def place_bodies(bodies: tuple, meshes: tuple) -> tuple:
     while pending:
         ready = [(t, i) for t, i in pending.items() if _other(meshes[i], t) not in pending]
         if not ready:
-            i = min(pending.values())
+            i = max(pending.values())   # the mesh that closed the cycle, in file order
             chain = " -> ".join(f"meshes[{j}] places {t!r}" for t, j in pending.items())
             raise SceneError(f"meshes[{i}].place", meshes[i].place, f"placements form a cycle ({chain})")
         for target, i in ready:
