@@ -2,6 +2,7 @@
 meshes place bodies at the working centre distance, typed numbers must agree with the
 teeth, and the two-stage example's rigid-body mode is the kinematic chain of its teeth."""
 import copy
+import dataclasses
 import math
 import tomllib
 
@@ -215,3 +216,19 @@ def test_scene_fidelity_is_the_default_of_every_table():
     assert set(fid.values()) == {"torsional"}
     d.pop("fidelity")
     assert {b.fidelity for b in scene_from_dict(d).expanded().bodies} == {"rigid"}
+
+
+def test_hs_stage_from_teeth_equals_its_typed_numbers():
+    # hs_parallel_stage.toml gives teeth (23 / 71, m_n 4 mm, 20 deg, 12 deg) and lets the
+    # mesh place the wheel; with the numbers its earlier version typed (computed from the
+    # same teeth) every mesh number and body is the same float, hence the same model
+    d = tomllib.loads((SCENE_DIR / "hs_parallel_stage.toml").read_text())
+    from_teeth = scene_from_dict(d)
+    typed = copy.deepcopy(d)
+    typed["bodies"][1]["position"] = [0.1922000318346255, 0.0, 0.295]
+    typed["meshes"][0].pop("place")
+    typed["meshes"][0].update(base_radius1=0.04407523468393626, base_radius2=0.13605833315475976,
+                              pressure_angle_deg=20.41031175365969, helix_angle_deg=12.0)
+    typed = scene_from_dict(typed)
+    assert from_teeth.bodies == typed.bodies
+    assert dataclasses.replace(from_teeth.meshes[0], place=None) == typed.meshes[0]
