@@ -29,7 +29,7 @@ import numpy as np
 
 from fe_components.fields import quantity
 from fe_components.material import STEEL, Material
-from fe_components.params import MAX_PLANETS
+from fe_components.params import MAX_PLANETS, GearTeeth
 
 from .errors import SceneError
 
@@ -99,7 +99,17 @@ class Body:
     table (fe_components: pinion, wheel, carrier, cylinder), whose mesh then gives mass and
     inertia at every fidelity; ``position`` is then where the component's local origin sits
     (its local z along ``axis``). ``fidelity = "flexible"`` needs a component; ``flex``
-    says how it is meshed and reduced.
+    says how it is meshed and reduced. ``fidelity`` left out: the scene's ``fidelity``
+    (default "rigid").
+
+    A gear body may carry its ``teeth`` (:class:`fe_components.params.GearTeeth`, ISO 21771:
+    ``n_teeth``, ``normal_module``, ``pressure_angle``, ``face_width``, ``helix_angle``,
+    ``profile_shift``, ...; angles may be given in degrees under ``<name>_deg``), or its
+    component's ``teeth`` serve; giving both, they must be equal (one definition). A mesh
+    between gears with teeth then derives base radii, working pressure angle and helix
+    (:mod:`assembly.gear_data`). ``internal = true``: the teeth are internal (a ring gear;
+    ``teeth.n_teeth`` stays positive). ``position`` (m) left out: (0, 0, 0), or where a mesh
+    with ``place`` puts the body (:mod:`assembly.placement`).
     """
 
     name: str = name_field()
@@ -107,14 +117,16 @@ class Body:
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     inertia_tensor: Optional[tuple[Vec3, Vec3, Vec3]] = quantity("kg m^2", None)
-    position: Vec3 = quantity("m", (0.0, 0.0, 0.0))
+    position: Optional[Vec3] = quantity("m", None)
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     frame: str = HOUSING
-    fidelity: Fidelity = "rigid"
+    fidelity: Optional[Fidelity] = None
     stage: Optional[str] = None
     role: Optional[str] = None
     component: Optional[dict] = None
     flex: Optional[FlexOptions] = None
+    teeth: Optional[GearTeeth] = None
+    internal: bool = False
 
     def inertia_local(self) -> np.ndarray:
         """3x3 inertia tensor about the centre of mass in local axes (kg m^2)."""
@@ -165,15 +177,26 @@ class GearMesh:
     ``contact_point``: 'pitch' (default; one shared point, no strain under common rigid
     motion) or 'tangent' (each gear's base-circle tangent point, the convention of the
     published Kahraman/Peeters helical-pair table; see :func:`assembly.elements.gear_mesh`).
+
+    From teeth: when both gears carry teeth (``Body.teeth`` or their component's), leave
+    out ``base_radius1/2``, ``pressure_angle`` and ``helix_angle``: they are derived (ISO
+    21771, :mod:`assembly.gear_data`): base radii ``z m_n cos(alpha_t) / (2 cos beta)``
+    (negative for the gear whose body says ``internal``), the working transverse pressure
+    angle from the profile shifts, and gear 1's helix angle. Numbers given as well must
+    agree with the teeth (relative 1e-6), else the scene is refused naming both. A gear with
+    teeth meshing a gear without: its base radius, if typed, must agree with its teeth.
+    ``place`` ("gear1" or "gear2") puts that gear at the working centre distance from the
+    other, along ``centre_line_angle`` (rad, in the other gear's axes from its local x;
+    default 0) -- see :mod:`assembly.placement`.
     """
 
     gear1: str
     gear2: str
     stiffness: float = quantity("N/m", gt=0.0)
-    base_radius1: float = quantity("m", nonzero=True, hint="negative = internal gear")
-    base_radius2: float = quantity("m", nonzero=True, hint="negative = internal gear")
-    pressure_angle: float = angle(gt=0.0, lt=_HALF_PI)
-    helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
+    base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
+    base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
+    pressure_angle: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
+    helix_angle: Optional[float] = angle(None, abs_lt=_HALF_PI)
     drive_sign: int = 1
     name: Optional[str] = name_field(None)
     center1: Optional[Vec3] = quantity("m", None)
@@ -181,6 +204,8 @@ class GearMesh:
     contact_point: Literal["pitch", "tangent"] = "pitch"
     interface1: Optional[str] = None
     interface2: Optional[str] = None
+    place: Optional[Literal["gear1", "gear2"]] = None
+    centre_line_angle: float = angle(0.0, abs_lt=4 * math.pi)
 
 
 @dataclass(frozen=True)
@@ -232,7 +257,10 @@ class Member:
     or 'floating' (no bearing at all). ``base_radius`` (m, positive) for sun and ring.
     The carrier may instead be a ``component`` (fe_components carrier without
     ``planet_angles``/``pin_pitch_radius``: the stage places the pins at its planets) with
-    ``flex`` options; its bearing then acts at the component's ``bearing_interface``."""
+    ``flex`` options; its bearing then acts at the component's ``bearing_interface``.
+    ``teeth`` (number of teeth, sun and ring) and ``profile_shift`` (ISO 21771 x, the
+    ring's as given in ISO's convention) replace ``base_radius`` when the stage gives
+    ``normal_module`` (see :class:`PlanetaryStage`). ``fidelity`` left out: the scene's."""
 
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
@@ -240,31 +268,47 @@ class Member:
     base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive")
     support: Support = "bearing"
     bearing: Optional[BearingSpec] = None
-    fidelity: Fidelity = "rigid"
+    fidelity: Optional[Fidelity] = None
     component: Optional[dict] = None
     flex: Optional[FlexOptions] = None
     bearing_interface: str = "bearing_b"
+    teeth: Optional[int] = quantity("", None, integer=True, ge=3)
+    profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
 
 
 @dataclass(frozen=True)
 class Planets:
     """N identical planets at ``angles`` (rad; default equally spaced from 0).
-    ``outer_radius`` (m, default the pitch radius) is used for the overlap check."""
+    ``outer_radius`` (m, default the pitch radius) is used for the overlap check.
+    ``teeth`` and ``profile_shift`` (ISO 21771) replace ``base_radius`` when the stage gives
+    ``normal_module``. ``fidelity`` left out: the scene's."""
 
     count: int = quantity("", integer=True, ge=1, le=MAX_PLANETS)
     mass: float = quantity("kg", gt=0.0)
     polar_inertia: float = quantity("kg m^2", gt=0.0)
-    base_radius: float = quantity("m", gt=0.0)
     bearing: BearingSpec = field()
+    base_radius: Optional[float] = quantity("m", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     angles: Optional[tuple[float, ...]] = angle(None)
     outer_radius: Optional[float] = quantity("m", None, gt=0.0)
-    fidelity: Fidelity = "rigid"
+    fidelity: Optional[Fidelity] = None
+    teeth: Optional[int] = quantity("", None, integer=True, ge=3)
+    profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
 
 
 @dataclass(frozen=True)
 class PlanetaryStage:
-    """A planetary stage. Mesh stiffness N/m; pressure angles transverse, rad."""
+    """A planetary stage. Mesh stiffness N/m; pressure angles transverse, rad.
+
+    From teeth: ``normal_module`` (m), ``normal_pressure_angle`` (rad, or ``_deg``) and
+    ``helix_angle`` (the sun's, rad) with ``teeth`` and ``profile_shift`` on ``sun``,
+    ``planets`` and ``ring`` derive the base radii, both working pressure angles and the
+    carrier radius (:func:`assembly.gear_data.stage_from_teeth`, ISO 21771): the carrier
+    radius is the sun-planet working centre distance; the planet-ring one must agree to
+    :data:`assembly.gear_data.RING_CENTRE_TOLERANCE` normal modules, and the ring mesh works
+    at the carrier radius (``cos(alpha_ring) = (r_b,ring - r_b,planet) / R_c``). Typed base
+    radii and pressure angles given as well must agree (relative 1e-6).
+    """
 
     name: str = name_field()
     sun: Member = field()
@@ -273,9 +317,11 @@ class PlanetaryStage:
     planets: Planets = field()
     k_mesh_sun: float = quantity("N/m", gt=0.0)
     k_mesh_ring: float = quantity("N/m", gt=0.0)
-    pressure_angle_sun: float = angle(gt=0.0, lt=_HALF_PI)
-    pressure_angle_ring: float = angle(gt=0.0, lt=_HALF_PI)
+    pressure_angle_sun: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
+    pressure_angle_ring: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
+    normal_module: Optional[float] = quantity("m", None, gt=0.0)
+    normal_pressure_angle: Optional[float] = angle(None, gt=0.0, lt=math.radians(45))
     drive_sign: int = 1
     center: Vec3 = quantity("m", (0.0, 0.0, 0.0))
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
@@ -319,8 +365,11 @@ class Scene:
 
     ``stages`` holds planetary-stage descriptions; :meth:`expanded` turns each into bodies,
     bearings and meshes. ``band_hz``: the frequency band of interest (Hz), which sets the
-    Craig-Bampton cutoff of flexible bodies. Construction validates everything
-    (``SceneError`` on bad input).
+    Craig-Bampton cutoff of flexible bodies. ``fidelity``: the default fidelity of every
+    body, stage member and planets table that does not give its own (default "rigid").
+    Construction first derives the gear numbers from teeth and places the bodies meshes
+    place (:func:`assembly.gear_data.resolve`), then validates everything (``SceneError``
+    on bad input); the scene then holds the derived numbers.
     """
 
     name: str = name_field("scene")
@@ -334,13 +383,20 @@ class Scene:
     band_hz: Optional[float] = quantity("Hz", None, gt=0.0)
     load: Optional[LoadCase] = None
     loads: tuple[LoadCase, ...] = ()
+    fidelity: Optional[Fidelity] = None
 
     def __post_init__(self):
         for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages", "loads"):
             if isinstance(getattr(self, f), list):  # Python callers may pass lists
                 object.__setattr__(self, f, tuple(getattr(self, f)))
         if not _TRUSTED.get():
-            from .validate import validate_scene  # validate reads these types: import when used
+            # these read the types defined here: import when used
+            from .gear_data import resolve
+            from .schema import check_instance
+            from .validate import validate_scene
+            check_instance(self)   # types and ranges before anything derives from them
+            for key, value in resolve(self).items():
+                object.__setattr__(self, key, value)
             validate_scene(self)
 
     def expanded(self) -> "Scene":

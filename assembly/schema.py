@@ -144,6 +144,7 @@ def from_dict(cls, data: Any, path: str = ""):
     hints = _hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     kwargs = {}
+    in_degrees = set()
     for key, value in data.items():
         p = _join(path, key)
         if key in fields:
@@ -162,6 +163,7 @@ def from_dict(cls, data: Any, path: str = ""):
             else:
                 val = math.radians(deg)
             check_rules(fields[name], val, p, math.degrees)
+            in_degrees.add(name)
         else:
             allowed = sorted(fields)
             raise SceneError(p, value, f"unknown key; allowed keys: {', '.join(allowed)}")
@@ -170,9 +172,38 @@ def from_dict(cls, data: Any, path: str = ""):
         if name not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
             raise SceneError(_join(path, name), None, f"missing required field ({_type_name(hints[name])})")
     try:
-        return cls(**kwargs)
+        obj = cls(**kwargs)
     except GeometryError as err:  # a data type that checks its own values (e.g. Material)
         raise SceneError(f"{path}.{err.parameter}" if path else err.parameter, err.value, err.reason) from None
+    return keep_degrees(in_degrees, obj)
+
+
+#: Attribute on a dataclass read from a table: the angle fields given in degrees.
+_DEGREES = "_fields_given_in_degrees"
+
+
+def keep_degrees(source, obj):
+    """Mark on ``obj`` the angle fields the user gave in degrees: those of ``source`` (a
+    set of field names, or an object read by :func:`from_dict`), so that a message about
+    them can show the value in degrees under the key the user wrote. Returns ``obj``."""
+    names = source if isinstance(source, (set, frozenset)) else given_in_degrees(source)
+    if names and dataclasses.is_dataclass(obj):
+        object.__setattr__(obj, _DEGREES, frozenset(names))
+    return obj
+
+
+def given_in_degrees(obj) -> frozenset:
+    """The angle fields of ``obj`` that its table gave in degrees (``<field>_deg``)."""
+    return getattr(obj, "__dict__", {}).get(_DEGREES, frozenset())
+
+
+def as_written(obj, field: str, path: str, value=None):
+    """(path, value) of ``obj.field`` (or ``value`` of that field) as the user wrote it:
+    ``path_deg`` and degrees for an angle given in degrees, else ``path`` and SI."""
+    value = getattr(obj, field) if value is None else value
+    if field in given_in_degrees(obj) and isinstance(value, (int, float)):
+        return f"{path}_deg", float(f"{math.degrees(value):.12g}")   # 20.0, not 20.000000000000004
+    return path, value
 
 
 @functools.cache

@@ -29,6 +29,7 @@ from typing import Any
 
 from .errors import GeometryError
 from .fields import check_fields, quantity
+from .gear_pair import base_radius, transverse_pressure_angle
 from .involute import check_tooth_shape
 
 FIDELITIES = ("smooth", "involute")
@@ -94,7 +95,7 @@ class GearTeeth:
 
     @property
     def transverse_pressure_angle(self) -> float:
-        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+        return transverse_pressure_angle(self.pressure_angle, self.helix_angle)
 
     @property
     def pitch_radius(self) -> float:
@@ -102,7 +103,7 @@ class GearTeeth:
 
     @property
     def base_radius(self) -> float:
-        return self.pitch_radius * math.cos(self.transverse_pressure_angle)
+        return base_radius(self.n_teeth, self.normal_module, self.pressure_angle, self.helix_angle)
 
     @property
     def tip_radius(self) -> float:

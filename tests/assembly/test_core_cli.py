@@ -86,7 +86,9 @@ BAD = {  # case -> (scene text, expected path in the message, expected value tex
     "missing frame": (BASE.replace('name = "wheel"', 'name = "wheel"\nframe = "carrier"'), "bodies[1].frame", "carrier"),
     "connected to nothing": (BASE + '\n[[bodies]]\nname = "loose"\nmass = 1.0\npolar_inertia = 1e-3\n',
                              "bodies[2].name", "loose"),
-    "bad centre distance": (BASE.replace("0.10641777724759122", "0.12"), "meshes[0].pressure_angle", "0.349"),
+    # the pressure angle echoed as written (degrees), the fields involved and the tolerance named
+    "bad centre distance": (BASE.replace("0.10641777724759122", "0.12"), "meshes[0].pressure_angle_deg = 20",
+                            "bodies[1].position"),
     "planet count": (PLANETARY.replace("count = 3", "count = 0"), "stages[0].planets.count", "0"),
     "planets overlap": (PLANETARY.replace("count = 3", "count = 9"), "stages[0].planets.count", "9"),
     "planet angles overlap": (PLANETARY.replace("count = 3", "count = 3\nangles_deg = [0.0, 20.0, 180.0]"),
