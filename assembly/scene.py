@@ -395,9 +395,20 @@ class Scene:
             from .schema import check_instance
             from .validate import validate_scene
             check_instance(self)   # types and ranges before anything derives from them
-            for key, value in resolve(self).items():
+            resolved = resolve(self)
+            # what the user wrote, before numbers derived from teeth and the scene's default
+            # fidelity were filled in: editing and saving work on it (see :meth:`as_given`)
+            object.__setattr__(self, "_given", {key: getattr(self, key) for key in resolved})
+            for key, value in resolved.items():
                 object.__setattr__(self, key, value)
             validate_scene(self)
+
+    def as_given(self, field_name: str):
+        """Field ``field_name`` as the user gave it: for bodies, meshes and stages, before
+        gear numbers were derived from teeth, bodies placed by meshes and the scene's default
+        fidelity filled in (a changed tooth count then derives new numbers instead of
+        contradicting the old ones)."""
+        return self.__dict__.get("_given", {}).get(field_name, getattr(self, field_name))
 
     def expanded(self) -> "Scene":
         """The same scene with every planetary stage expanded into plain elements (computed

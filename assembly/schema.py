@@ -297,13 +297,15 @@ def _equally_spaced_planets(data: dict, path: str) -> dict:
 
 
 def to_dict(obj, defaults: bool = True) -> dict:
-    """Plain-dict view of a dataclass tree (radians kept; None fields dropped; with
+    """Plain-dict view of a dataclass tree (radians kept; None fields dropped; a scene as
+    the user gave it, see :meth:`Scene.as_given`; with
     ``defaults=False`` also the fields at their default). A component's parameters
     (fe_components) become a table with its ``kind`` first, as a scene file gives it."""
     from fe_components.params import COMPONENT_KINDS, component_kind
     out = {"kind": component_kind(obj)} if type(obj) in COMPONENT_KINDS.values() else {}
+    given = getattr(obj, "as_given", functools.partial(getattr, obj))  # a Scene: as written
     for f in dataclasses.fields(obj):
-        v = getattr(obj, f.name)
+        v = given(f.name)
         if v is None or not defaults and f.default is not dataclasses.MISSING and _same(v, f.default):
             continue
         out[f.name] = _plain(v, defaults)

@@ -49,8 +49,10 @@ def test_component_dict_of_the_original_is_not_mutated():
 
 
 def test_angle_held_once_in_rad_or_deg():
-    # the component table gives helix_angle_deg; a value in rad replaces it (not both)
-    new = HS.with_value("bodies.pinion.component.teeth.helix_angle", math.radians(10.0))
+    # the component table gives helix_angle_deg; a value in rad replaces it (not both).
+    # The pair's hands stay opposite (an external helical pair), so both gears change.
+    new = HS.with_values({"bodies.pinion.component.teeth.helix_angle": math.radians(10.0),
+                          "bodies.wheel.component.teeth.helix_angle_deg": -10.0})
     teeth = new.bodies[0].component["teeth"]
     assert "helix_angle_deg" not in teeth and teeth["helix_angle"] == math.radians(10.0)
 
@@ -104,3 +106,18 @@ def test_optional_table_is_created_and_none_removes():
     s = HS.with_value("bodies.output_shaft.flex.cutoff_hz", None)  # no flex table: nothing to remove
     assert s.bodies[2].flex is None
     assert HS.with_value("band_hz", None).band_hz is None
+
+
+def test_teeth_edit_derives_new_gear_numbers():
+    # hs_parallel_stage derives its mesh numbers from the teeth and places the wheel by
+    # the mesh; a new tooth count must re-derive them (ISO 21771: r_b = z m_n cos(alpha_t) /
+    # (2 cos beta), a_w = (r_b1 + r_b2) / cos(alpha_wt)), not contradict the old numbers.
+    from assembly.gear_data import body_teeth
+    from fe_components.gear_pair import pair_geometry
+    new = HS.with_value("bodies.pinion.component.teeth.n_teeth", 24)
+    t1, t2 = (b.component["teeth"] for b in new.bodies[:2])
+    assert t1["n_teeth"] == 24 and t2["n_teeth"] == 71
+    g = pair_geometry(body_teeth(new.bodies[0], "b0")[1], body_teeth(new.bodies[1], "b1")[1])
+    assert new.meshes[0].base_radius1 == pytest.approx(g.base_radius1, rel=1e-12)
+    assert new.bodies[1].position[0] - new.bodies[0].position[0] == pytest.approx(g.centre_distance, rel=1e-12)
+    assert new.bodies[1].position[0] > HS.bodies[1].position[0]   # one more pinion tooth: wheel moves out
