@@ -22,8 +22,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from fe_components.gear_pair import (base_radius, pair_geometry, pair_mismatch, working_centre_distance,
-                                     working_pressure_angle)
+from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometry, pair_mismatch,
+                                     working_centre_distance, working_pressure_angle)
 
 from .errors import SceneError
 from .schema import as_written, component_from_table, keep_degrees
@@ -79,6 +79,16 @@ def _teeth_text(path: str, t) -> str:
             f"profile_shift = {t.profile_shift:g})")
 
 
+def mesh_helix(t, internal: bool) -> float:
+    """``GearMesh.helix_angle`` (the line of action's helix, rad) from gear 1's teeth: the
+    flank normal of an external gear whose teeth turn positively about +z along +z
+    (``GearTeeth.helix_angle`` > 0, right hand) lies in the plane of action at minus the
+    base helix angle beta_b; of an internal gear 1, at +beta_b (ISO 21771 involute helicoid;
+    :func:`assembly.elements.line_of_action`)."""
+    b = base_helix_angle(t.pressure_angle, t.helix_angle)
+    return b if internal else -b
+
+
 def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict):
     """The mesh with its gear numbers from the teeth of its gears (``teeth``: body name ->
     (path, GearTeeth); ``bodies``: name -> Body of the scene's own bodies)."""
@@ -103,7 +113,7 @@ def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict):
             raise SceneError(f"{pi}.profile_shift", inn.profile_shift, str(exc)) from None
         r_ext, r_inn = g.base_radius1, g.base_radius2
         derived = {"base_radius1": r_inn if int1 else r_ext, "base_radius2": r_ext if int1 else r_inn,
-                   "pressure_angle": g.working_pressure_angle, "helix_angle": t1.helix_angle}
+                   "pressure_angle": g.working_pressure_angle, "helix_angle": mesh_helix(t1, int1)}
         source = f"{_teeth_text(p1, t1)} and {_teeth_text(p2, t2)}"
         sources = dict.fromkeys(derived, source)
     else:
@@ -113,8 +123,9 @@ def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict):
                 derived[f"base_radius{k}"] = -g[1].base_radius if internal else g[1].base_radius
                 sources[f"base_radius{k}"] = _teeth_text(*g)
         if m.helix_angle is None:
-            derived["helix_angle"] = (g1[1].helix_angle if g1 is not None else
-                                      (1 if int2 else -1) * g2[1].helix_angle if g2 is not None else 0.0)
+            # gear 1's hand is gear 2's on an internal pair, the other one on an external pair
+            derived["helix_angle"] = (mesh_helix(g1[1], int1) if g1 is not None else
+                                      mesh_helix(g2[1], not int2) if g2 is not None else 0.0)
         for k, name in ((1, m.gear1), (2, m.gear2)):
             if getattr(m, f"base_radius{k}") is None:
                 raise SceneError(f"{path}.base_radius{k}", None,

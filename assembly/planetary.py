@@ -72,12 +72,12 @@ def expand_stage(st: PlanetaryStage) -> dict:
         # way and so closes the ring mesh turning in -drive_sign.
         meshes.append(GearMesh(gear1=sun, gear2=pname, stiffness=st.k_mesh_sun,
                                base_radius1=st.sun.base_radius, base_radius2=pl.base_radius,
-                               pressure_angle=st.pressure_angle_sun, helix_angle=st.helix_angle,
+                               pressure_angle=st.pressure_angle_sun, helix_angle=st.mesh_helix_angle(),
                                drive_sign=st.drive_sign, name=f"{n}.sun-planet{i}",
                                contact_point=st.contact_point))
         meshes.append(GearMesh(gear1=pname, gear2=ring, stiffness=st.k_mesh_ring,
                                base_radius1=pl.base_radius, base_radius2=-st.ring.base_radius,
-                               pressure_angle=st.pressure_angle_ring, helix_angle=-st.helix_angle,
+                               pressure_angle=st.pressure_angle_ring, helix_angle=-st.mesh_helix_angle(),
                                drive_sign=-st.drive_sign, name=f"{n}.planet{i}-ring",
                                contact_point=st.contact_point))
     return {"bodies": tuple(bodies), "bearings": tuple(bearings), "meshes": tuple(meshes),

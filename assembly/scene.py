@@ -308,6 +308,11 @@ class PlanetaryStage:
     :data:`assembly.gear_data.RING_CENTRE_TOLERANCE` normal modules, and the ring mesh works
     at the carrier radius (``cos(alpha_ring) = (r_b,ring - r_b,planet) / R_c``). Typed base
     radii and pressure angles given as well must agree (relative 1e-6).
+
+    ``helix_angle`` is therefore read two ways (:meth:`mesh_helix_angle`): without
+    ``normal_module`` it is the sun-planet meshes' line-of-action helix, as
+    ``[[meshes]].helix_angle``; with it, the sun teeth's reference helix angle (> 0 right
+    hand, as ``GearTeeth.helix_angle``), and the meshes take the signed base helix angle.
     """
 
     name: str = name_field()
@@ -330,6 +335,15 @@ class PlanetaryStage:
     def carrier_radius(self) -> float:
         """Planet-centre radius (m) from the sun-planet mesh geometry."""
         return (self.sun.base_radius + self.planets.base_radius) / math.cos(self.pressure_angle_sun)
+
+    def mesh_helix_angle(self) -> float:
+        """Line-of-action helix (rad) of the sun-planet meshes (the planet-ring meshes take
+        its negative): ``helix_angle`` as typed, or from the sun's teeth minus their base
+        helix angle (:func:`assembly.gear_data.mesh_helix`)."""
+        if self.normal_module is None:
+            return self.helix_angle
+        from fe_components.gear_pair import base_helix_angle
+        return -base_helix_angle(self.normal_pressure_angle, self.helix_angle)
 
     def planet_angles(self) -> tuple[float, ...]:
         n = self.planets.count

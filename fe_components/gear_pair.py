@@ -58,6 +58,13 @@ def transverse_pressure_angle(pressure_angle: float, helix_angle: float) -> floa
     return math.atan(math.tan(pressure_angle) / math.cos(helix_angle))
 
 
+def base_helix_angle(pressure_angle: float, helix_angle: float) -> float:
+    """beta_b = atan(tan(beta) cos(alpha_t)) (rad, signed as beta): the helix angle on the
+    base cylinder (ISO 21771), the inclination of the flank normal -- the line of action --
+    to the transverse plane."""
+    return math.atan(math.tan(helix_angle) * math.cos(transverse_pressure_angle(pressure_angle, helix_angle)))
+
+
 def base_radius(n_teeth: int, normal_module: float, pressure_angle: float, helix_angle: float) -> float:
     """r_b = z m_n cos(alpha_t) / (2 cos(beta)) (m); negative for z < 0 (internal gear)."""
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)

@@ -3,11 +3,10 @@
 Natural frequencies against one scene parameter (as Peeters et al., Wind Energy 9 (2006),
 Figs. 7 and 11a):
 
-* ``helix``: helix angle (values in deg; stored in rad) of every helical gear mesh (spur
-  meshes stay spur), via ``dataclasses.replace`` on the scene's meshes (a mesh keeps its
-  hand: the sign of its helix angle) and on each helical planetary stage's ``helix_angle``
-  (its ring meshes get the opposite sign from the stage builder); a scene without a helical
-  mesh is refused;
+* ``helix``: helix angle (values in deg; stored in rad) of every helical gear (spur gears
+  stay spur), set by path (:meth:`assembly.scene.Scene.with_values`) where the scene gives
+  it: a mesh's typed helix angle, a gear body's teeth, a stage's ``helix_angle``; each keeps
+  its hand (sign); a scene without a helical mesh is refused;
 * ``bearing-factor``: common factor on all bearing stiffnesses (radial, axial, tilt) via
   :func:`assembly.scale_bearings`; plotted on log axes (bearing modes grow as sqrt(factor)
   while the gear modes level off).
@@ -46,18 +45,28 @@ def check_helical(scene) -> None:
 
 
 def with_helix_angle(scene, beta: float):
-    """Copy of ``scene`` with its helical gear meshes at helix angle ``beta`` (rad).
+    """Copy of ``scene`` with its helical gears at helix angle ``beta`` (rad).
 
-    Only meshes and planetary stages that are helical already (non-zero helix angle)
-    change, each keeping its hand (sign); spur gears stay spur. A plain mesh takes
-    ``copysign(beta, helix_angle)``, a stage ``helix_angle`` likewise (the stage builder gives
-    its ring meshes the opposite sign). A scene without a helical mesh is refused."""
+    Only gears that are helical already (non-zero helix angle) change, each keeping its
+    hand (sign); spur gears stay spur. Changed are the values the scene gives: a mesh's
+    typed ``helix_angle``, the teeth of a gear body (its meshes then derive their line of
+    action from them) and a stage's ``helix_angle``. A scene without a helical mesh is
+    refused."""
+    from ..gear_data import body_teeth
     check_helical(scene)
-    meshes = tuple(dataclasses.replace(m, helix_angle=math.copysign(beta, m.helix_angle)) if m.helix_angle else m
-                   for m in scene.meshes)
-    stages = tuple(dataclasses.replace(st, helix_angle=math.copysign(beta, st.helix_angle)) if st.helix_angle else st
-                   for st in scene.stages)
-    return dataclasses.replace(scene, meshes=meshes, stages=stages)
+    changes = {}
+    for i, m in enumerate(scene.as_given("meshes")):
+        if m.helix_angle:
+            changes[f"meshes[{i}].helix_angle"] = math.copysign(beta, m.helix_angle)
+    for i, b in enumerate(scene.as_given("bodies")):
+        # the body's own teeth and its component's (equal when both are given)
+        for teeth in ((f"bodies[{i}].teeth", b.teeth), body_teeth(dataclasses.replace(b, teeth=None), f"bodies[{i}]")):
+            if teeth is not None and teeth[1] is not None and teeth[1].helix_angle:
+                changes[f"{teeth[0]}.helix_angle"] = math.copysign(beta, teeth[1].helix_angle)
+    for i, st in enumerate(scene.as_given("stages")):
+        if st.helix_angle:
+            changes[f"stages[{i}].helix_angle"] = math.copysign(beta, st.helix_angle)
+    return scene.with_values(changes)
 
 
 def parse_values(tokens, param: str) -> np.ndarray:

@@ -84,3 +84,21 @@ def test_parse_values():
             parse_values(bad, param)
     assert main(["sweep", "kahraman_beta0.toml", "--param", "helix", "--values", "abc",
                  "--out", "/nonexistent/x"]) == 2
+
+
+def test_helix_sweep_of_gears_from_teeth():
+    # two_stage_quill.toml: a helical pair from teeth (right-hand pinion, left-hand wheel)
+    # and a spur planetary stage. The sweep changes both gears' teeth, keeping their hands;
+    # the mesh derives its line of action, minus the pinion's base helix angle,
+    # tan(beta_b) = tan(beta) cos(alpha_t) (ISO 21771); the spur stage stays spur.
+    sc = load_scene("two_stage_quill.toml")
+    beta = math.radians(8.0)
+    out = with_helix_angle(sc, beta)
+    pinion, wheel = out.body("pinion"), out.body("wheel")
+    t_p = pinion.teeth if pinion.teeth is not None else pinion.component["teeth"]
+    t_w = wheel.teeth if wheel.teeth is not None else wheel.component["teeth"]
+    helix = [t.helix_angle if hasattr(t, "helix_angle") else t["helix_angle"] for t in (t_p, t_w)]  # rad
+    assert helix == pytest.approx([beta, -beta], rel=1e-14)
+    alpha_t = math.atan(math.tan(math.radians(20.0)) / math.cos(beta))
+    assert out.meshes[0].helix_angle == pytest.approx(-math.atan(math.tan(beta) * math.cos(alpha_t)), rel=1e-12)
+    assert out.stages[0].helix_angle == 0.0

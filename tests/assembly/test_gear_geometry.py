@@ -57,8 +57,12 @@ def test_quill_geometry_is_derived_from_the_teeth():
     pinion = sc.bodies[0].teeth
     g = pair_geometry(pinion, GearTeeth(n_teeth=83, normal_module=0.005, pressure_angle=DEG(20),
                                         face_width=0.06, helix_angle=DEG(-12), profile_shift=0.1))
-    assert (m.base_radius1, m.base_radius2, m.pressure_angle, m.helix_angle) == \
-        (g.base_radius1, g.base_radius2, g.working_pressure_angle, DEG(12))
+    # line of action of a right-hand pinion: minus its base helix angle,
+    # tan(beta_b) = tan(beta) cos(alpha_t) (ISO 21771)
+    beta_b = math.atan(math.tan(DEG(12)) * math.cos(math.atan(math.tan(DEG(20)) / math.cos(DEG(12)))))
+    assert (m.base_radius1, m.base_radius2, m.pressure_angle) == \
+        (g.base_radius1, g.base_radius2, g.working_pressure_angle)
+    assert m.helix_angle == pytest.approx(-beta_b, rel=1e-14)
     wheel = sc.body("wheel")
     assert np.allclose(wheel.position, (g.centre_distance, 0.0, 0.0), rtol=0, atol=1e-15)
     # the quill joins coaxial bodies: the stage centre (typed, derived) is on the wheel's axis
@@ -221,14 +225,17 @@ def test_scene_fidelity_is_the_default_of_every_table():
 def test_hs_stage_from_teeth_equals_its_typed_numbers():
     # hs_parallel_stage.toml gives teeth (23 / 71, m_n 4 mm, 20 deg, 12 deg) and lets the
     # mesh place the wheel; with the numbers its earlier version typed (computed from the
-    # same teeth) every mesh number and body is the same float, hence the same model
+    # same teeth) every mesh number and body is the same float, hence the same model. The
+    # helix is the line of action's: minus the right-hand pinion's base helix angle,
+    # tan(beta_b) = tan(12 deg) cos(alpha_t) (ISO 21771; the earlier version typed +12 deg)
     d = tomllib.loads((SCENE_DIR / "hs_parallel_stage.toml").read_text())
     from_teeth = scene_from_dict(d)
     typed = copy.deepcopy(d)
     typed["bodies"][1]["position"] = [0.1922000318346255, 0.0, 0.295]
     typed["meshes"][0].pop("place")
     typed["meshes"][0].update(base_radius1=0.04407523468393626, base_radius2=0.13605833315475976,
-                              pressure_angle_deg=20.41031175365969, helix_angle_deg=12.0)
+                              pressure_angle_deg=20.41031175365969,
+                              helix_angle=-math.atan(math.tan(DEG(12)) * math.cos(DEG(20.41031175365969))))
     typed = scene_from_dict(typed)
     assert from_teeth.bodies == typed.bodies
     assert dataclasses.replace(from_teeth.meshes[0], place=None) == typed.meshes[0]
