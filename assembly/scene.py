@@ -169,8 +169,10 @@ class GearMesh:
     """Linear spring along the line of action between two parallel-axis gears.
 
     ``base_radius`` (m) is negative for an internal (ring) gear. ``pressure_angle`` is the
-    transverse operating pressure angle (rad, > 0); ``helix_angle`` (rad) is positive when
-    the teeth of gear 1 are turned left. ``drive_sign`` (+1/-1) picks the loaded flank: the
+    transverse operating pressure angle (rad, > 0); ``helix_angle`` (rad) is the line of
+    action's inclination to the transverse plane (the base helix angle), positive when gear 1
+    is left-hand (from teeth: minus gear 1's signed base helix angle, see
+    :func:`assembly.gear_data.mesh_helix`). ``drive_sign`` (+1/-1) picks the loaded flank: the
     sense of rotation of gear 1 about its axis that closes the mesh with gear 2 held.
     The centre distance between the gear centres must equal (r1 + r2)/cos(pressure_angle).
     ``center1``/``center2`` default to the bodies' positions (the gear's mid-face centre).

@@ -1,4 +1,4 @@
-"""``flexgear`` command line: modes, compare, static, run, sweep, demo, bench.
+"""``flexgear`` command line: modes, compare, static, run, sweep, demo, reference, bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
@@ -170,6 +170,16 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def cmd_reference(args) -> int:
+    """``flexgear reference``: the scene reference (Markdown) to stdout or ``--out``."""
+    from .reference import write_reference
+
+    text = write_reference(args.out)
+    if args.out is None:
+        sys.stdout.write(text)
+    return 0
+
+
 def cmd_bench(args) -> int:
     names = list(BENCHMARKS) if args.what == "all" else [args.what]
     for name in names:
@@ -228,6 +238,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=cmd_static)
     d = sub.add_parser("demo", help="mode tables of the shipped example scenes")
     d.set_defaults(func=cmd_demo)
+    r = sub.add_parser("reference", help="scene reference: every TOML key, its unit, range, default (Markdown)")
+    r.add_argument("--out", default=None, metavar="FILE", help="write to FILE instead of stdout")
+    r.set_defaults(func=cmd_reference)
     b = sub.add_parser("bench", help="benchmarks (print tables; not tests)")
     b.add_argument("what", choices=[*BENCHMARKS, "all"])
     b.add_argument("rest", nargs=argparse.REMAINDER, help="arguments passed to the benchmark")

@@ -1,0 +1,212 @@
+"""The scene reference stays complete and current, and its sign conventions hold.
+
+(a) every key the schema accepts -- found here by an independent walk of the scene
+dataclasses with ``dataclasses.fields`` (angle fields also as ``<key>_deg``) -- is a row of
+docs/scene_reference.md and has a description in ``assembly.scene_docs``; (b) the committed
+reference is the generator's output; (c) scene_docs describes no field that does not
+exist; (d) the TOML of the walk-through, read in order, is a valid scene whose load case
+loads every mesh on the flank the documented drive signs pick.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+import tomllib
+import typing
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from assembly import scene_docs
+from assembly.scene import Scene
+from fe_components.params import COMPONENT_KINDS
+
+ROOT = Path(__file__).resolve().parents[2]
+REFERENCE = ROOT / "docs" / "scene_reference.md"
+WALKTHROUGH = ROOT / "docs" / "scene_walkthrough.md"
+FENCE = re.compile(r"^```toml[ \t]*\n(.*?)^```[ \t]*$", re.MULTILINE | re.DOTALL)
+
+
+def _dataclasses_in(tp) -> list[type]:
+    """Dataclasses an annotation holds (directly, optional, or as tuple entries)."""
+    if dataclasses.is_dataclass(tp):
+        return [tp]
+    return [c for a in typing.get_args(tp) if a is not Ellipsis for c in _dataclasses_in(a)]
+
+
+def accepted_keys() -> dict[type, set[str]]:
+    """Class -> every key a table of it accepts (fields, ``_deg`` forms of angle fields),
+    for every dataclass reachable from Scene; a body's ``component`` table is one of
+    COMPONENT_KINDS (plus its ``kind`` key)."""
+    out: dict[type, set[str]] = {}
+    todo = [Scene]
+    while todo:
+        cls = todo.pop()
+        if cls in out:
+            continue
+        hints = typing.get_type_hints(cls)
+        keys = set()
+        for f in dataclasses.fields(cls):
+            if not f.init:
+                continue
+            keys.add(f.name)
+            if f.metadata.get("angle"):
+                keys.add(f.name + "_deg")
+            todo += _dataclasses_in(hints[f.name])
+            if f.name == "component":
+                todo += list(COMPONENT_KINDS.values())
+        if cls in COMPONENT_KINDS.values():
+            keys.add("kind")
+        out[cls] = keys
+    return out
+
+
+def reference_sections(text: str) -> list[set[str]]:
+    """Keys of each table section of the reference (its key column and degree column)."""
+    sections = []
+    for chunk in text.split("\n## ")[1:]:
+        keys = set()
+        for line in chunk.splitlines():
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip().strip("|"))]
+            if line.startswith("| `") and len(cells) == 7:
+                keys.add(cells[0].strip("`"))
+                if cells[5]:
+                    keys.add(cells[5].strip("`"))
+        sections.append(keys)
+    return sections
+
+
+def test_walk_finds_the_scene_tables():
+    # guards the walk: a short list would let the coverage test pass vacuously
+    names = {c.__name__ for c in accepted_keys()}
+    assert {"Scene", "Body", "FlexOptions", "Material", "Bearing", "GearMesh", "Shaft", "Fixed",
+            "PlanetaryStage", "Member", "Planets", "BearingSpec", "LoadCase", "GearTeeth", "ShaftSegment",
+            "PinionParams", "WheelParams", "CarrierParams", "CylinderParams"} <= names
+
+
+@pytest.mark.parametrize("cls", sorted(accepted_keys(), key=lambda c: c.__name__), ids=lambda c: c.__name__)
+def test_every_accepted_key_is_in_the_reference_and_described(cls):
+    keys = accepted_keys()[cls]
+    sections = reference_sections(REFERENCE.read_text(encoding="utf-8"))
+    best = max(sections, key=lambda s: len(keys & s))
+    missing = sorted(keys - best)
+    assert not missing, f"{cls.__name__}: keys missing from {REFERENCE.name}: {missing} (run `flexgear reference " \
+                        f"--out docs/scene_reference.md` after describing them in assembly/scene_docs.py)"
+    docs = scene_docs.FIELDS.get(cls.__name__, {})
+    undescribed = sorted(f.name for f in dataclasses.fields(cls) if f.init and not docs.get(f.name, "").strip())
+    assert not undescribed, f"{cls.__name__}: no description in assembly/scene_docs.py for {undescribed}"
+
+
+def test_committed_reference_is_the_generated_one():
+    from assembly.app.reference import reference_markdown
+    assert REFERENCE.read_text(encoding="utf-8") == reference_markdown(), \
+        "docs/scene_reference.md is stale: run `flexgear reference --out docs/scene_reference.md`"
+
+
+def test_cli_writes_the_reference(tmp_path, capsys):
+    from assembly.app.cli import main
+    out = tmp_path / "ref.md"
+    assert main(["reference", "--out", str(out)]) == 0
+    assert main(["reference"]) == 0
+    assert out.read_text(encoding="utf-8") == capsys.readouterr().out == REFERENCE.read_text(encoding="utf-8")
+
+
+def test_scene_docs_names_only_existing_fields():
+    classes = {c.__name__: c for c in accepted_keys()}
+    for table in (scene_docs.FIELDS, scene_docs.NOTES, scene_docs.EXTRA_KEYS):
+        stale = sorted(set(table) - set(classes))
+        assert not stale, f"assembly/scene_docs.py describes classes that no scene table uses: {stale}"
+    for name, fields in scene_docs.FIELDS.items():
+        have = {f.name for f in dataclasses.fields(classes[name]) if f.init}
+        stale = sorted(set(fields) - have)
+        assert not stale, f"assembly/scene_docs.py describes fields {name} no longer has: {stale}"
+    for name, keys in scene_docs.EXTRA_KEYS.items():
+        assert not set(keys) & accepted_keys()[classes[name]], "an extra key duplicates a field"
+
+
+def test_extra_carrier_keys_are_accepted():
+    # every key EXTRA_KEYS documents is read by the schema: 3 equally spaced planets from 30 deg
+    from assembly.schema import component_from_table
+    table = {"kind": "carrier", "pin_pitch_radius": 0.0978, "pin_bore_diameter": 0.03, "cheek_diameter": 0.27,
+             "cheek_thickness": 0.015, "cheek_spacing": 0.05, "post_diameter": 0.03, "seat_a_diameter": 0.08,
+             "seat_a_length": 0.03, "seat_b_diameter": 0.09, "seat_b_length": 0.04, "output_bore_diameter": 0.05}
+    assert set(scene_docs.EXTRA_KEYS["CarrierParams"]) == {"n_planets", "first_planet_angle", "first_planet_angle_deg"}
+    a = component_from_table({**table, "n_planets": 3, "first_planet_angle_deg": 30.0}, "c").planet_angles
+    b = component_from_table({**table, "n_planets": 3, "first_planet_angle": math.radians(30.0)}, "c").planet_angles
+    assert np.allclose(a, b) and np.allclose(np.degrees(a), [30.0, 150.0, 270.0])
+
+
+def test_reference_toml_snippets_parse_and_validate():
+    from assembly.schema import scene_from_dict
+    for block in FENCE.findall(REFERENCE.read_text(encoding="utf-8")):
+        scene_from_dict(tomllib.loads(block))
+
+
+def walkthrough_data() -> dict:
+    blocks = FENCE.findall(WALKTHROUGH.read_text(encoding="utf-8"))
+    assert len(blocks) >= 6, "the walk-through lost its TOML blocks"
+    return tomllib.loads("\n".join(blocks))
+
+
+def _mesh_forces(scene) -> dict:
+    """Mesh name -> compressive force (N) under the scene's load case."""
+    from assembly.static import solve_static
+    st = solve_static(scene, scene.load)
+    m = st.model
+    return {el.name: float((el.k * (el.B @ (m.attachment_operator(el) @ st.z)))[0])
+            for el in m.elements if el.kind == "mesh"}
+
+
+def test_walkthrough_scene_loads_every_mesh_on_its_flank():
+    from assembly import assemble, solve_modes
+    from assembly.schema import scene_from_dict
+    data = walkthrough_data()
+    scene = scene_from_dict(data)
+    res = solve_modes(assemble(scene))
+    assert res.n_rigid == 1          # pinion-wheel-sun-planets-carrier: one free rotation
+    forces = _mesh_forces(scene)
+    assert len(forces) == 9 and all(f > 0 for f in forces.values()), forces
+    # Statics: tooth normal force T / (r_b cos beta) on the pinion; the wheel torque
+    # T r_b2 / r_b1 reaches the sun, whose meshes carry it at the sun base radius.
+    mesh = data["meshes"][0]
+    T, rb1, rb2 = data["load"]["torque"], mesh["base_radius1"], mesh["base_radius2"]
+    beta = math.radians(mesh["helix_angle_deg"])
+    assert forces["pinion-wheel"] == pytest.approx(T / (rb1 * math.cos(beta)), rel=1e-6)
+    sun = sum(f for k, f in forces.items() if "sun-planet" in k)
+    assert sun * data["stages"][0]["sun"]["base_radius"] == pytest.approx(T * rb2 / rb1, rel=1e-6)
+    # the other stage drive sign puts the sun meshes on the unloaded flank (in tension)
+    data["stages"][0]["drive_sign"] = 1
+    flipped = _mesh_forces(scene_from_dict(data))
+    assert all(f < 0 for k, f in flipped.items() if "sun-planet" in k)
+
+
+def test_mesh_helix_is_minus_gear1_teeth_helix():
+    """The flank normal of a right-hand gear 1 (GearTeeth.helix_angle > 0: the transverse
+    profile turns by tan(beta) / r_p per unit z) is the line of action of a mesh whose
+    helix angle is negative, on either flank (involute helicoid: the normal lies in the
+    plane of action at the base helix angle, ISO 21771)."""
+    from assembly.elements import line_of_action
+    from fe_components.involute import flank_half_angle
+    from fe_components.params import GearTeeth
+
+    t = GearTeeth(23, 0.004, math.radians(20.0), 0.05, helix_angle=math.radians(12.0))
+    rp, rb, at = t.pitch_radius, t.base_radius, t.transverse_pressure_angle
+    beta_b = math.atan(math.tan(t.helix_angle) * rb / rp)   # base helix angle
+
+    def flank(r, z, side):  # side +1: the flank facing positive rotation
+        a = z * math.tan(t.helix_angle) / rp + side * (float(flank_half_angle(t, r)) - float(flank_half_angle(t, rp)))
+        return np.array([r * math.cos(a), r * math.sin(a), z])
+
+    h = 1e-7
+    for drive_sign in (1, -1):
+        d_r = flank(rp + h, 0.0, drive_sign) - flank(rp - h, 0.0, drive_sign)
+        d_z = flank(rp, h, drive_sign) - flank(rp, -h, drive_sign)
+        normal = np.cross(d_r, d_z)
+        normal *= np.sign(normal[1] * drive_sign) / np.linalg.norm(normal)  # out of the tooth
+        c2 = (2 * rb / math.cos(at), 0.0, 0.0)
+        n_minus, _ = line_of_action((0, 0, 1), (0, 0, 0), c2, rb, rb, at, -beta_b, drive_sign)
+        n_plus, _ = line_of_action((0, 0, 1), (0, 0, 0), c2, rb, rb, at, beta_b, drive_sign)
+        assert normal @ n_minus == pytest.approx(1.0, abs=1e-6)
+        assert normal @ n_plus < 1.0 - 1e-3
