@@ -6,7 +6,9 @@ One generic converter instead of a hand-written parser per table: every dataclas
 read with its annotated type, unknown keys and missing fields are refused, and every error
 names the full scene path (``stages[0].planets.count``) and the offending value. Scene and
 component tables (fe_components parameters) go through the same converter, so a string, a
-bool or a NaN where a number belongs is refused the same way in both.
+bool or a NaN where a number belongs is refused the same way in both. A ``component``
+field holds the parameter object: its table (``kind`` picks the class) is converted once,
+here -- also a plain dict given in Python, by :func:`check_instance`.
 
 Field rules declared on the dataclasses are applied to every value before any other rule
 uses it: a number's unit and range (:mod:`fe_components.fields`: finite, of physical

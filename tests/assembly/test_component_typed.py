@@ -14,6 +14,7 @@ import pytest
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
 from assembly.scene import Body, Scene
+from assembly.scene_toml import scene_to_toml
 from assembly.schema import SCENE_DIR, load_scene, scene_from_dict, to_dict
 from fe_components.errors import GeometryError
 from fe_components.geometry import interface_defs
@@ -118,28 +119,28 @@ def test_stage_carrier_typed_without_pins_gets_them_from_the_stage():
     assert Scene(**given) == pfc
 
 
-def test_pins_on_a_stage_carrier_are_refused():
+def _carrier_table_error(key: str, value) -> SceneError:
+    """The error of planetary_flexible_carrier.toml with ``key = value`` in its carrier table."""
     data = tomllib.loads(PFC_FILE.read_text())
-    data["stages"][0]["carrier"]["component"]["n_planets"] = 3
+    data["stages"][0]["carrier"]["component"][key] = value
     with pytest.raises(SceneError) as e:
         scene_from_dict(data)
-    assert e.value.path == "stages[0].carrier.component.n_planets" and e.value.value == 3
-    data["stages"][0]["carrier"]["component"].pop("n_planets")
-    data["stages"][0]["carrier"]["component"]["pin_pitch_radius"] = 0.1
-    with pytest.raises(SceneError) as e:
-        scene_from_dict(data)
-    assert e.value.path == "stages[0].carrier.component.pin_pitch_radius" and "set by the stage" in e.value.reason
+    return e.value
+
+
+def test_pins_on_a_stage_carrier_are_refused():
+    err = _carrier_table_error("n_planets", 3)
+    assert err.path == "stages[0].carrier.component.n_planets" and err.value == 3
+    err = _carrier_table_error("pin_pitch_radius", 0.1)
+    assert err.path == "stages[0].carrier.component.pin_pitch_radius" and "set by the stage" in err.reason
 
 
 def test_stage_pins_that_break_the_carrier_name_its_table():
     # pins on the carrier radius R_c = (0.0387 + 0.0502) / cos(24.6 deg) = 0.0978 m (the sun
     # mesh): bores of 0.08 m reach past the cheek rim (radius 0.135 m), 0.0978 + 0.04 > 0.135
-    data = tomllib.loads(PFC_FILE.read_text())
-    data["stages"][0]["carrier"]["component"]["pin_bore_diameter"] = 0.08
-    with pytest.raises(SceneError) as e:
-        scene_from_dict(data)
-    assert e.value.path == "stages[0].carrier.component.pin_bore_diameter" and e.value.value == 0.08
-    assert "cheek rim" in e.value.reason
+    err = _carrier_table_error("pin_bore_diameter", 0.08)
+    assert err.path == "stages[0].carrier.component.pin_bore_diameter" and err.value == 0.08
+    assert "cheek rim" in err.reason
 
 
 def test_a_carrier_body_without_pins_is_refused_naming_the_field():
@@ -195,3 +196,10 @@ def test_components_round_trip_as_tables():
     carrier = d["stages"][0]["carrier"]["component"]
     assert next(iter(carrier)) == "kind" and "planet_angles" not in carrier
     assert scene_from_dict(d) == load_scene(PFC_FILE)
+
+
+def test_a_python_built_scene_saves_and_reads_back():
+    typed = _with_components(HS, PINION, WHEEL)
+    text = scene_to_toml(typed)
+    assert scene_from_dict(tomllib.loads(text)) == typed
+    assert 'kind = "wheel"' in text
