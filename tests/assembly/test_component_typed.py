@@ -117,6 +117,14 @@ def test_stage_carrier_typed_without_pins_gets_them_from_the_stage():
     given = {f.name: pfc.as_given(f.name) for f in dataclasses.fields(Scene)}
     given["stages"] = (dataclasses.replace(given["stages"][0], carrier=carrier),)
     assert Scene(**given) == pfc
+    # and as a plain dict in Python: converted with the table's messages
+    table = tomllib.loads(PFC_FILE.read_text())["stages"][0]["carrier"]["component"]
+    given["stages"] = (dataclasses.replace(given["stages"][0], carrier=dataclasses.replace(carrier, component=table)),)
+    assert Scene(**given) == pfc
+    table["cheek_thickness"] = -0.015
+    with pytest.raises(SceneError) as e:
+        Scene(**given)
+    assert e.value.path == "stages[0].carrier.component.cheek_thickness" and e.value.value == -0.015
 
 
 def _carrier_table_error(key: str, value) -> SceneError:
