@@ -8,17 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .components import component_params, global_masters
+from .components import global_masters
 from .errors import SceneError
 
 
-def component_masters(scene, origin: dict) -> dict:
+def component_masters(scene) -> dict:
     """Body name -> {interface: global master position (m)} for bodies with a component."""
     out = {}
     for b in scene.bodies:
         if b.component is not None:
-            params = component_params(b, f"{origin.get(b.name, b.name)}.component")
-            out[b.name] = global_masters(b, params)
+            out[b.name] = global_masters(b)
     return out
 
 

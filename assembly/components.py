@@ -1,4 +1,4 @@
-"""Component bodies: a body's ``component`` table -> fe_components parameters, placement,
+"""Component bodies (a body's ``component``: fe_components parameters): placement,
 interface master points, and the FE model (meshed with gmsh, assembled with scikit-fem).
 
 Master points come from the component geometry alone (no meshing), so a scene is
@@ -26,7 +26,6 @@ import numpy as np
 
 from .kinematics import axis_frame
 from .scene import FlexOptions
-from .schema import component_from_table
 
 log = logging.getLogger(__name__)
 
@@ -49,11 +48,6 @@ class CacheDirs:
     superelements: Path = field(default_factory=lambda: default_cache_root() / "cms")
 
 
-def component_params(body, path: str):
-    """fe_components parameters of a body's ``component`` table (errors name ``path``)."""
-    return component_from_table(body.component, path)
-
-
 def local_masters(params) -> dict:
     """Interface name -> master position in the component's local axes (m); no meshing."""
     from fe_components.geometry import interface_defs
@@ -65,10 +59,10 @@ def placement(body):
     return np.asarray(body.position, float), axis_frame(body.axis)
 
 
-def global_masters(body, params) -> dict:
+def global_masters(body) -> dict:
     """Interface name -> global master position (m) of a placed component body."""
     o, R = placement(body)
-    return {k: o + R @ v for k, v in local_masters(params).items()}
+    return {k: o + R @ v for k, v in local_masters(body.component).items()}
 
 
 def mesh_size(params, options: FlexOptions) -> float:
@@ -147,8 +141,8 @@ def build_fe(params, options: FlexOptions, caches: CacheDirs, mesh_sha256: str |
     return _FE_MEMO[key]
 
 
-def mass_properties(body, params, options: FlexOptions, caches: CacheDirs):
+def mass_properties(body, options: FlexOptions, caches: CacheDirs):
     """(mass kg, COM global, inertia global about COM, FE model) of a component body."""
-    fe = build_fe(params, options, caches)
+    fe = build_fe(body.component, options, caches)
     o, R = placement(body)
     return fe.mass, o + R @ fe.center_of_mass, R @ fe.inertia @ R.T, fe

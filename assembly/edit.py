@@ -49,13 +49,13 @@ def parse_path(path: str) -> list:
 
 
 def _dataclass_of(tp):
-    """The dataclass inside ``Optional[...]``, or None."""
+    """The dataclass inside ``Optional[...]``, or None (also for a union of several, such
+    as a component: its table's ``kind`` names the class)."""
     if dataclasses.is_dataclass(tp):
         return tp
-    for a in get_args(tp) if get_origin(tp) in (typing.Union, types.UnionType) else ():
-        if dataclasses.is_dataclass(a):
-            return a
-    return None
+    found = [a for a in (get_args(tp) if get_origin(tp) in (typing.Union, types.UnionType) else ())
+             if dataclasses.is_dataclass(a)]
+    return found[0] if len(found) == 1 else None
 
 
 def _item_type(tp):

@@ -218,11 +218,12 @@ def cutoff_source(path: str, options: FlexOptions, band_hz: float) -> tuple[str,
     return "band_hz", band_hz
 
 
-def flexible_body(body, params, options: FlexOptions, band_hz: float, reduce: bool = True,
+def flexible_body(body, options: FlexOptions, band_hz: float, reduce: bool = True,
                   caches: CacheDirs | None = None, path: str | None = None) -> FlexibleBodyModel:
-    """The flexible model of ``body``: Craig-Bampton superelement (cached) or full FE.
-    ``path``: the body's table in the scene (``bodies[1]``, ``stages[0].carrier``) for
-    error messages (default: its name)."""
+    """The flexible model of ``body`` (its ``component`` parameters): Craig-Bampton
+    superelement (cached) or full FE. ``path``: the body's table in the scene (``bodies[1]``,
+    ``stages[0].carrier``) for error messages (default: its name)."""
+    params = body.component
     caches = caches or CacheDirs()
     options = dataclasses.replace(options, mesh_size=mesh_size(params, options))
     t0 = time.perf_counter()

@@ -24,9 +24,10 @@ import math
 
 from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometry, pair_mismatch,
                                      working_centre_distance, working_pressure_angle)
+from fe_components.params import PinionParams, WheelParams
 
 from .errors import SceneError
-from .schema import as_written, component_from_table, keep_degrees
+from .schema import as_written, keep_degrees
 
 #: Relative agreement required between a typed gear number and the one its teeth give:
 #: the centre-distance check of :mod:`assembly.validate` holds geometry to the same 1e-6.
@@ -38,17 +39,12 @@ AGREEMENT = 1e-6
 #: reference gearbox of Nejad et al. 2016, Table V: 4.7 um and 2.7 um, i.e. 1e-4 m_n.)
 RING_CENTRE_TOLERANCE = 0.01
 
-_EXTERNAL_KINDS = ("pinion", "wheel")
-
-
 def body_teeth(b, path: str):
     """(path of the teeth table, GearTeeth) of a body, or None: ``Body.teeth``, or its
     pinion / wheel component's ``teeth``; both given must be equal."""
     own = (f"{path}.teeth", b.teeth) if b.teeth is not None else None
     comp = None
-    if isinstance(b.component, dict) and b.component.get("kind") in _EXTERNAL_KINDS:
-        comp = (f"{path}.component.teeth", component_from_table(b.component, f"{path}.component").teeth)
-    elif b.component is not None and hasattr(b.component, "teeth"):
+    if isinstance(b.component, (PinionParams, WheelParams)):
         comp = (f"{path}.component.teeth", b.component.teeth)
     if comp is not None and b.internal:
         raise SceneError(f"{path}.internal", True, "a pinion or wheel component has external teeth")

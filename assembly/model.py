@@ -20,7 +20,7 @@ import scipy.sparse as sp
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
-from .components import CacheDirs, component_params, mass_properties
+from .components import CacheDirs, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
 from .elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
@@ -156,12 +156,11 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
             out[b.name] = RigidBodyModel.from_body(b)
             continue
         path = paths.get(b.name, b.name)
-        params = component_params(b, f"{path}.component")
         opts = b.flex or FlexOptions()
         if b.fidelity == "flexible":
-            out[b.name] = flexible_body(b, params, opts, band, reduce=not full_fe, caches=caches, path=path)
+            out[b.name] = flexible_body(b, opts, band, reduce=not full_fe, caches=caches, path=path)
         else:
-            mass, com, J, _ = mass_properties(b, params, opts, caches)
+            mass, com, J, _ = mass_properties(b, opts, caches)
             out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J,
                                                               axis_point=b.position)
         if progress is not None:
@@ -232,7 +231,7 @@ def _absolute_model(sc: Scene, order: list, bodies: dict,
     for b in order:
         offsets[b.name] = n
         n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies, component_masters(sc, {b.name: b.name for b in sc.bodies}))
+    elements = build_elements(sc, bodies, component_masters(sc))
     abs_names = [name for b in order for name in bodies[b.name].dof_names()]
     M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")

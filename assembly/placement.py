@@ -23,6 +23,8 @@ import math
 
 import numpy as np
 
+from fe_components.errors import GeometryError
+
 from .errors import SceneError
 from .kinematics import axis_frame
 from .schema import keep_degrees
@@ -36,8 +38,11 @@ def _gear_offset(body, interface, path: str) -> np.ndarray:
     """Global vector from the body's position to its gear centre (0 for a plain body)."""
     if body.component is None:
         return np.zeros(3)
-    from .components import component_params, local_masters
-    masters = local_masters(component_params(body, f"{path}.component"))
+    from .components import local_masters
+    try:
+        masters = local_masters(body.component)
+    except GeometryError as err:  # a carrier without its pins
+        raise SceneError(f"{path}.component.{err.parameter}", err.value, err.reason) from None
     name = interface or "gear_mesh"
     if name not in masters:
         raise SceneError(f"{path}.component", name, f"no such interface; have {sorted(masters)}")

@@ -11,24 +11,39 @@ mesh forces have equal tangential and opposite radial components.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
+from fe_components.errors import GeometryError
+from fe_components.params import CarrierParams
+
+from .errors import SceneError
 from .kinematics import axis_frame
 from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
+
+
+def carrier_pins(params: CarrierParams, angles, radius: float, path: str) -> CarrierParams:
+    """The stage's carrier ``params`` with its pins at the planets: ``angles`` (rad) on
+    ``radius`` (m, the carrier radius). A pin check that fails names ``path``."""
+    try:
+        return dataclasses.replace(params, planet_angles=tuple(angles), pin_pitch_radius=radius)
+    except GeometryError as err:
+        raise SceneError(f"{path}.{err.parameter}", err.value, err.reason) from None
 
 
 def expand_stages(scene) -> dict:
     """Bodies, bearings, meshes and fixed DOFs of ``scene`` with every planetary stage
     expanded (the scene's own elements first, then each stage's in order)."""
-    parts = [expand_stage(st) for st in scene.stages]
+    parts = [expand_stage(st, f"stages[{i}]") for i, st in enumerate(scene.stages)]
     return {key: getattr(scene, key) + sum((p[key] for p in parts), ())
             for key in ("bodies", "bearings", "meshes", "fixed")}
 
 
-def expand_stage(st: PlanetaryStage) -> dict:
-    """Bodies, bearings, meshes and fixed DOFs of one planetary stage."""
+def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
+    """Bodies, bearings, meshes and fixed DOFs of one planetary stage (``path``: its scene
+    path, for errors)."""
     E = axis_frame(st.axis)
     c = np.asarray(st.center, float)
     Rc = st.carrier_radius()
@@ -39,7 +54,7 @@ def expand_stage(st: PlanetaryStage) -> dict:
         bname = f"{n}.{role}"
         comp = None
         if m.component is not None:
-            comp = {**m.component, "planet_angles": list(st.planet_angles()), "pin_pitch_radius": Rc}
+            comp = carrier_pins(m.component, st.planet_angles(), Rc, f"{path}.{role}.component")
         bodies.append(Body(name=bname, mass=m.mass, polar_inertia=m.polar_inertia,
                            transverse_inertia=m.transverse_inertia, position=tuple(c),
                            axis=tuple(E[:, 2]), fidelity=m.fidelity, stage=n, role=role,

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fe_components.params import component_kind
+
 from .errors import SceneError
 from .validate import body_origins, element_paths
 
@@ -308,7 +310,7 @@ def body_field(paths: ScenePaths, body: str, field: str) -> tuple:
     """(path, value) of a body's mass field as the user wrote it."""
     path, b = paths.bodies[body]
     if b.component is not None:
-        return f"{path}.component", b.component.get("kind")
+        return f"{path}.component", component_kind(b.component)
     if b.inertia_tensor is not None and field != "mass":
         field = "inertia_tensor"
     elif field == "transverse_inertia" and b.transverse_inertia is None:

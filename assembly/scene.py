@@ -29,7 +29,7 @@ import numpy as np
 
 from fe_components.fields import quantity
 from fe_components.material import STEEL, Material
-from fe_components.params import MAX_PLANETS, GearTeeth
+from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
 
 from .errors import SceneError
 
@@ -96,9 +96,12 @@ class Body:
     Give ``mass`` and either ``polar_inertia`` (about the rotation axis, kg m^2) with
     optional ``transverse_inertia`` (default polar/2, a thin disc), or a full 3x3
     ``inertia_tensor`` in the body's local axes (x, y, axis) -- or instead a ``component``
-    table (fe_components: pinion, wheel, carrier, cylinder), whose mesh then gives mass and
-    inertia at every fidelity; ``position`` is then where the component's local origin sits
-    (its local z along ``axis``). ``fidelity = "flexible"`` needs a component; ``flex``
+    (:class:`fe_components.params.PinionParams`, ``WheelParams``, ``CarrierParams`` or
+    ``CylinderParams``; a scene file gives a table with ``kind``, converted once by
+    :mod:`assembly.schema`, as is a plain dict given in Python), whose mesh then gives mass
+    and inertia at every fidelity; ``position`` is then where the component's local origin
+    sits (its local z along ``axis``). A carrier body needs its ``planet_angles`` and
+    ``pin_pitch_radius``. ``fidelity = "flexible"`` needs a component; ``flex``
     says how it is meshed and reduced. ``fidelity`` left out: the scene's ``fidelity``
     (default "rigid").
 
@@ -123,7 +126,7 @@ class Body:
     fidelity: Optional[Fidelity] = None
     stage: Optional[str] = None
     role: Optional[str] = None
-    component: Optional[dict] = None
+    component: Optional[ComponentParams] = None
     flex: Optional[FlexOptions] = None
     teeth: Optional[GearTeeth] = None
     internal: bool = False
@@ -257,8 +260,9 @@ class Member:
     """Sun, ring or carrier. ``support``: 'bearing' (to the housing, stiffness ``bearing``;
     a ring on a torsional spring is a bearing with k_torsion), 'fixed' (all six DOFs held)
     or 'floating' (no bearing at all). ``base_radius`` (m, positive) for sun and ring.
-    The carrier may instead be a ``component`` (fe_components carrier without
-    ``planet_angles``/``pin_pitch_radius``: the stage places the pins at its planets) with
+    The carrier may instead be a ``component`` (a :class:`fe_components.params.CarrierParams`,
+    or a table / dict of ``kind = "carrier"``, without ``planet_angles``/``pin_pitch_radius``:
+    the stage places the pins at its planets) with
     ``flex`` options; its bearing then acts at the component's ``bearing_interface``.
     ``teeth`` (number of teeth, sun and ring) and ``profile_shift`` (ISO 21771 x, the
     ring's as given in ISO's convention) replace ``base_radius`` when the stage gives
@@ -271,7 +275,7 @@ class Member:
     support: Support = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Optional[Fidelity] = None
-    component: Optional[dict] = None
+    component: Optional[ComponentParams] = None
     flex: Optional[FlexOptions] = None
     bearing_interface: str = "bearing_b"
     teeth: Optional[int] = quantity("", None, integer=True, ge=3)
@@ -408,9 +412,12 @@ class Scene:
         if not _TRUSTED.get():
             # these read the types defined here: import when used
             from .gear_data import resolve
-            from .schema import check_instance
+            from .schema import checked_fields
             from .validate import validate_scene
-            check_instance(self)   # types and ranges before anything derives from them
+            # types and ranges before anything derives from them; a component given as a
+            # table (dict) becomes its parameter object here, once
+            for key, value in checked_fields(self).items():
+                object.__setattr__(self, key, value)
             resolved = resolve(self)
             # what the user wrote, before numbers derived from teeth and the scene's default
             # fidelity were filled in: editing and saving work on it (see :meth:`as_given`)

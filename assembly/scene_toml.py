@@ -3,9 +3,9 @@
 ``scene_from_dict(tomllib.loads(scene_to_toml(scene))) == scene`` for every valid scene:
 floats are written by ``repr`` (the shortest text that reads back to the same double;
 ``inf`` for a rigid direction), angles in radians (no ``_deg`` rounding), fields at their
-default left out, a component as a table with its ``kind`` first. The writer is generic over
-dataclasses and plain dicts (:func:`assembly.schema.to_dict`), so typed component
-parameters and the plain component tables of a scene file are written alike.
+default left out, a component (its fe_components parameter object) as a table with its
+``kind`` first. The writer is generic over dataclasses and plain dicts
+(:func:`assembly.schema.to_dict`).
 """
 from __future__ import annotations
 

@@ -6,7 +6,9 @@ One generic converter instead of a hand-written parser per table: every dataclas
 read with its annotated type, unknown keys and missing fields are refused, and every error
 names the full scene path (``stages[0].planets.count``) and the offending value. Scene and
 component tables (fe_components parameters) go through the same converter, so a string, a
-bool or a NaN where a number belongs is refused the same way in both.
+bool or a NaN where a number belongs is refused the same way in both. A ``component``
+field holds the parameter object: its table (``kind`` picks the class) is converted once,
+here -- also a plain dict given in Python, by :func:`check_instance`.
 
 Field rules declared on the dataclasses are applied to every value before any other rule
 uses it: a number's unit and range (:mod:`fe_components.fields`: finite, of physical
@@ -34,7 +36,7 @@ from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 import numpy as np
 from fe_components.errors import GeometryError
 from fe_components.fields import value_problem
-from fe_components.params import MAX_PLANETS
+from fe_components.params import COMPONENT_KINDS, MAX_PLANETS, CarrierParams
 
 from .errors import SceneError
 from .scene import MAX_NAME_LENGTH, Scene
@@ -67,13 +69,16 @@ def convert(tp, value: Any, path: str, strict: bool = False):
     """Convert ``value`` to the annotated type ``tp`` or raise SceneError at ``path``.
 
     ``strict``: check a value built in Python instead (a dataclass field must hold an
-    instance of its class, whose own fields are checked in turn by :func:`check_instance`).
+    instance of its class, whose own fields are checked in turn by :func:`check_instance`;
+    only a component may still be given as a dict, converted as from a table).
     Ranges are the field rules' business (:func:`check_rules`), not the type's."""
     origin = get_origin(tp)
     if origin in (Union, types.UnionType):
         args = [a for a in get_args(tp) if a is not type(None)]
         if value is None:
             return None
+        if frozenset(args) == _COMPONENT_CLASSES:
+            return _component(value, path, strict)
         errors = []
         for a in args:
             try:
@@ -115,8 +120,7 @@ def convert(tp, value: Any, path: str, strict: bool = False):
         if strict:
             if not isinstance(value, tp):
                 raise SceneError(path, value, f"must be a {tp.__name__}")
-            check_instance(value, path)
-            return value
+            return check_instance(value, path)
         return from_dict(tp, value, path)
     if tp is dict:
         if not isinstance(value, dict):
@@ -125,6 +129,22 @@ def convert(tp, value: Any, path: str, strict: bool = False):
     if tp is typing.Any:
         return value
     raise TypeError(f"schema: unsupported annotation {tp!r} at {path}")
+
+
+#: The fe_components parameter classes a ``component`` field may hold.
+_COMPONENT_CLASSES = frozenset(COMPONENT_KINDS.values())
+
+
+def _component(value, path: str, strict: bool):
+    """A component field: a parameter object (checked field by field when built in Python),
+    or a table / dict with ``kind``, converted once (:func:`component_from_table`)."""
+    if isinstance(value, tuple(_COMPONENT_CLASSES)):
+        return check_instance(value, path) if strict else value
+    if isinstance(value, dict):
+        return component_from_table(value, path)
+    names = ", ".join(c.__name__ for c in COMPONENT_KINDS.values())
+    raise SceneError(path, value, f"must be a component ({names}) or a table with kind "
+                                  f"({', '.join(COMPONENT_KINDS)})")
 
 
 def from_dict(cls, data: Any, path: str = ""):
@@ -197,12 +217,21 @@ def given_in_degrees(obj) -> frozenset:
     return getattr(obj, "__dict__", {}).get(_DEGREES, frozenset())
 
 
+#: Attribute on carrier parameters read from a table that gave ``n_planets``: its value.
+_N_PLANETS = "_n_planets_given"
+
+
 def as_written(obj, field: str, path: str, value=None):
     """(path, value) of ``obj.field`` (or ``value`` of that field) as the user wrote it:
-    ``path_deg`` and degrees for an angle given in degrees, else ``path`` and SI."""
+    ``path_deg`` and degrees for an angle given in degrees, a carrier's ``n_planets`` for
+    the planet angles it gave, else ``path`` and SI."""
+    if field == "planet_angles" and _N_PLANETS in getattr(obj, "__dict__", {}):
+        return f"{path.removesuffix(field)}n_planets", obj.__dict__[_N_PLANETS]
     value = getattr(obj, field) if value is None else value
     if field in given_in_degrees(obj) and isinstance(value, (int, float)):
         return f"{path}_deg", float(f"{math.degrees(value):.12g}")   # 20.0, not 20.000000000000004
+    if field in given_in_degrees(obj) and isinstance(value, tuple):
+        return f"{path}_deg", [float(f"{math.degrees(v):.12g}") for v in value]
     return path, value
 
 
@@ -243,17 +272,41 @@ def name_problem(name) -> str | None:
     return None
 
 
-def check_instance(obj, path: str = "") -> None:
+def check_instance(obj, path: str = ""):
     """Check a dataclass built in Python field by field, as if read from a table: the
     field's rules, then its annotated type (:func:`convert` in strict mode, recursing into
-    nested dataclasses). Raises SceneError naming ``path.field``."""
+    nested dataclasses). Raises SceneError naming ``path.field``. Returns ``obj``, or a copy
+    holding the parameter objects of the components given as dicts (:func:`checked_fields`)."""
+    changes = checked_fields(obj, path)
+    return keep_degrees(obj, dataclasses.replace(obj, **changes)) if changes else obj
+
+
+def checked_fields(obj, path: str = "") -> dict:
+    """Check ``obj`` as :func:`check_instance` does; returns {field: value} of the fields
+    whose value the check converted: a component given as a dict (its parameter object),
+    or a table or list holding one."""
     hints = _hints(type(obj))
+    changes = {}
     for f in dataclasses.fields(obj):
         if f.init:
             p = _join(path, f.name)
             value = getattr(obj, f.name)
             check_rules(f, value, p)
-            convert(hints[f.name], value, p, strict=True)
+            new = convert(hints[f.name], value, p, strict=True)
+            if _converted(value, new):
+                changes[f.name] = new
+    return changes
+
+
+def _converted(old, new) -> bool:
+    """Whether :func:`convert` made a new object worth keeping of ``old``: a component dict
+    turned into its parameters, or a dataclass or array holding one (numbers and plain
+    tables stay as the caller gave them)."""
+    if isinstance(old, dict):
+        return not isinstance(new, dict)
+    if isinstance(old, (list, tuple)) and isinstance(new, tuple) and len(old) == len(new):
+        return any(_converted(a, b) for a, b in zip(old, new))
+    return dataclasses.is_dataclass(old) and new is not old
 
 
 def _all_required(cls) -> bool:
@@ -266,21 +319,20 @@ def component_from_table(table: Any, path: str):
     carrier, cylinder) picks the parameter class, the other keys are its fields (angles may
     be given in degrees under ``<name>_deg``). A carrier may give ``n_planets`` (and
     ``first_planet_angle``) instead of ``planet_angles``."""
-    from fe_components.params import COMPONENT_KINDS, CarrierParams
     kind = table.get("kind") if isinstance(table, dict) else None
     if not isinstance(kind, str) or kind not in COMPONENT_KINDS:
         raise SceneError(f"{path}.kind", kind, f"must be one of {sorted(COMPONENT_KINDS)}")
     data = {k: v for k, v in table.items() if k != "kind"}
     cls = COMPONENT_KINDS[kind]
-    if cls is CarrierParams:
-        data = _equally_spaced_planets(data, path)
+    if cls is CarrierParams and "n_planets" in data:
+        params = from_dict(cls, _equally_spaced_planets(data, path), path)
+        object.__setattr__(params, _N_PLANETS, data["n_planets"])  # as written, for messages
+        return params
     return from_dict(cls, data, path)
 
 
 def _equally_spaced_planets(data: dict, path: str) -> dict:
     """``n_planets`` (+ ``first_planet_angle`` in rad, or ``_deg``) -> ``planet_angles``."""
-    if "n_planets" not in data:
-        return data
     data = dict(data)
     n = data.pop("n_planets")
     if "planet_angles" in data or "planet_angles_deg" in data:
@@ -301,8 +353,8 @@ def to_dict(obj, defaults: bool = True) -> dict:
     the user gave it, see :meth:`Scene.as_given`; with
     ``defaults=False`` also the fields at their default). A component's parameters
     (fe_components) become a table with its ``kind`` first, as a scene file gives it."""
-    from fe_components.params import COMPONENT_KINDS, component_kind
-    out = {"kind": component_kind(obj)} if type(obj) in COMPONENT_KINDS.values() else {}
+    from fe_components.params import component_kind
+    out = {"kind": component_kind(obj)} if type(obj) in _COMPONENT_CLASSES else {}
     given = getattr(obj, "as_given", functools.partial(getattr, obj))  # a Scene: as written
     for f in dataclasses.fields(obj):
         v = given(f.name)

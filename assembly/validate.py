@@ -17,15 +17,15 @@ import math
 import numpy as np
 
 from fe_components.geometry import volume_lower_bound
+from fe_components.params import CarrierParams, component_kind
 
 from .attach import bearing_point, component_masters, interface_point, mesh_centers, shaft_points
-from .components import component_params
 from .constraints import can_constrain
 from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .kinematics import unit
 from .scene import MAX_MODES, HOUSING, DOF_NAMES, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
-from .schema import check_instance
+from .schema import as_written, check_instance
 
 
 def _nonzero_axis(path, axis) -> None:
@@ -64,6 +64,13 @@ def _check_component_body(b: Body, path: str) -> None:
         if getattr(b, f) is not None:
             raise SceneError(f"{path}.{f}", getattr(b, f),
                              "a body with a component takes mass and inertia from its mesh")
+    if isinstance(b.component, CarrierParams):
+        for f in ("planet_angles", "pin_pitch_radius"):
+            if getattr(b.component, f) is None:
+                raise SceneError(f"{path}.component.{f}", None,
+                                 "missing: a carrier body needs its planet pins (planet_angles or n_planets, "
+                                 "and pin_pitch_radius); only a planetary stage's carrier takes them from "
+                                 "its planets")
     if b.flex is not None:
         check_flex(b.flex, f"{path}.flex")
 
@@ -135,12 +142,13 @@ def check_stage(st: PlanetaryStage, path: str) -> None:
 
 def _check_member(m, role: str, p: str) -> None:
     if m.component is not None:
-        if role != "carrier":
-            raise SceneError(f"{p}.component", m.component.get("kind"),
-                             "only the carrier of a planetary stage can be a component so far")
-        for f in ("planet_angles", "pin_pitch_radius", "n_planets"):
-            if f in m.component or f + "_deg" in m.component:
-                raise SceneError(f"{p}.component.{f}", m.component.get(f, m.component.get(f + "_deg")),
+        if role != "carrier" or not isinstance(m.component, CarrierParams):
+            raise SceneError(f"{p}.component", component_kind(m.component),
+                             "only the carrier of a planetary stage can be a component so far "
+                             "(of kind 'carrier')")
+        for f in ("planet_angles", "pin_pitch_radius"):
+            if getattr(m.component, f) is not None:
+                raise SceneError(*as_written(m.component, f, f"{p}.component.{f}"),
                                  "set by the stage from its planets; remove it")
         if m.mass is not None or m.polar_inertia is not None:
             raise SceneError(f"{p}.mass", m.mass, "a component carrier takes mass and inertia from its mesh")
@@ -361,7 +369,6 @@ def _gear_fields(scene, m, p: str, names: dict):
     """(radius fields, pressure-angle field as written, its value as written) of a mesh at
     path ``p``: the mesh's own fields (marked as derived when its gears carry teeth), or
     the member tables and pressure angle of the stage that made it."""
-    from .schema import as_written
     if p.startswith("stages"):
         st = scene.stages[int(p[len("stages["):-1])]
         ring = m.gear2.endswith(".ring")
@@ -373,8 +380,7 @@ def _gear_fields(scene, m, p: str, names: dict):
     mesh = scene.meshes[int(p[len("meshes["):-1])]
     pa, va = as_written(mesh, "pressure_angle", f"{p}.pressure_angle")
     radii = f"{p}.base_radius1, {p}.base_radius2"
-    if all(names[g].teeth is not None or hasattr(names[g].component, "teeth")
-           or (isinstance(names[g].component, dict) and "teeth" in names[g].component) for g in (m.gear1, m.gear2)):
+    if all(names[g].teeth is not None or hasattr(names[g].component, "teeth") for g in (m.gear1, m.gear2)):
         radii += " (derived from the gears' teeth)"
     return radii, pa, va
 
@@ -425,7 +431,7 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
         if b.fidelity != "flexible" or b.component is None or opts.n_modes is not None:
             continue
         cutoff = opts.cutoff_hz if opts.cutoff_hz is not None else CUTOFF_FACTOR * band
-        volume = volume_lower_bound(component_params(b, f"{origin[b.name]}.component"))
+        volume = volume_lower_bound(b.component)
         n = weyl_mode_count(volume, opts.material, cutoff)
         if n > MAX_MODES:
             path, value = cutoff_source(origin[b.name], opts, band)
@@ -496,7 +502,7 @@ def validate_scene(scene) -> None:
     stage_elements_valid(scene, expanded, origin)
     references_exist(scene, names)
     frames_form_tree(expanded, names, origin)
-    masters = component_masters(expanded, origin)
+    masters = component_masters(expanded)
     flexible_bodies_supported(expanded, origin)
     attachments_resolve(scene, expanded, names, masters, origin)
     rigid_bearings_allowed(scene, expanded, names, origin)

@@ -90,6 +90,7 @@ def interface_defs(params) -> list[InterfaceDef]:
             _gear_mesh_def(params.teeth, 0.0),
         ]
     if isinstance(params, CarrierParams):
+        params.require_pins()
         s, t = params.cheek_spacing, params.cheek_thickness
         out = []
         for i, a in enumerate(params.planet_angles):
@@ -272,6 +273,7 @@ def build_solid(occ, params, flank_points: int = 7, helix_sections: int = 5) -> 
         return body
     if isinstance(params, CarrierParams):
         p = params
+        p.require_pins()
         s, t = p.cheek_spacing, p.cheek_thickness
         Rc = p.cheek_diameter / 2
         cheek_a = _cyl(occ, 0, 0, -s / 2 - t, -s / 2, Rc)

@@ -284,10 +284,13 @@ class CarrierParams:
     (in angle) between consecutive planets at radius ``post_radius``
     (default: pin pitch radius).  ``center_hole_diameter`` > 0 adds a central
     through-hole (e.g. for the sun shaft).  Angles in rad.
+
+    ``planet_angles`` (rad) and ``pin_pitch_radius`` (m) place the planet pins; None means
+    "set by the planetary stage" (the stage builder sets both with ``dataclasses.replace``).
+    The checks that need them run when they are set; geometry, meshing and interfaces
+    need them (:meth:`require_pins`).
     """
 
-    planet_angles: tuple[float, ...] = quantity("rad", angle=True)
-    pin_pitch_radius: float = quantity(**_LENGTH)
     pin_bore_diameter: float = quantity(**_LENGTH)
     cheek_diameter: float = quantity(**_LENGTH)
     cheek_thickness: float = quantity(**_LENGTH)
@@ -300,30 +303,26 @@ class CarrierParams:
     output_bore_diameter: float = quantity(**_LENGTH)
     center_hole_diameter: float = quantity(**_CLEARANCE, default=0.0)
     post_radius: float | None = quantity("m", None, gt=0.0)
+    planet_angles: tuple[float, ...] | None = quantity("rad", None, angle=True)
+    pin_pitch_radius: float | None = quantity("m", None, gt=0.0)
 
     def __post_init__(self) -> None:
         check_fields(self)
-        angles = tuple(float(a) for a in self.planet_angles)
+        angles = None if self.planet_angles is None else tuple(float(a) for a in self.planet_angles)
         object.__setattr__(self, "planet_angles", angles)
-        if not 2 <= len(angles) <= MAX_PLANETS:
+        if angles is not None and not 2 <= len(angles) <= MAX_PLANETS:
             raise GeometryError("planet_angles", list(angles), f"needs 2 to {MAX_PLANETS} planets")
         r_p, d_p, R_c = self.pin_pitch_radius, self.pin_bore_diameter, self.cheek_diameter / 2
-        if r_p + d_p / 2 >= R_c:
+        if r_p is not None and r_p + d_p / 2 >= R_c:
             raise GeometryError("pin_bore_diameter", d_p,
                                 f"pin bores on radius {r_p} m reach the cheek rim (radius {R_c} m)")
-        srt = sorted(a % (2 * math.pi) for a in angles)
-        for i in range(len(srt)):
-            for j in range(i + 1, len(srt)):
-                dist = 2 * r_p * abs(math.sin((srt[j] - srt[i]) / 2))
-                if dist <= d_p:
-                    raise GeometryError("pin_bore_diameter", d_p,
-                                        f"pin bores at {math.degrees(srt[i]):.4g} and {math.degrees(srt[j]):.4g} deg "
-                                        f"overlap (centre distance {dist:.6g} m)")
+        if self.pins_set:
+            self._check_pin_spacing()
         hub_r = max(self.seat_a_diameter, self.seat_b_diameter) / 2
         if hub_r >= R_c:
             raise GeometryError("seat_a_diameter" if self.seat_a_diameter >= self.seat_b_diameter else "seat_b_diameter",
                                 2 * hub_r, f"hub larger than the cheek diameter {self.cheek_diameter} m")
-        if r_p - d_p / 2 <= hub_r:
+        if r_p is not None and r_p - d_p / 2 <= hub_r:
             raise GeometryError("pin_pitch_radius", r_p,
                                 f"pin bores (diameter {d_p} m) cut into the hub (radius {hub_r} m)")
         if self.output_bore_diameter >= self.seat_b_diameter:
@@ -333,13 +332,48 @@ class CarrierParams:
             if self.center_hole_diameter >= min(self.seat_a_diameter, self.output_bore_diameter):
                 raise GeometryError("center_hole_diameter", self.center_hole_diameter,
                                     "must be smaller than seat_a_diameter and output_bore_diameter")
-        r_post, d_post = self.post_radius_value, self.post_diameter
+        r_post = self.post_radius if self.post_radius is not None else r_p
+        if r_post is not None:
+            self._check_posts(r_post, R_c)
+
+    @property
+    def pins_set(self) -> bool:
+        """Whether the planet pins are placed (``planet_angles`` and ``pin_pitch_radius``)."""
+        return self.planet_angles is not None and self.pin_pitch_radius is not None
+
+    def require_pins(self, names=("planet_angles", "pin_pitch_radius")) -> None:
+        """GeometryError naming the first of the pin fields ``names`` not set (the geometry
+        needs both)."""
+        for name in names:
+            if getattr(self, name) is None:
+                raise GeometryError(name, None, "not set: the carrier's planet pins need planet_angles and "
+                                                "pin_pitch_radius (a planetary stage sets them for its carrier)")
+
+    def _check_pin_spacing(self) -> None:
+        """Pin bores do not overlap one another."""
+        r_p, d_p = self.pin_pitch_radius, self.pin_bore_diameter
+        srt = sorted(a % (2 * math.pi) for a in self.planet_angles)
+        for i in range(len(srt)):
+            for j in range(i + 1, len(srt)):
+                dist = 2 * r_p * abs(math.sin((srt[j] - srt[i]) / 2))
+                if dist <= d_p:
+                    raise GeometryError("pin_bore_diameter", d_p,
+                                        f"pin bores at {math.degrees(srt[i]):.4g} and {math.degrees(srt[j]):.4g} deg "
+                                        f"overlap (centre distance {dist:.6g} m)")
+
+    def _check_posts(self, r_post: float, R_c: float) -> None:
+        """Posts on radius ``r_post`` (m) inside the cheek rim (radius ``R_c``, m), clear of
+        the central hole and, when the pins are placed, of the pin bores."""
+        d_post, d_p = self.post_diameter, self.pin_bore_diameter
         if r_post + d_post / 2 >= R_c:
             raise GeometryError("post_diameter", d_post, f"posts reach the cheek rim (radius {R_c} m)")
         if r_post - d_post / 2 <= self.center_hole_diameter / 2:
             raise GeometryError("post_diameter", d_post, "posts cut into the central hole")
+        if not self.pins_set:
+            return
+        r_p = self.pin_pitch_radius
         for a_post in self.post_angles:
-            for a_pin in angles:
+            for a_pin in self.planet_angles:
                 dx = r_post * math.cos(a_post) - r_p * math.cos(a_pin)
                 dy = r_post * math.sin(a_post) - r_p * math.sin(a_pin)
                 if math.hypot(dx, dy) <= (d_p + d_post) / 2:
@@ -349,15 +383,20 @@ class CarrierParams:
 
     @property
     def n_planets(self) -> int:
+        self.require_pins()
         return len(self.planet_angles)
 
     @property
     def post_radius_value(self) -> float:
-        return self.pin_pitch_radius if self.post_radius is None else self.post_radius
+        if self.post_radius is not None:
+            return self.post_radius
+        self.require_pins(("pin_pitch_radius",))
+        return self.pin_pitch_radius
 
     @property
     def post_angles(self) -> tuple[float, ...]:
         """Post angles [rad]: midway between consecutive planets (sorted by angle)."""
+        self.require_pins()
         srt = sorted(a % (2 * math.pi) for a in self.planet_angles)
         nxt = srt[1:] + [srt[0] + 2 * math.pi]
         return tuple((a + b) / 2 for a, b in zip(srt, nxt))

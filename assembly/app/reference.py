@@ -121,6 +121,9 @@ def type_text(tp) -> str:
         return "array of " + ", ".join(type_text(a) for a in args)
     if dataclasses.is_dataclass(tp) or tp is dict:
         return "table"
+    if origin in (Union, types.UnionType) and all(dataclasses.is_dataclass(a)
+                                                  for a in get_args(tp) if a is not type(None)):
+        return "table (fields chosen by `kind`)"
     return {float: "number", int: "integer", str: "string", bool: "boolean"}.get(tp, getattr(tp, "__name__", str(tp)))
 
 

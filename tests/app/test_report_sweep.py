@@ -95,9 +95,7 @@ def test_helix_sweep_of_gears_from_teeth():
     beta = math.radians(8.0)
     out = with_helix_angle(sc, beta)
     pinion, wheel = out.body("pinion"), out.body("wheel")
-    t_p = pinion.teeth if pinion.teeth is not None else pinion.component["teeth"]
-    t_w = wheel.teeth if wheel.teeth is not None else wheel.component["teeth"]
-    helix = [t.helix_angle if hasattr(t, "helix_angle") else t["helix_angle"] for t in (t_p, t_w)]  # rad
+    helix = [pinion.teeth.helix_angle, wheel.component.teeth.helix_angle]  # rad
     assert helix == pytest.approx([beta, -beta], rel=1e-14)
     alpha_t = math.atan(math.tan(math.radians(20.0)) / math.cos(beta))
     assert out.meshes[0].helix_angle == pytest.approx(-math.atan(math.tan(beta) * math.cos(alpha_t)), rel=1e-12)

@@ -6,7 +6,7 @@ import pytest
 
 from assembly.edit import get_value, parse_path, with_value, with_values
 from assembly.errors import SceneError
-from assembly.schema import load_scene
+from assembly.schema import given_in_degrees, load_scene
 
 HS = load_scene("hs_parallel_stage.toml")
 LP3 = load_scene("lin_parker_n3.toml")
@@ -26,7 +26,7 @@ def test_parse_path():
     (HS, "shafts.wheel-fit.k_torsion", 2e6, lambda s: s.shafts[0].k_torsion),
     (HS, "bearings[2].k_radial", 2.5e9, lambda s: s.bearings[2].k_radial),
     (HS, "bodies.pinion.flex.cutoff_hz", 9000.0, lambda s: s.bodies[0].flex.cutoff_hz),
-    (HS, "bodies.wheel.component.teeth.face_width", 0.06, lambda s: s.bodies[1].component["teeth"]["face_width"]),
+    (HS, "bodies.wheel.component.teeth.face_width", 0.06, lambda s: s.bodies[1].component.teeth.face_width),
     (K20, "meshes[0].helix_angle_deg", 10.0, lambda s: math.degrees(s.meshes[0].helix_angle)),
     (K20, "meshes.pinion-wheel.helix_angle", 0.1, lambda s: s.meshes[0].helix_angle),
     (LP3, "stages.stage.planets.count", 4, lambda s: s.stages[0].planets.count),
@@ -42,10 +42,12 @@ def test_with_value_sets_one_field(scene, path, value, read):
     assert with_value(new, path, get_value(scene, path)) == scene
 
 
-def test_component_dict_of_the_original_is_not_mutated():
-    before = HS.bodies[1].component["teeth"]["face_width"]
-    HS.with_value("bodies.wheel.component.teeth.face_width", 0.07)
-    assert HS.bodies[1].component["teeth"]["face_width"] == before
+def test_component_of_the_original_is_not_changed():
+    before = HS.bodies[1].component
+    width = before.teeth.face_width
+    new = HS.with_value("bodies.wheel.component.teeth.face_width", 0.07)
+    assert HS.bodies[1].component is before and before.teeth.face_width == width
+    assert new.bodies[1].component.teeth.face_width == 0.07
 
 
 def test_angle_held_once_in_rad_or_deg():
@@ -53,8 +55,9 @@ def test_angle_held_once_in_rad_or_deg():
     # The pair's hands stay opposite (an external helical pair), so both gears change.
     new = HS.with_values({"bodies.pinion.component.teeth.helix_angle": math.radians(10.0),
                           "bodies.wheel.component.teeth.helix_angle_deg": -10.0})
-    teeth = new.bodies[0].component["teeth"]
-    assert "helix_angle_deg" not in teeth and teeth["helix_angle"] == math.radians(10.0)
+    teeth = new.bodies[0].component.teeth
+    assert "helix_angle" not in given_in_degrees(teeth) and teeth.helix_angle == math.radians(10.0)
+    assert "helix_angle" in given_in_degrees(new.bodies[1].component.teeth)
 
 
 def test_with_values_validates_once():
@@ -115,8 +118,8 @@ def test_teeth_edit_derives_new_gear_numbers():
     from assembly.gear_data import body_teeth
     from fe_components.gear_pair import pair_geometry
     new = HS.with_value("bodies.pinion.component.teeth.n_teeth", 24)
-    t1, t2 = (b.component["teeth"] for b in new.bodies[:2])
-    assert t1["n_teeth"] == 24 and t2["n_teeth"] == 71
+    t1, t2 = (b.component.teeth for b in new.bodies[:2])
+    assert t1.n_teeth == 24 and t2.n_teeth == 71
     g = pair_geometry(body_teeth(new.bodies[0], "b0")[1], body_teeth(new.bodies[1], "b1")[1])
     assert new.meshes[0].base_radius1 == pytest.approx(g.base_radius1, rel=1e-12)
     assert new.bodies[1].position[0] - new.bodies[0].position[0] == pytest.approx(g.centre_distance, rel=1e-12)

@@ -112,13 +112,13 @@ def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path)
 def test_more_modes_than_the_mesh_has_names_the_body(tmp_path):
     # n_modes within MAX_MODES passes validation but may exceed a coarse mesh's interior
     # DOFs, known only after meshing: refused naming the body's table, not a bare n_modes.
-    from assembly.components import CacheDirs, component_params
+    from assembly.components import CacheDirs
     from assembly.errors import SceneError
     from assembly.flexible import flexible_body
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]
     opts = dataclasses.replace(b0.flex, n_modes=10**6)  # called directly: no scene validation
     with pytest.raises(SceneError) as e:
-        flexible_body(b0, component_params(b0, "bodies[0].component"), opts, 3000.0,
+        flexible_body(b0, opts, 3000.0,
                       caches=CacheDirs(meshes=tmp_path / "m", superelements=tmp_path / "se"), path="bodies[0]")
     assert e.value.path == "bodies[0].flex.n_modes" and "interior DOFs" in str(e.value)
