@@ -4,8 +4,9 @@
 dataclasses with ``dataclasses.fields`` (angle fields also as ``<key>_deg``) -- is a row of
 docs/scene_reference.md and has a description in ``assembly.scene_docs``; (b) the committed
 reference is the generator's output; (c) scene_docs describes no field that does not
-exist; (d) the TOML of the walk-through, read in order, is a valid scene whose load case
-loads every mesh on the flank the documented drive signs pick.
+exist; (d) the TOML blocks of the walk-through, in order, are the shipped
+``two_stage_quill.toml``, the derived numbers its prose quotes are the loaded scene's, and
+its load case loads every mesh on the flank the documented drive signs pick.
 """
 from __future__ import annotations
 
@@ -144,10 +145,57 @@ def test_reference_toml_snippets_parse_and_validate():
         scene_from_dict(tomllib.loads(block))
 
 
-def walkthrough_data() -> dict:
+QUILL = ROOT / "assembly" / "scenes" / "two_stage_quill.toml"
+ANY_FENCE = re.compile(r"^```[^\n]*\n.*?^```[ \t]*$", re.MULTILINE | re.DOTALL)
+
+
+def test_walkthrough_blocks_are_the_shipped_scene():
+    # the walk-through reads the shipped example table by table: its TOML blocks, joined by
+    # one blank line each, are that file exactly, so neither can change without the other
     blocks = FENCE.findall(WALKTHROUGH.read_text(encoding="utf-8"))
-    assert len(blocks) >= 6, "the walk-through lost its TOML blocks"
-    return tomllib.loads("\n".join(blocks))
+    assert len(blocks) >= 12, "the walk-through lost its TOML blocks"
+    assert "\n".join(blocks) == QUILL.read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def quill():
+    """(scene, assembled rigid model) of the shipped two-stage example."""
+    from assembly import assemble
+    from assembly.schema import load_scene
+    scene = load_scene(QUILL)
+    return scene, assemble(scene)
+
+
+def _quill_numbers(scene, model) -> dict:
+    """Regex of a number the walk-through's prose quotes -> the value the loaded scene has."""
+    from assembly.loads import speed_ratio
+    mesh, stage = scene.meshes[0], scene.stages[0]
+    alpha_t = math.atan(math.tan(scene.bodies[0].teeth.pressure_angle) / math.cos(scene.bodies[0].teeth.helix_angle))
+    return {
+        r"a_w = (-?\d+(?:\.\d+)?) m": float(scene.body("wheel").position[0]),
+        r"carrier radius = (-?\d+(?:\.\d+)?) m": stage.carrier_radius(),
+        r"omega_pinion / omega_carrier = (-?\d+(?:\.\d+)?)": speed_ratio(model, scene.load)[0],
+        r"alpha_t = (-?\d+(?:\.\d+)?) deg": math.degrees(alpha_t),
+        r"alpha_wt = (-?\d+(?:\.\d+)?) deg": math.degrees(mesh.pressure_angle),
+        r"r_b1 = (-?\d+(?:\.\d+)?) m": mesh.base_radius1,
+        r"r_b2 = (-?\d+(?:\.\d+)?) m": mesh.base_radius2,
+        r"helix_angle = (-?\d+(?:\.\d+)?) deg": math.degrees(mesh.helix_angle),
+        r"r_b,sun = (-?\d+(?:\.\d+)?) m": stage.sun.base_radius,
+        r"pressure_angle_ring = (-?\d+(?:\.\d+)?) deg": math.degrees(stage.pressure_angle_ring),
+        r"pressure_angle_sun = pressure_angle_ring = (-?\d+(?:\.\d+)?) deg": math.degrees(stage.pressure_angle_sun),
+    }
+
+
+def test_walkthrough_quotes_the_loaded_scene(quill):
+    # every number the prose quotes under these names (outside code blocks) is the loaded
+    # scene's, rounded to the digits quoted: half a unit of the last digit
+    prose = ANY_FENCE.sub("", WALKTHROUGH.read_text(encoding="utf-8"))
+    for pattern, value in _quill_numbers(*quill).items():
+        quoted = re.findall(pattern, prose)
+        assert quoted, f"the walk-through no longer quotes {pattern!r}"
+        for q in quoted:
+            digits = len(q.split(".")[1]) if "." in q else 0
+            assert abs(float(q) - value) <= 0.5 * 10.0 ** -digits * (1 + 1e-9), (pattern, q, value)
 
 
 def _mesh_forces(scene) -> dict:
@@ -159,24 +207,23 @@ def _mesh_forces(scene) -> dict:
             for el in m.elements if el.kind == "mesh"}
 
 
-def test_walkthrough_scene_loads_every_mesh_on_its_flank():
-    from assembly import assemble, solve_modes
+def test_walkthrough_scene_loads_every_mesh_on_its_flank(quill):
+    from assembly import solve_modes
     from assembly.schema import scene_from_dict
-    data = walkthrough_data()
-    scene = scene_from_dict(data)
-    res = solve_modes(assemble(scene))
-    assert res.n_rigid == 1          # pinion-wheel-sun-planets-carrier: one free rotation
+    scene, model = quill
+    assert solve_modes(model).n_rigid == 1   # pinion-wheel-sun-planets-carrier: one free rotation
     forces = _mesh_forces(scene)
     assert len(forces) == 9 and all(f > 0 for f in forces.values()), forces
-    # Statics: tooth normal force T / (r_b cos beta) on the pinion; the wheel torque
-    # T r_b2 / r_b1 reaches the sun, whose meshes carry it at the sun base radius.
-    mesh = data["meshes"][0]
-    T, rb1, rb2 = data["load"]["torque"], mesh["base_radius1"], mesh["base_radius2"]
-    beta = math.radians(mesh["helix_angle_deg"])
-    assert forces["pinion-wheel"] == pytest.approx(T / (rb1 * math.cos(beta)), rel=1e-6)
+    # Statics: tooth normal force T / (r_b cos beta_b) on the pinion; the wheel torque
+    # T r_b2 / r_b1 reaches the sun through the quill, whose meshes carry it at the sun base radius.
+    mesh = scene.meshes[0]
+    T, rb1, rb2 = scene.load.torque, mesh.base_radius1, mesh.base_radius2
+    assert forces["pinion-wheel"] == pytest.approx(T / (rb1 * math.cos(mesh.helix_angle)), rel=1e-6)
     sun = sum(f for k, f in forces.items() if "sun-planet" in k)
-    assert sun * data["stages"][0]["sun"]["base_radius"] == pytest.approx(T * rb2 / rb1, rel=1e-6)
+    assert sun * scene.stages[0].sun.base_radius == pytest.approx(T * rb2 / rb1, rel=1e-6)
     # the other stage drive sign puts the sun meshes on the unloaded flank (in tension)
+    data = tomllib.loads(QUILL.read_text(encoding="utf-8"))
+    assert data["stages"][0]["drive_sign"] == -1
     data["stages"][0]["drive_sign"] = 1
     flipped = _mesh_forces(scene_from_dict(data))
     assert all(f < 0 for k, f in flipped.items() if "sun-planet" in k)
