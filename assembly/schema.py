@@ -390,13 +390,16 @@ def is_bare_name(path) -> bool:
 
 def resolve_scene_path(path) -> Path:
     """The scene file to read: ``path`` as given if it exists; a bare file name (no folder
-    part) that does not exist here names a scene shipped in ``assembly/scenes``. A path with
+    part) that does not exist here names a scene shipped in ``assembly/scenes`` (``.toml`` may
+    be left out). A path with
     a folder part never falls back to a shipped scene (a typo in the folder must not run an
     example under the user's title)."""
     p = Path(path)
     if p.exists():
         return p
     shipped = SCENE_DIR / p.name
+    if is_bare_name(path) and not p.suffix and not shipped.exists():
+        shipped = shipped.with_suffix(".toml")  # a shipped example named without .toml
     if is_bare_name(path) and shipped.exists():
         log.info("%s: not in the working folder; reading the shipped example %s", path, shipped)
         return shipped
