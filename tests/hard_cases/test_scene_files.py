@@ -124,6 +124,6 @@ def test_a_shipped_example_may_be_named_without_toml(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert resolve_scene_path("two_stage_quill") == SCENE_DIR / "two_stage_quill.toml"
     (tmp_path / "two_stage_quill").write_text("not a scene")   # a local file still comes first
-    assert resolve_scene_path("two_stage_quill") == tmp_path / "two_stage_quill"
+    assert resolve_scene_path("two_stage_quill").resolve() == tmp_path / "two_stage_quill"
     with pytest.raises(SceneError, match="no such file"):
         resolve_scene_path("./no_such_example")
