@@ -1,5 +1,5 @@
-"""Per-mode energy bookkeeping: kinetic share of each body, strain share of each spring,
-and kinetic energy split by motion type (in-plane, axial, tilt, spin) in each body's axes."""
+"""Per-mode energy bookkeeping: kinetic share of each body, strain share of each spring
+and of each flexible body, and kinetic energy split by motion type (in-plane, axial, tilt, spin) in each body's axes."""
 from __future__ import annotations
 
 import numpy as np
@@ -32,6 +32,33 @@ def strain_by_element(result) -> np.ndarray:
     E = np.column_stack([_element_energy(m, el, result.abs_shapes) for el in m.elements]) \
         if m.elements else np.zeros((result.abs_shapes.shape[1], 0))
     return _normalise(E)
+
+
+#: A flexible body whose share of a mode's total strain energy is below this carries no
+#: stress worth drawing in that mode: its back-expanded stresses are round-off of the
+#: reduction (relative size ~cond(K) x machine epsilon), not a stress field.
+NEGLIGIBLE_STRAIN_SHARE = 1e-6
+
+
+def strain_by_body(result) -> np.ndarray:
+    """(n_modes, n_bodies) share of each body's elastic strain energy ``z_b' K_b z_b / 2`` in
+    the mode's total strain energy ``z' K_abs z / 2`` (springs included); 0 for rigid bodies
+    (their K_b is zero) and for modes without strain energy (rigid-body modes)."""
+    m = result.model
+    Z = result.abs_shapes
+    cols = []
+    for b in m.bodies:
+        sl = m.body_slice(b)
+        Kb = m.bodies[b].stiffness_matrix()
+        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(Kb @ Z[sl])) if m.bodies[b].flexible
+                    else np.zeros(Z.shape[1]))
+    E = np.column_stack(cols)
+    total = np.einsum("im,im->m", Z, np.asarray(m.K_abs @ Z))
+    scale = np.abs(total).max(initial=0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # a mode's total below round-off of the largest one: no strain energy at all
+        return np.where((total > 1e-12 * scale)[:, None], np.clip(E, 0.0, None) / np.where(total > 0, total, 1.0)[:, None],
+                        0.0)
 
 
 def _element_energy(model, el, Z) -> np.ndarray:
