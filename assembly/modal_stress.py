@@ -31,7 +31,7 @@ class ModalAmplitude:
     displacement ``MODAL_PEAK_DISPLACEMENT_M`` (m); 0 for a mode without displacement of the
     flexible bodies. ``strain_share``: body -> share of the mode's strain energy;
     ``skipped``: flexible bodies below NEGLIGIBLE_STRAIN_SHARE; ``carrier``: the flexible
-    body with the largest share (None when none has any)."""
+    body with the largest share (None when every one is skipped)."""
 
     mode: int
     factor: float
@@ -66,6 +66,6 @@ def modal_amplitudes(result, modes, peak_m: float = MODAL_PEAK_DISPLACEMENT_M) -
         peak = peak_displacement(model, z)
         share = {b: float(shares[i, names.index(b)]) for b in flex}
         skipped = tuple(b for b in flex if share[b] < NEGLIGIBLE_STRAIN_SHARE)
-        carrier = max(share, key=share.get) if share and max(share.values()) > 0 else None
+        carrier = max((b for b in flex if b not in skipped), key=share.get, default=None)
         out.append(ModalAmplitude(int(i), peak_m / peak if peak > 0 else 0.0, share, skipped, carrier))
     return out
