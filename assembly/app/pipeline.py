@@ -205,16 +205,27 @@ def _band_text(ctx, i: int) -> str:
 
 
 def step_render(ctx: RunContext, bar) -> None:
-    from .render import AssemblyRenderer, mode_title
+    from .render import AssemblyRenderer
 
     if not ctx.options.images:
         ctx.skipped.append(f"{len(ctx.drawn_modes())} mode-shape images and the overview")
         bar.update(1)
         return
     rnd = AssemblyRenderer(ctx.model, window_size=ctx.options.window_size)
+    try:
+        _render_images(ctx, rnd, bar)
+    finally:
+        rnd.close()
+
+
+def _render_images(ctx: RunContext, rnd, bar) -> None:
+    from .render import mode_title
+
     rel = "images/overview.png"
+    t0 = time.perf_counter()
     rnd.render_overview(ctx.add_file(rel, "undeformed assembly with body names (PNG)"),
                         title=f"{ctx.scene.name}: assembly")
+    ctx.timings_detail[rel] = time.perf_counter() - t0
     ctx.overview = (rel, "assembly, undeformed (springs: bearings grey, meshes red, shafts blue)")
     bar.update(1)
     for i in ctx.drawn_modes():

@@ -547,6 +547,24 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
     return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
 
 
+def _kept_plotter(pv, window_size):
+    """An off-screen plotter whose ``close()`` clears it for the next image; ``release()``
+    closes it."""
+    class KeptPlotter(pv.Plotter):
+        def close(self, *args, **kwargs):
+            self.clear()
+
+        def release(self):
+            pv.Plotter.close(self)
+
+        def __del__(self):
+            if getattr(self, "_initialized", False) and not self._closed:
+                self.release()
+            super().__del__()
+
+    return KeptPlotter(off_screen=True, window_size=list(window_size))
+
+
 class AssemblyRenderer:
     """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
 
@@ -561,13 +579,26 @@ class AssemblyRenderer:
         ends = [p for g in self.glyphs for p in (g.a, g.b)]
         self.view = assembly_view(self.shapes, self.window_size, ends)
         self._cache: dict = {}
+        self._pl = None
+
+    def close(self) -> None:
+        """Release the plotter (its OpenGL context); the renderer can still draw after."""
+        if self._pl is not None:
+            self._pl.release()
+            self._pl = None
 
     # -- helpers -------------------------------------------------------------------
     def _plotter(self):
-        pv = _pyvista()
-        pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
+        """The renderer's one off-screen plotter, cleared: a new plotter per image costs a new
+        OpenGL context and shader compilation. Actors are added with rendering suppressed;
+        :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
+        if self._pl is None:
+            self._pl = _kept_plotter(_pyvista(), self.window_size)
+            self._pl.enable_anti_aliasing("ssaa")  # FXAA is not supported with EGL; VTK falls back to SSAA
+        pl = self._pl
+        pl.clear()
         pl.set_background("white")
-        pl.enable_anti_aliasing("ssaa")  # FXAA is not supported with EGL; VTK falls back to SSAA
+        pl.suppress_rendering = True
         return pl
 
     def _ghost(self, pl):
@@ -618,6 +649,8 @@ class AssemblyRenderer:
         """Scale bar, the assembly's camera, and the PNG written to ``path``."""
         self._scale_bar(pl)
         _camera(pl, self.view)
+        pl.suppress_rendering = False
+        pl.render()
         pl.screenshot(str(path))
 
     def _springs(self, pl, shape_of, scale):
