@@ -13,7 +13,9 @@ into one ``--out DIR: writing ...: <reason>`` line.
 
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
-``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``.
+``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``; flexible bodies:
+``stress.csv``, ``modal_stress.csv``, ``images/stress_*.png``, ``vtu/*.vtu``, ``results.pvd``
+(docs/results.md: band, valid range, modal stress amplitude).
 """
 from __future__ import annotations
 

@@ -88,8 +88,8 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
             ax.axhline(band_hz, color="0.35", ls="--", lw=1.0)
             ax.text(-0.55, band_hz, f"band {band_hz:.0f} Hz", va="bottom", fontsize=7, color="0.25")
         if n_above:
-            ax.text(0.99, 0.995, f"{n_above} modes above {max_hz:.0f} Hz not shown (outside the band)",
-                    transform=ax.transAxes, fontsize=7, va="top", ha="right")
+            ax.text(0.01, -0.11, f"{n_above} modes above {max_hz:.0f} Hz not shown (outside the band)",
+                    transform=ax.transAxes, fontsize=7, va="top")
         ax.set_ylabel("frequency [Hz]")
         ax.grid(axis="x", visible=False)
         ax.set_title(title or "natural frequencies per fidelity", fontsize=10)

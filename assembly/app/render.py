@@ -547,6 +547,17 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
     return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
 
 
+#: zlib level of the PNG files: 3 writes in half the time of PIL's default 6, files ~15 % larger.
+PNG_COMPRESS_LEVEL = 3
+
+
+def save_png(pl, path) -> None:
+    """The plotter's current image as a PNG file (PNG_COMPRESS_LEVEL)."""
+    from PIL import Image
+    Image.fromarray(pl.screenshot(None, return_img=True)).save(str(path), format="PNG",
+                                                               compress_level=PNG_COMPRESS_LEVEL)
+
+
 def _kept_plotter(pv, window_size):
     """An off-screen plotter whose ``close()`` clears it for the next image; ``release()``
     closes it."""
@@ -651,7 +662,7 @@ class AssemblyRenderer:
         _camera(pl, self.view)
         pl.suppress_rendering = False
         pl.render()
-        pl.screenshot(str(path))
+        save_png(pl, path)
 
     def _springs(self, pl, shape_of, scale):
         pv = _pyvista()

@@ -1,7 +1,11 @@
 """Surfaces of flexible bodies for rendering (pyvista, imported lazily)."""
 from __future__ import annotations
 
+import time
+
 import numpy as np
+
+from .render import _pyvista, save_png
 
 _SURF: dict = {}
 
@@ -68,7 +72,6 @@ class StressImages:
 
     def _plotter(self):
         if self._pl is None:
-            from .render import _pyvista
             pv = _pyvista()
             self._pl = pv.Plotter(off_screen=True, window_size=self.window_size)
         pl = self._pl
@@ -80,7 +83,6 @@ class StressImages:
         """PNG of ``body`` coloured by von Mises stress ``st`` (NodalStress, Pa) x ``factor``
         in ``unit``, on its undeformed surface, fixed camera from the body's bounding box;
         colour range and title from :func:`stress_scale` (returned)."""
-        import time
         t0 = time.perf_counter()
         fe, _ = body.coupled()
         nv = fe.mesh.p.shape[1]
@@ -100,6 +102,6 @@ class StressImages:
         pl.reset_camera()
         pl.suppress_rendering = False
         pl.render()
-        pl.screenshot(str(path))
+        save_png(pl, path)
         self.timings.append(time.perf_counter() - t0)
         return sc
