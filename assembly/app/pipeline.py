@@ -210,7 +210,7 @@ def step_render(ctx: RunContext, bar) -> None:
     from .render import AssemblyRenderer
 
     if not ctx.options.images:
-        ctx.skipped.append(f"{len(ctx.drawn_modes())} mode-shape images and the overview")
+        ctx.skipped += ["the overview", f"{len(ctx.drawn_modes())} mode-shape images"]
         bar.update(1)
         return
     rnd = AssemblyRenderer(ctx.model, window_size=ctx.options.window_size)
@@ -335,8 +335,8 @@ def skipped_text(ctx) -> str:
     """What ``--no-images`` left out (one line; "" when nothing was)."""
     if not ctx.skipped:
         return ""
-    return ("--no-images: skipped " + " and ".join(ctx.skipped)
-            + "; VTU files, stress tables and plots are still written")
+    what = ", ".join(ctx.skipped[:-1]) + (" and " if len(ctx.skipped) > 1 else "") + ctx.skipped[-1]
+    return f"--no-images: skipped {what}; VTU files, stress tables and plots are still written"
 
 
 def _strain_text(ctx) -> list:
