@@ -46,19 +46,15 @@ def strain_by_body(result) -> np.ndarray:
     (their K_b is zero) and for modes without strain energy (rigid-body modes)."""
     m = result.model
     Z = result.abs_shapes
-    cols = []
-    for b in m.bodies:
-        sl = m.body_slice(b)
-        Kb = m.bodies[b].stiffness_matrix()
-        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(Kb @ Z[sl])) if m.bodies[b].flexible
-                    else np.zeros(Z.shape[1]))
-    E = np.column_stack(cols)
+    E = np.zeros((Z.shape[1], len(m.bodies)))
+    for j, (name, bm) in enumerate(m.bodies.items()):
+        if bm.flexible:
+            sl = m.body_slice(name)
+            E[:, j] = np.einsum("im,im->m", Z[sl], np.asarray(bm.stiffness_matrix() @ Z[sl]))
     total = np.einsum("im,im->m", Z, np.asarray(m.K_abs @ Z))
-    scale = np.abs(total).max(initial=0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # a mode's total below round-off of the largest one: no strain energy at all
-        return np.where((total > 1e-12 * scale)[:, None], np.clip(E, 0.0, None) / np.where(total > 0, total, 1.0)[:, None],
-                        0.0)
+    # a total below round-off of the largest mode's: no strain energy at all (rigid-body mode)
+    has = total > 1e-12 * np.abs(total).max(initial=0.0)
+    return np.where(has[:, None], np.clip(E, 0.0, None) / np.where(has, total, 1.0)[:, None], 0.0)
 
 
 def _element_energy(model, el, Z) -> np.ndarray:
