@@ -605,7 +605,9 @@ class AssemblyRenderer:
         :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
         if self._pl is None:
             self._pl = _kept_plotter(_pyvista(), self.window_size)
-            self._pl.enable_anti_aliasing("ssaa")  # FXAA is not supported with EGL; VTK falls back to SSAA
+            # FXAA is not supported with EGL; MSAA (4 samples) draws as smooth edges as SSAA here
+            # in half the time (SSAA renders every image at twice the size)
+            self._pl.enable_anti_aliasing("msaa", multi_samples=4)
         pl = self._pl
         pl.clear()
         pl.set_background("white")
