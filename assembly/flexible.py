@@ -101,18 +101,18 @@ class FlexibleBodyModel:
     def stress(self, zb: np.ndarray):
         """Nodal stresses (cms.stress.NodalStress, Pa) of body DOFs ``zb``: von Mises and
         principal stresses, L2-projected to the P2 nodes."""
-        from cms.stress import recover_stress
         m = self.options.material
-        return recover_stress(self.stress_basis(), self.expand(zb), m.E, m.nu)
+        return self.stress_projector()(self.expand(zb), m.E, m.nu)
 
-    def stress_basis(self):
-        """Vector basis for stress recovery (:func:`cms.stress.projection_basis` of the
-        stiffness basis: order 2p), built once per body and reused for every load case."""
-        if self.info.get("_stress_basis") is None:
-            from cms.stress import projection_basis
+    def stress_projector(self):
+        """:class:`cms.stress.StressProjector` of the stiffness basis (projection at order
+        2p, scalar mass matrix factorised), built once per body and reused for every load
+        case and mode."""
+        if self.info.get("_stress_projector") is None:
+            from cms.stress import StressProjector
             fe, _ = self.coupled()
-            self.info["_stress_basis"] = projection_basis(fe.basis)
-        return self.info["_stress_basis"]
+            self.info["_stress_projector"] = StressProjector(fe.basis)
+        return self.info["_stress_projector"]
 
     def nodes_global(self) -> np.ndarray:
         fe, _ = self.coupled()

@@ -36,6 +36,11 @@ from .errors import SceneError
 HOUSING = "housing"
 #: Band of interest (Hz) when a scene does not give ``band_hz``.
 DEFAULT_BAND_HZ = 3000.0
+#: Tables, plots, images and modal stresses show the modes up to this multiple of the band
+#: (:attr:`Scene.display_limit_hz`); modes above it are flagged "outside the band". Matches
+#: the default Craig-Bampton cutoff factor (assembly.flexible.CUTOFF_FACTOR), so with default
+#: reductions every mode shown lies below every flexible body's cutoff.
+DISPLAY_BAND_FACTOR = 1.5
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 Fidelity = Literal["torsional", "rigid", "flexible"]
 Vec3 = tuple[float, float, float]
@@ -471,6 +476,11 @@ class Scene:
         """New scene with every ``{path: value}`` set, validated once (:func:`assembly.edit.with_values`)."""
         from .edit import with_values
         return with_values(self, changes)
+
+    @property
+    def display_limit_hz(self) -> float:
+        """Highest frequency (Hz) shown by default: DISPLAY_BAND_FACTOR x the band."""
+        return DISPLAY_BAND_FACTOR * self.band
 
     def body(self, name: str) -> Body:
         for b in self.expanded().bodies:

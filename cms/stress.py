@@ -19,7 +19,7 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from skfem import BilinearForm, CellBasis, ElementVector, LinearForm, asm
+from skfem import CellBasis, ElementVector, LinearForm, asm
 from skfem.quadrature import get_quadrature
 
 from .errors import ReductionError
@@ -97,6 +97,41 @@ def projection_basis(basis):
     return CellBasis(basis.mesh, elem, intorder=order)
 
 
+class StressProjector:
+    """L2 projection of quadrature-point stresses onto the scalar element of a vector
+    basis, prepared once (projection basis, scalar basis, factorised scalar mass matrix)
+    and reused for every displacement field on that basis (load cases, modes)."""
+
+    def __init__(self, basis, backend: str | None = None):
+        from skfem import BilinearForm, asm
+        self.basis = projection_basis(basis)
+        self.sbasis = self.basis.with_element(self.basis.elem.elem)
+
+        @BilinearForm
+        def mass(p, q, w):
+            return p * q
+
+        self._solver = factor(asm(mass, self.sbasis), backend=backend)
+
+    def __call__(self, u: np.ndarray, E: float, nu: float) -> NodalStress:
+        """Nodal stresses (Pa) of the displacement ``u`` (m; DOF vector of the basis)."""
+        sig = quadrature_stress(self.basis, u, E, nu)
+
+        @LinearForm
+        def load(q, w):
+            return w["s"] * q
+
+        B = np.column_stack([asm(load, self.sbasis, s=sig[i, j]) for i, j in VOIGT])
+        S = self._solver.solve(B)       # one block solve, 6 RHS
+        n = self.sbasis.N
+        sigma = np.empty((n, 3, 3))
+        for c, (i, j) in enumerate(VOIGT):
+            sigma[:, i, j] = S[:, c]
+            sigma[:, j, i] = S[:, c]
+        return NodalStress(sigma=sigma, von_mises=von_mises(sigma), principal=principal(sigma),
+                           points=self.sbasis.doflocs.T.copy())
+
+
 def recover_stress(basis, u: np.ndarray, E: float, nu: float,
                    backend: str | None = None) -> NodalStress:
     """L2-projected nodal stresses (Pa) of the displacement ``u`` (m; DOF vector of ``basis``).
@@ -104,26 +139,6 @@ def recover_stress(basis, u: np.ndarray, E: float, nu: float,
     ``basis`` is a scikit-fem vector basis (``ElementVector`` of a Lagrange element), e.g. an
     FE model's stiffness basis: the stresses are evaluated and projected at quadrature order
     2p (:func:`projection_basis`) onto the scalar element of the same order on the same mesh.
+    For many fields on one basis, build a :class:`StressProjector` once instead.
     """
-    basis = projection_basis(basis)
-    sig = quadrature_stress(basis, u, E, nu)
-    sbasis = basis.with_element(basis.elem.elem)
-
-    @BilinearForm
-    def mass(p, q, w):
-        return p * q
-
-    @LinearForm
-    def load(q, w):
-        return w["s"] * q
-
-    Ms = asm(mass, sbasis)
-    B = np.column_stack([asm(load, sbasis, s=sig[i, j]) for i, j in VOIGT])
-    S = factor(Ms, backend=backend).solve(B)       # one block solve, 6 RHS
-    n = sbasis.N
-    sigma = np.empty((n, 3, 3))
-    for c, (i, j) in enumerate(VOIGT):
-        sigma[:, i, j] = S[:, c]
-        sigma[:, j, i] = S[:, c]
-    return NodalStress(sigma=sigma, von_mises=von_mises(sigma), principal=principal(sigma),
-                       points=sbasis.doflocs.T.copy())
+    return StressProjector(basis, backend)(u, E, nu)

@@ -48,14 +48,36 @@ def user_errors() -> tuple:
 
     from ..errors import MechanismError, SceneError, SolverError
     from .output import OutputDirError
+    from .pipeline import ModeSelectionError
     return (SceneError, MechanismError, SolverError, OutputDirError, GeometryError, MeshingError, MeshCacheError,
-            CouplingError, ReductionError, UsageError)
+            CouplingError, ReductionError, UsageError, ModeSelectionError)
 
 
 def _at_least(value: int, flag: str, low: int) -> int:
     if value < low:
         raise UsageError(f"{flag} = {value}: must be >= {low}")
     return value
+
+
+def parse_modes(text: str) -> tuple:
+    """``--modes`` of ``run``: ``"N"`` -> (N, None): the first N elastic modes in the band;
+    ``"7,9,12-14"`` -> (None, (7, 9, 12, 13, 14)): these modes (1-based, as numbered in the
+    mode table; a single mode as ``"7,"`` or ``"7-7"``). UsageError on anything else."""
+    text = text.strip()
+    if text.isdigit():
+        return _at_least(int(text), "--modes", 0), None
+    numbers = []
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        lo, sep, hi = part.partition("-")
+        if not lo.isdigit() or (sep and not hi.isdigit()):
+            raise UsageError(f"--modes {text}: {part!r} is not a mode number or range (use N, or e.g. 7,9,12-14)")
+        a, b = int(lo), int(hi) if sep else int(lo)
+        if a < 1 or b < a:
+            raise UsageError(f"--modes {text}: {part!r}: mode numbers start at 1 and a range runs upwards")
+        numbers += [k for k in range(a, b + 1) if k not in numbers]
+    if not numbers:
+        raise UsageError(f"--modes {text!r}: no mode numbers (use N, or e.g. 7,9,12-14)")
+    return None, tuple(numbers)
 
 
 def scene_file(args) -> str:
@@ -83,7 +105,7 @@ def cmd_modes(args) -> int:
         json.dump(modes_json(res), sys.stdout, indent=1)
         sys.stdout.write("\n")
     else:
-        print(modes_table(res, title=f"{scene.name}  ({args.scene})"))
+        print(modes_table(res, title=f"{scene.name}  ({args.scene})", all_modes=args.all))
     return 0
 
 
@@ -128,11 +150,15 @@ def cmd_static(args) -> int:
 
 def cmd_run(args) -> int:
     """``flexgear run``: the whole pipeline into ``--out``."""
-    from .pipeline import RunOptions, run_pipeline
+    from .pipeline import RunOptions, run_pipeline, skipped_text
     from .progress import Progress
 
-    opts = RunOptions(n_modes=args.modes, compare=not args.no_compare, images=not args.no_images)
+    n, numbers = parse_modes(args.modes)
+    opts = RunOptions(n_modes=RunOptions.n_modes if n is None else n, mode_numbers=numbers,
+                      compare=not args.no_compare, images=not args.no_images)
     ctx = run_pipeline(scene_file(args), args.out, opts, Progress(enabled=False if args.quiet else None))
+    if ctx.skipped and not args.quiet:
+        print(f"flexgear: {skipped_text(ctx)}", file=sys.stderr)
     if not args.quiet:
         n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
         print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
@@ -193,11 +219,14 @@ def _add_run(sub) -> None:
     p = sub.add_parser("run", help="whole pipeline: tables, mode-shape images, plots, index.html")
     p.add_argument("scene", help=SCENE_HELP)
     p.add_argument("--out", required=True, help=OUT_HELP)
-    p.add_argument("--modes", type=int, default=12, metavar="N", help="elastic modes to draw (default 12)")
+    p.add_argument("--modes", default="12", metavar="N|LIST",
+                   help="modes drawn (images, modal stresses, VTU): N = the first N elastic modes in the band "
+                        "(default 12), or mode numbers as in the table, e.g. 7,9,12-14")
     p.add_argument("--no-compare", action="store_true", help="skip the torsional vs rigid comparison")
-    p.add_argument("--no-images", action="store_true", help="skip the mode-shape images")
+    p.add_argument("--no-images", action="store_true",
+                   help="skip the mode-shape and stress images (VTU files and tables are still written)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no summary line")
-    p.set_defaults(func=cmd_run, check=lambda a: _at_least(a.modes, "--modes", 0))
+    p.set_defaults(func=cmd_run, check=lambda a: parse_modes(a.modes))
 
 
 def _add_sweep(sub) -> None:
@@ -226,6 +255,8 @@ def build_parser() -> argparse.ArgumentParser:
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
     m.add_argument("scene", help=SCENE_HELP)
     m.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    m.add_argument("--all", action="store_true", help="list every mode, also those outside the band of interest "
+                                                      "(default: up to the display limit, a multiple of band_hz)")
     m.set_defaults(func=cmd_modes)
     c = sub.add_parser("compare", help="torsional, rigid and flexible variants side by side (MAC-paired)")
     c.add_argument("scene", help=SCENE_HELP)

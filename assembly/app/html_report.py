@@ -57,8 +57,9 @@ def _img(src: str, caption: str, alt: str = "") -> str:
 
 def render_index(report: dict) -> str:
     """HTML text of the run page. ``report`` keys: title, scene, meta (list of str),
-    modes (header, rows), comparison (header, rows, row_classes, note) or None, sections
-    [{title, note, tables: [(title, header, rows, left columns)]}] (optional), overview
+    modes (header, rows), modes_note (str: rows left out), comparison (header, rows, row_classes,
+    note) or None, sections [{title, note, tables: [(title, header, rows, left columns)]}]
+    (optional), overview
     (path, caption) or None, images [(path, caption)], plots [(path, caption)],
     files [(path, description)], notes [str]."""
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
@@ -70,7 +71,9 @@ def render_index(report: dict) -> str:
 
     parts.append("<h2>Natural frequencies and mode table</h2>")
     hdr, rows = report["modes"]
-    parts.append(_table(hdr, rows, left={3, 4, 5, 6}))
+    parts.append(_table(hdr, rows, left=set(range(3, len(hdr)))))
+    if report.get("modes_note"):
+        parts.append(f'<p class="meta">{_e(report["modes_note"])}</p>')
 
     comp = report.get("comparison")
     if comp:

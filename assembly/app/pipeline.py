@@ -14,7 +14,9 @@ into one ``--out DIR: writing ...: <reason>`` line.
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
 ``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``; with a load case also
-``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`).
+``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`); flexible bodies:
+``stress.csv``, ``modal_stress.csv``, ``images/stress_*.png``, ``vtu/*.vtu``, ``results.pvd``
+(docs/results.md: band, valid range, modal stress amplitude).
 """
 from __future__ import annotations
 
@@ -34,10 +36,11 @@ import numpy as np
 from ..classify import classify_modes, pair_modes
 from ..compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
 from ..compare import compare
+from ..energy import NEGLIGIBLE_STRAIN_SHARE
 from ..errors import MechanismError, SceneError, SolverError
 from ..modal import solve_modes
 from ..model import assemble
-from ..scene import Scene
+from ..scene import DISPLAY_BAND_FACTOR, Scene
 from ..schema import load_scene
 from ..reactions import static_report
 from ..static import solve_static_cases
@@ -45,18 +48,26 @@ from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
 from .static_tables import static_json, static_tables, static_text, write_static_csv
-from .tables import (comparison_cells, dominant_text, flexible_lines, modes_json, modes_table, write_comparison_csv,
+from .tables import (band_note, comparison_cells, dominant_text, flexible_lines, in_band, modes_json, modes_table,
+                     write_comparison_csv,
                      write_modes_csv)
 
 log = logging.getLogger(__name__)
 
 
+class ModeSelectionError(ValueError):
+    """``RunOptions.mode_numbers`` names a mode the scene does not have."""
+
+
 @dataclass
 class RunOptions:
-    """``n_modes``: elastic modes drawn; ``compare``: torsional vs rigid comparison;
-    ``images``: render PNGs; ``window_size``: image size (pixels)."""
+    """``n_modes``: how many elastic modes in the band are drawn (images, modal stresses,
+    VTU); ``mode_numbers``: instead, these modes (1-based, as numbered in the mode table,
+    in or outside the band); ``compare``: torsional vs rigid comparison; ``images``: render
+    PNGs; ``window_size``: image size (pixels)."""
 
     n_modes: int = 12
+    mode_numbers: Optional[tuple] = None
     compare: bool = True
     images: bool = True
     window_size: tuple = (1200, 900)
@@ -84,6 +95,8 @@ class RunContext:
     timings: dict = field(default_factory=dict)
     statics: list = field(default_factory=list)       # StaticResult per load case (step_static)
     static_reports: list = field(default_factory=list)  # StaticReport per load case
+    timings_detail: dict = field(default_factory=dict)   # sub-parts of steps (per image, per case), s
+    skipped: list = field(default_factory=list)        # what --no-images left out
 
     def add_file(self, rel: str, description: str) -> Path:
         self.files.append((rel, description))
@@ -94,6 +107,15 @@ class RunContext:
     def elastic_modes(self) -> list:
         r = self.result
         return list(range(r.n_rigid, len(r.frequencies_hz)))
+
+    def drawn_modes(self) -> list:
+        """0-based indices of the modes drawn (images, modal stresses, VTU): the selection
+        ``options.mode_numbers``, else the first ``options.n_modes`` elastic modes in the band
+        (:func:`assembly.app.tables.in_band`)."""
+        if self.options.mode_numbers is not None:
+            return [n - 1 for n in self.options.mode_numbers]
+        band = in_band(self.result)
+        return [i for i in self.elastic_modes() if band[i]][: self.options.n_modes]
 
 
 @dataclass(frozen=True)
@@ -132,6 +154,15 @@ def step_solve(ctx: RunContext, bar) -> None:
 
     ctx.result = solve_modes(ctx.model)
     ctx.infos = classify_modes(ctx.result)
+    check_mode_numbers(ctx.options.mode_numbers, len(ctx.result.frequencies_hz))
+
+
+def check_mode_numbers(numbers, n: int) -> None:
+    """Raise ModeSelectionError unless every mode number (1-based) is within 1..n."""
+    bad = [k for k in numbers or () if not 1 <= k <= n]
+    if bad:
+        raise ModeSelectionError(f"--modes {','.join(map(str, numbers))}: mode {bad[0]} does not exist: "
+                                 f"the scene has {n} modes (1-{n})")
 
 
 def _user_errors():
@@ -166,7 +197,8 @@ def comparison_fields(ctx) -> list:
 
 def step_tables(ctx: RunContext, bar) -> None:
     res = ctx.result
-    write_modes_csv(ctx.infos, ctx.add_file("modes.csv", "frequencies and mode table (CSV)"))
+    write_modes_csv(ctx.infos, ctx.add_file("modes.csv", "frequencies and mode table, every mode, in_band flag (CSV)"),
+                    in_band(res))
     with open(ctx.add_file("modes.json", "frequencies, classes, energy shares and shapes (JSON)"), "w") as fh:
         json.dump(modes_json(res), fh, indent=1)
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
@@ -179,30 +211,48 @@ def step_tables(ctx: RunContext, bar) -> None:
 def _render_total(ctx: RunContext) -> int:
     if not ctx.options.images:
         return 1
-    return 1 + min(ctx.options.n_modes, len(ctx.elastic_modes()))
+    return 1 + len(ctx.drawn_modes())
+
+
+def _band_text(ctx, i: int) -> str:
+    return "" if in_band(ctx.result)[i] else "; outside the band"
 
 
 def step_render(ctx: RunContext, bar) -> None:
-    from .render import AssemblyRenderer, mode_title
+    from .render import AssemblyRenderer
 
     if not ctx.options.images:
+        ctx.skipped += ["the overview", f"{len(ctx.drawn_modes())} mode-shape images"]
         bar.update(1)
         return
     rnd = AssemblyRenderer(ctx.model, window_size=ctx.options.window_size)
+    try:
+        _render_images(ctx, rnd, bar)
+    finally:
+        rnd.close()
+
+
+def _render_images(ctx: RunContext, rnd, bar) -> None:
+    from .render import mode_title
+
     rel = "images/overview.png"
+    t0 = time.perf_counter()
     rnd.render_overview(ctx.add_file(rel, "undeformed assembly with body names (PNG)"),
                         title=f"{ctx.scene.name}: assembly")
+    ctx.timings_detail[rel] = time.perf_counter() - t0
     ctx.overview = (rel, "assembly, undeformed (springs: bearings grey, meshes red, shafts blue)")
     bar.update(1)
-    for i in ctx.elastic_modes()[: ctx.options.n_modes]:
+    for i in ctx.drawn_modes():
         mi = ctx.infos[i]
         rel = f"images/mode_{i + 1:03d}.png"
+        t0 = time.perf_counter()
         rnd.render_mode(ctx.result, i, ctx.add_file(rel, f"mode {i + 1} shape (PNG)"),
                         title=mode_title(ctx.scene.name, mi))
+        ctx.timings_detail[rel] = time.perf_counter() - t0
         dom = dominant_text(mi)
         ctx.images.append((rel, f"mode {i + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}"
                                 + (f" (x{mi.multiplicity})" if mi.multiplicity > 1 else "")
-                                + (f"; kinetic energy: {dom}" if dom else ""), i))
+                                + (f"; kinetic energy: {dom}" if dom else "") + _band_text(ctx, i), i))
         bar.update(1)
 
 
@@ -223,19 +273,26 @@ def step_plots(ctx: RunContext, bar) -> None:
     else:
         cols.append(("this scene", ctx.result.frequencies_hz, ctx.result.n_rigid))
     rel = "plots/frequencies_by_fidelity.png"
+    sc = ctx.scene
     plot_fidelity_frequencies(cols, ctx.add_file(rel, "natural frequencies per fidelity (PNG)"),
-                              title=f"{ctx.scene.name}: natural frequencies per fidelity", pairs=pairs)
-    ctx.plots.append((rel, "natural frequencies (Hz) per fidelity; lines join modes paired by MAC"))
+                              title=f"{sc.name}: natural frequencies per fidelity", pairs=pairs,
+                              max_hz=sc.display_limit_hz, band_hz=sc.band)
+    ctx.plots.append((rel, f"natural frequencies (Hz) per fidelity up to {sc.display_limit_hz:.0f} Hz "
+                           f"(band {sc.band:.0f} Hz dashed); lines join modes paired by MAC"))
 
 
 def build_report(ctx: RunContext) -> dict:
     """Plain dict for :func:`assembly.app.html_report.render_index`."""
     res = ctx.result
     img_of = {i: rel for rel, _, i in ctx.images}
+    band = in_band(res)
+    strain = _strain_text(ctx)
     modes_rows = []
     for mi in ctx.infos:
-        modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}", mi.multiplicity, mi.mode_class,
-                           mi.stage or "", dominant_text(mi),
+        if not (band[mi.index] or mi.index in img_of):
+            continue
+        modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}" + ("" if band[mi.index] else " (outside the band)"),
+                           mi.multiplicity, mi.mode_class, mi.stage or "", dominant_text(mi), strain[mi.index],
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
@@ -247,18 +304,43 @@ def build_report(ctx: RunContext) -> dict:
             f"{len(ctx.model.bodies)} bodies, {len(ctx.model.elements)} springs, {ctx.model.K.shape[0]} DOFs, "
             f"{len(res.frequencies_hz)} modes ({res.n_rigid} rigid-body), "
             f"max relative eigen-residual {res.max_residual:.1e}",
-            "units: frequency Hz, length m, angle rad; mode shapes mass-normalised (modal mass 1 kg)"]
+            "units: frequency Hz, length m, angle rad; mode shapes mass-normalised (modal mass 1 kg)",
+            f"band of interest band_hz = {ctx.scene.band:.0f} Hz; tables, plots and images show modes up to "
+            f"{ctx.scene.display_limit_hz:.0f} Hz ({DISPLAY_BAND_FACTOR:g} x band)"]
     meta += flexible_lines(ctx.model)
     if ctx.timings:
         meta.append("time: " + ", ".join(f"{k} {v:.2f} s" for k, v in ctx.timings.items()))
+    notes = list(ctx.notes) + ([skipped_text(ctx)] if ctx.skipped else [])
     files = list(ctx.files) + [("index.html", "this page"), (MANIFEST, "run manifest (JSON)")]
     files = [(p, d) for p, d in files if not p.startswith("images/mode_")]
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta,
-                modes=(["mode", "f [Hz]", "mult.", "class", "stage", "dominant bodies (kinetic energy)", ""],
-                       [r[:6] + [r[6]] for r in modes_rows]),
+                modes=(["mode", "f [Hz]", "mult.", "class", "stage", "dominant bodies (kinetic energy)",
+                        "strain energy in flexible bodies", ""], modes_rows),
+                modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
                 comparison=comp, sections=static_sections(ctx), overview=ctx.overview,
                 images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
-                files=files, notes=list(ctx.notes))
+                files=files, notes=notes)
+
+
+def skipped_text(ctx) -> str:
+    """What ``--no-images`` left out (one line; "" when nothing was)."""
+    if not ctx.skipped:
+        return ""
+    what = ", ".join(ctx.skipped[:-1]) + (" and " if len(ctx.skipped) > 1 else "") + ctx.skipped[-1]
+    return f"--no-images: skipped {what}; VTU files, stress tables and plots are still written"
+
+
+def _strain_text(ctx) -> list:
+    """Per mode: the flexible bodies' shares of its strain energy, largest first ("" without
+    flexible bodies); the rest of the strain energy is in the springs."""
+    from ..energy import strain_by_body
+    flex = [j for j, b in enumerate(ctx.model.bodies) if ctx.model.bodies[b].flexible]
+    if not flex:
+        return [""] * len(ctx.infos)
+    names = list(ctx.model.bodies)
+    S = strain_by_body(ctx.result)
+    return ["; ".join(f"{names[j]} {100 * S[i, j]:.3g}%" for j in sorted(flex, key=lambda j: -S[i, j]))
+            for i in range(S.shape[0])]
 
 
 def step_static(ctx: RunContext, bar) -> None:
@@ -297,60 +379,118 @@ def _flexible_bodies(ctx) -> list:
 
 def _recovery_total(ctx) -> int:
     n_cases = len(ctx.scene.load_cases())
-    return 1 + len(_flexible_bodies(ctx)) * (n_cases + min(ctx.options.n_modes, len(ctx.elastic_modes())))
+    return 1 + len(_flexible_bodies(ctx)) * (n_cases + len(ctx.drawn_modes()))
 
 
 def step_recovery(ctx: RunContext, bar) -> None:
-    """Flexible bodies: static load case (if the scene has one) and modal stresses,
-    back-expanded to the FE meshes; stress images; VTU files + one .pvd collection."""
-    from .render_fe import render_stress_image
+    """Flexible bodies: static load case (if the scene has one; MPa of the physical load)
+    and modal stresses of the drawn modes, each mode scaled to MODAL_PEAK_DISPLACEMENT_M
+    peak displacement of the flexible bodies (:mod:`assembly.modal_stress`), back-expanded
+    to the FE meshes; bodies without strain energy in a mode are skipped. Stress images,
+    VTU files + one .pvd collection, ``stress.csv`` (load cases) and ``modal_stress.csv``."""
+    from ..modal_stress import MODAL_AMPLITUDE_LABEL, modal_amplitudes
+    from .render_fe import StressImages
 
     flex = _flexible_bodies(ctx)
     if not flex:
         bar.update(bar.total - bar.n)
         return
-    modes = ctx.elastic_modes()[: ctx.options.n_modes]
+    t0 = time.perf_counter()
     cases = []  # (label, model, z)
     cases += [(st.load.name, st.model, st.z) for st in ctx.statics]   # solved by step_static
+    amps = modal_amplitudes(ctx.result, ctx.drawn_modes())
+    ctx.timings_detail["stress: static solve and modal scaling"] = time.perf_counter() - t0
     bar.update(1)
-    rows, collection = [], []
-    for b in flex:
-        bm = ctx.model.bodies[b]
-        entries = [(lbl, m.body_slice(b), z) for lbl, m, z in cases]
-        entries += [(f"mode {i + 1} ({ctx.result.frequencies_hz[i]:.1f} Hz)", ctx.model.body_slice(b),
-                     ctx.result.abs_shapes[:, i]) for i in modes]
-        for k, (label, sl, z) in enumerate(entries):
-            zb = z[sl]
-            tag = ("load" if len(cases) == 1 else f"load_{k + 1:02d}") if k < len(cases) \
-                else f"mode_{modes[k - len(cases)] + 1:03d}"
-            st = bm.stress(zb)
-            j = int(np.argmax(st.von_mises))
-            loc = bm.origin + bm.axes @ st.points[j]
-            rows.append({"body": b, "case": label, "max_von_mises_Pa": float(st.von_mises[j]),
-                         "x_m": float(loc[0]), "y_m": float(loc[1]), "z_m": float(loc[2])})
-            vtu = f"vtu/{b}_{tag}.vtu"
-            _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label} (VTU)"))
-            collection.append((len(collection), vtu))
-            if ctx.options.images:  # von Mises image for the load case and every rendered mode
-                rel = f"images/stress_{b}_{tag}.png"
-                unit = "MPa" if k < len(cases) else "MPa per unit modal coordinate, modal mass 1 kg"
-                render_stress_image(bm, zb, ctx.add_file(rel, f"{b} von Mises, {label} (PNG)"),
-                                    f"{ctx.scene.name}: {b}, von Mises [{unit}], {label}",
-                                    ctx.options.window_size)
-                ctx.plots.append((rel, f"von Mises stress on {b}: {label}"))
-            bar.update(1)
-    with open(ctx.add_file("stress.csv", "max von Mises per flexible body and case (CSV; Pa, m)"), "w",
-              newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    rows, mrows, collection = [], [], []
+    images = StressImages(ctx.options.window_size) if ctx.options.images else None
+    n_images = 0
+    try:
+        for b in flex:
+            bm = ctx.model.bodies[b]
+            entries = [(lbl, "load" if len(cases) == 1 else f"load_{k + 1:02d}", z[m.body_slice(b)], None)
+                       for k, (lbl, m, z) in enumerate(cases)]
+            entries += [(f"mode {a.mode + 1} ({ctx.result.frequencies_hz[a.mode]:.1f} Hz)", f"mode_{a.mode + 1:03d}",
+                         a.factor * ctx.result.abs_shapes[ctx.model.body_slice(b), a.mode], a) for a in amps]
+            for label, tag, zb, a in entries:
+                if a is not None and b in a.skipped:
+                    mrows.append(_modal_row(ctx, b, a, None))
+                    bar.update(1)
+                    continue
+                t1 = time.perf_counter()
+                st = bm.stress(zb)
+                j = int(np.argmax(st.von_mises))
+                loc = bm.origin + bm.axes @ st.points[j]
+                where = {"x_m": float(loc[0]), "y_m": float(loc[1]), "z_m": float(loc[2])}
+                if a is None:
+                    rows.append({"body": b, "case": label, "max_von_mises_Pa": float(st.von_mises[j]), **where})
+                else:
+                    mrows.append(_modal_row(ctx, b, a, (float(st.von_mises[j]), where)))
+                vtu = f"vtu/{b}_{tag}.vtu"
+                what = "" if a is None else f" at {MODAL_AMPLITUDE_LABEL}"
+                _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label}{what} (VTU)"))
+                collection.append((len(collection), vtu))
+                ctx.timings_detail[f"stress+vtu {b} {tag}"] = time.perf_counter() - t1
+                if images is not None:  # von Mises image for the load case and every drawn mode
+                    rel = f"images/stress_{b}_{tag}.png"
+                    if a is None:
+                        title = f"{ctx.scene.name}: {b}, von Mises [MPa], {label}"
+                        cap = f"von Mises stress on {b}: {label} (MPa)"
+                    else:
+                        title = (f"{ctx.scene.name}: {b}, {label}, von Mises [MPa] at {MODAL_AMPLITUDE_LABEL}\n"
+                                 f"strain energy: {_share_text(a)} of the mode's")
+                        cap = (f"von Mises stress on {b}: {label}, MPa at {MODAL_AMPLITUDE_LABEL}; strain energy "
+                               f"{_share_text(a)}" + _band_text(ctx, a.mode))
+                    images.render(bm, st, ctx.add_file(rel, f"{b} von Mises, {label}{what} (PNG)"), title)
+                    ctx.timings_detail[rel] = images.timings[-1]
+                    ctx.plots.append((rel, cap))
+                    n_images += 1
+                else:
+                    n_images += 1
+                bar.update(1)
+    finally:
+        if images is not None:
+            images.close()
+    if images is None:
+        ctx.skipped.append(f"{n_images} stress images")
+    if rows:
+        with open(ctx.add_file("stress.csv", "max von Mises per flexible body and load case (CSV; Pa, m)"), "w",
+                  newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+    if mrows:
+        with open(ctx.add_file("modal_stress.csv", f"max von Mises per flexible body and drawn mode at "
+                                                   f"{MODAL_AMPLITUDE_LABEL} (CSV; Pa, m)"), "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(mrows[0]))
+            w.writeheader()
+            w.writerows(mrows)
     pvd = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
     pvd += [f'<DataSet timestep="{t}" part="0" file="{f}"/>' for t, f in collection]
     pvd += ["</Collection>", "</VTKFile>"]
     ctx.add_file("results.pvd", "ParaView collection of all VTU files of this run").write_text("\n".join(pvd) + "\n")
-    for r in rows[: 1 + len(cases)]:
+    for r in rows:
         ctx.notes.append(f"{r['body']}, {r['case']}: max von Mises {r['max_von_mises_Pa'] / 1e6:.4g} MPa at "
                          f"({r['x_m']:.4f}, {r['y_m']:.4f}, {r['z_m']:.4f}) m")
+    if mrows:
+        ctx.notes.append(f"modal stresses: each drawn mode scaled to {MODAL_AMPLITUDE_LABEL} (stresses scale "
+                         "linearly with the amplitude); a flexible body with less than "
+                         f"{NEGLIGIBLE_STRAIN_SHARE:g} of a mode's strain energy is skipped in that mode")
+
+
+def _share_text(a) -> str:
+    return ", ".join(f"{b} {100 * v:.3g}%" for b, v in sorted(a.strain_share.items(), key=lambda kv: -kv[1]))
+
+
+def _modal_row(ctx, body: str, a, peak) -> dict:
+    """modal_stress.csv row of ``body`` in mode ``a`` (ModalAmplitude); ``peak``:
+    (max von Mises Pa, location dict) or None for a body skipped (no strain energy)."""
+    from ..modal_stress import MODAL_PEAK_DISPLACEMENT_M, MODAL_STRESS_COLUMN
+    vm, where = peak if peak is not None else (None, {"x_m": None, "y_m": None, "z_m": None})
+    return {"mode": a.mode + 1, "frequency_hz": float(ctx.result.frequencies_hz[a.mode]), "body": body,
+            "strain_energy_share": a.strain_share[body], "carries_most_strain_energy": int(body == a.carrier),
+            "peak_displacement_m": MODAL_PEAK_DISPLACEMENT_M, "modal_coordinate_kg05": a.factor,
+            MODAL_STRESS_COLUMN: vm, **where,
+            "skipped": "" if peak is not None else "negligible strain energy"}
 
 
 def _write_body_vtu(bm, zb, stress, path) -> None:
@@ -411,6 +551,7 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
                                                         window_size=list(options.window_size)),
             files=[p for p, _ in ctx.files] + ["index.html"],
             timings_s={k: round(v, 4) for k, v in ctx.timings.items()},
+            timings_detail_s={k: round(v, 4) for k, v in ctx.timings_detail.items()},
             notes=ctx.notes, python=sys.version.split()[0])
         with writing(out_dir, work, MANIFEST):
             write_manifest(work, manifest)

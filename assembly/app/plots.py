@@ -45,18 +45,22 @@ def _elastic(freqs, n_rigid: int) -> np.ndarray:
     return np.asarray(freqs, float)[n_rigid:]
 
 
-def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz: float | None = None) -> Path:
+def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz: float | None = None,
+                              band_hz: float | None = None) -> Path:
     """Frequencies of several fidelities side by side (one column each, a short bar per mode).
 
     ``columns``: list of ``(label, frequencies_hz, n_rigid)``; rigid-body (0 Hz) modes are
     left out. ``pairs``: optional list of ``(col_a, col_b, [(i_a, i_b, mac), ...])`` drawn as
-    lines joining paired modes (darker = higher MAC). ``max_hz`` clips the frequency axis.
+    lines joining paired modes (darker = higher MAC). ``max_hz`` clips the frequency axis
+    (modes above it are left out and counted in a note); ``band_hz``: the band of interest,
+    drawn as a dashed line.
     """
     with _figure(path, (2.2 + 2.0 * len(columns), 6.0)) as (fig, ax):
-        tops = []
+        tops, n_above = [], 0
         for k, (label, f, nr) in enumerate(columns):
             fe = _elastic(f, nr)
             if max_hz is not None:
+                n_above = max(n_above, int((fe > max_hz).sum()))
                 fe = fe[fe <= max_hz]
             ax.hlines(fe, k - 0.28, k + 0.28, color=f"C{k}", lw=2)
             tops.append(fe.max() if len(fe) else 0.0)
@@ -79,7 +83,13 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
                         ls="-" if mac >= 0.8 else "--")
         ax.set_xticks(range(len(columns)), [c[0] for c in columns])
         ax.set_xlim(-0.6, len(columns) - 0.4)
-        ax.set_ylim(0, 1.05 * max(tops + [1.0]))
+        ax.set_ylim(0, max_hz if max_hz is not None else 1.05 * max(tops + [1.0]))
+        if band_hz is not None:
+            ax.axhline(band_hz, color="0.35", ls="--", lw=1.0)
+            ax.text(-0.55, band_hz, f"band {band_hz:.0f} Hz", va="bottom", fontsize=7, color="0.25")
+        if n_above:
+            ax.text(0.01, -0.11, f"{n_above} modes above {max_hz:.0f} Hz not shown (outside the band)",
+                    transform=ax.transAxes, fontsize=7, va="top")
         ax.set_ylabel("frequency [Hz]")
         ax.grid(axis="x", visible=False)
         ax.set_title(title or "natural frequencies per fidelity", fontsize=10)

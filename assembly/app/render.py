@@ -617,6 +617,35 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
     return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
 
 
+#: zlib level of the PNG files: 3 writes in half the time of PIL's default 6, files ~15 % larger.
+PNG_COMPRESS_LEVEL = 3
+
+
+def save_png(pl, path) -> None:
+    """The plotter's current image as a PNG file (PNG_COMPRESS_LEVEL)."""
+    from PIL import Image
+    Image.fromarray(pl.screenshot(None, return_img=True)).save(str(path), format="PNG",
+                                                               compress_level=PNG_COMPRESS_LEVEL)
+
+
+def _kept_plotter(pv, window_size):
+    """An off-screen plotter whose ``close()`` clears it for the next image; ``release()``
+    closes it."""
+    class KeptPlotter(pv.Plotter):
+        def close(self, *args, **kwargs):
+            self.clear()
+
+        def release(self):
+            pv.Plotter.close(self)
+
+        def __del__(self):
+            if getattr(self, "_initialized", False) and not self._closed:
+                self.release()
+            super().__del__()
+
+    return KeptPlotter(off_screen=True, window_size=list(window_size))
+
+
 class AssemblyRenderer:
     """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
 
@@ -631,13 +660,28 @@ class AssemblyRenderer:
         ends = [p for g in self.glyphs for p in (g.a, g.b)]
         self.view = assembly_view(self.shapes, self.window_size, ends)
         self._cache: dict = {}
+        self._pl = None
+
+    def close(self) -> None:
+        """Release the plotter (its OpenGL context); the renderer can still draw after."""
+        if self._pl is not None:
+            self._pl.release()
+            self._pl = None
 
     # -- helpers -------------------------------------------------------------------
     def _plotter(self):
-        pv = _pyvista()
-        pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
+        """The renderer's one off-screen plotter, cleared: a new plotter per image costs a new
+        OpenGL context and shader compilation. Actors are added with rendering suppressed;
+        :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
+        if self._pl is None:
+            self._pl = _kept_plotter(_pyvista(), self.window_size)
+            # FXAA is not supported with EGL; MSAA (4 samples) draws as smooth edges as SSAA here
+            # in half the time (SSAA renders every image at twice the size)
+            self._pl.enable_anti_aliasing("msaa", multi_samples=4)
+        pl = self._pl
+        pl.clear()
         pl.set_background("white")
-        pl.enable_anti_aliasing("ssaa")  # FXAA is not supported with EGL; VTK falls back to SSAA
+        pl.suppress_rendering = True
         return pl
 
     def _ghost(self, pl):
@@ -685,11 +729,13 @@ class AssemblyRenderer:
         pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black")
 
     def _finish(self, pl, path, view=None):
-        """Scale bar, the camera (the assembly's unless ``view``), and the PNG at ``path``."""
+        """Scale bar, the camera (the assembly's unless ``view``), and the PNG written to ``path``."""
         view = view or self.view
         self._scale_bar(pl, view)
         _camera(pl, view)
-        pl.screenshot(str(path))
+        pl.suppress_rendering = False
+        pl.render()
+        save_png(pl, path)
 
     def _springs(self, pl, shape_of, scale, view=None):
         pv = _pyvista()

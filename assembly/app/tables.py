@@ -6,21 +6,36 @@ import csv
 import numpy as np
 
 from ..classify import classify_modes
-from ..energy import kinetic_by_body, strain_by_element
+from ..energy import kinetic_by_body, strain_by_body, strain_by_element
 from ..flexible import FlexibleBodyModel
 from ..modal import mechanisms
+from ..scene import DISPLAY_BAND_FACTOR
 
 
-def modes_table(result, title: str = "") -> str:
-    """Mode table: index, frequency (Hz), multiplicity, class, dominant bodies (% KE)."""
+def in_band(result) -> np.ndarray:
+    """(n_modes,) True for the modes shown by default: frequency up to the scene's
+    display limit (Hz; ``Scene.display_limit_hz`` = DISPLAY_BAND_FACTOR x band)."""
+    return np.asarray(result.frequencies_hz) <= result.model.scene.display_limit_hz
+
+
+def modes_table(result, title: str = "", all_modes: bool = False) -> str:
+    """Mode table: index, frequency (Hz), multiplicity, class, dominant bodies (% KE): the
+    modes in the band (:func:`in_band`; every mode with ``all_modes``), then one line on
+    those left out, the flexible bodies' valid ranges and the solve."""
     infos = classify_modes(result)
+    keep = in_band(result) | all_modes
     lines = []
     if title:
         lines.append(title)
     lines.append(f"{'mode':>4}  {'frequency [Hz]':>14}  {'mult':>4}  {'class':<13}  dominant bodies (kinetic energy)")
     for mi in infos:
+        if not keep[mi.index]:
+            continue
         dom = ", ".join(f"{b} {100 * s:.0f}%" for b, s in mi.dominant_bodies)
         lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}  {mi.multiplicity:>4}  {mi.mode_class:<13}  {dom}")
+    left_out = band_note(result, int((~keep).sum()))
+    if left_out:
+        lines.append(left_out)
     for k, text in enumerate(mechanisms(result)):
         lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
     lines += flexible_lines(result.model)
@@ -29,41 +44,80 @@ def modes_table(result, title: str = "") -> str:
     return "\n".join(lines)
 
 
+def band_note(result, n_left_out: int) -> str:
+    """One line: how many modes a table leaves out and why ("" for none)."""
+    if n_left_out <= 0:
+        return ""
+    sc = result.model.scene
+    return (f"{n_left_out} modes above {sc.display_limit_hz:.0f} Hz ({DISPLAY_BAND_FACTOR:g} x band_hz "
+            f"{sc.band:.0f} Hz) not shown: outside the band of interest (all modes, flagged, in modes.csv "
+            "and modes.json)")
+
+
+def valid_up_to_hz(model) -> float | None:
+    """Lowest valid range (Hz) of the model's reduced flexible bodies (None without any):
+    assembled frequencies above it include Ritz values of residual vectors, not modes."""
+    v = [r["accurate_to_hz"] for r in flexible_summary(model).values() if r["accurate_to_hz"] is not None]
+    return min(v) if v else None
+
+
 def flexible_lines(model) -> list:
-    """One line per flexible body: FE DOFs, modes, residual vectors, reduced or cached."""
+    """One line per flexible body: FE DOFs, valid range (cutoff), fixed-interface modes,
+    residual vectors (static corrections, not modes), reduced or cached; then a line on the
+    lowest valid range of the assembled model."""
     lines = []
     for name, r in flexible_summary(model).items():
-        how = (f"{r['fixed_interface_modes']} fixed-interface modes"
-               + (f" below {r['cutoff_hz']:.0f} Hz" if r["cutoff_hz"] else "")
-               + f" + {r['residual_vectors']} residual vectors" if r["reduced"] else "unreduced (full FE)")
-        src = (" (from cache)" if r["from_cache"] else f" (reduced in {r['reduce_time_s']:.2f} s)") \
-            if r["reduced"] else ""
+        if r["reduced"]:
+            upto = (f"reduced model accurate to {r['accurate_to_hz']:.0f} Hz" if r["accurate_to_hz"] is not None
+                    else "reduced model")
+            how = (f"{upto} ({'cutoff' if r['cutoff_hz'] else 'highest kept mode'}; "
+                   f"{r['fixed_interface_modes']} fixed-interface modes below it"
+                   f" + {r['residual_vectors']} residual vectors, static corrections, not modes)")
+            src = " (from cache)" if r["from_cache"] else f" (reduced in {r['reduce_time_s']:.2f} s)"
+        else:
+            how, src = "unreduced (full FE)", ""
         lines.append(f"flexible body {name}: {r['fe_dofs']} FE DOFs, {how}{src}")
+    lim = valid_up_to_hz(model)
+    if lim is not None:
+        lines.append(f"frequencies above {lim:.0f} Hz (lowest flexible-body cutoff) are not trustworthy: they "
+                     "include Ritz values of residual vectors")
     return lines
 
 
 def flexible_summary(model) -> dict:
     """How each flexible body was modelled: FE DOFs, fixed-interface modes, residual
-    vectors, cutoff (Hz), reduction time (s) and whether it came from the cache."""
+    vectors, cutoff (Hz), the frequency up to which its reduction is accurate (Hz: the
+    cutoff, or with ``flex.n_modes`` the highest kept fixed-interface mode; None unreduced),
+    reduction time (s) and whether it came from the cache."""
     out = {}
     for name, bm in model.bodies.items():
         if not isinstance(bm, FlexibleBodyModel):
             continue
         info = bm.info
+        n = info.get("n_modes")
+        upto = info.get("cutoff_hz")
+        if upto is None and bm.reduced and n:
+            upto = float(np.max(bm.superelement.mode_frequencies_hz[:n]))
         out[name] = {"reduced": bm.reduced, "fe_dofs": info.get("n_full_dofs"),
-                     "fixed_interface_modes": info.get("n_modes"),
+                     "fixed_interface_modes": n,
                      "residual_vectors": info.get("n_residual_vectors", 0),
-                     "cutoff_hz": info.get("cutoff_hz"), "reduce_time_s": info.get("reduce_time_s"),
+                     "cutoff_hz": info.get("cutoff_hz"), "accurate_to_hz": upto,
+                     "reduce_time_s": info.get("reduce_time_s"),
                      "from_cache": bool(info.get("cache_hits"))}
     return out
 
 
 def modes_json(result) -> dict:
-    """JSON-ready dict; ``frequencies_hz`` lists every frequency ascending (0 Hz included)."""
+    """JSON-ready dict; ``frequencies_hz`` lists every frequency ascending (0 Hz included).
+    Every mode is listed; ``in_band`` flags those up to ``display_limit_hz`` (the rest are
+    outside the band of interest); ``valid_up_to_hz``: the lowest flexible-body cutoff."""
     infos = classify_modes(result)
     m = result.model
     ke = kinetic_by_body(result)
     se = strain_by_element(result)
+    sb = strain_by_body(result)
+    band = in_band(result)
+    flex = [j for j, b in enumerate(m.bodies) if m.bodies[b].flexible]
     bodies = list(m.bodies)
     elems = [e.name for e in m.elements]
     modes = []
@@ -73,11 +127,13 @@ def modes_json(result) -> dict:
             "index": i + 1,
             "frequency_hz": mi.frequency_hz,
             "multiplicity": mi.multiplicity,
+            "in_band": bool(band[i]),
             "class": mi.mode_class,
             "stage": mi.stage,
             "dominant_bodies": [b for b, _ in mi.dominant_bodies],
             "kinetic_energy_share": {b: float(ke[i, j]) for j, b in enumerate(bodies) if ke[i, j] > 1e-12},
             "strain_energy_share": {e: float(se[i, j]) for j, e in enumerate(elems) if se[i, j] > 1e-12},
+            "flexible_body_strain_energy_share": {bodies[j]: float(sb[i, j]) for j in flex},
             "shape": {b: {d: float(v) for d, v in zip(("ux", "uy", "uz", "rx", "ry", "rz"),
                                                       result.body_motion(i, b))} for b in bodies},
         })
@@ -87,6 +143,10 @@ def modes_json(result) -> dict:
         "n_dofs": int(m.K.shape[0]),
         "dof_names": m.dof_names,
         "frequencies_hz": [float(f) for f in np.sort(result.frequencies_hz)],
+        "band_hz": m.scene.band,
+        "display_limit_hz": m.scene.display_limit_hz,
+        "n_outside_band": int((~band).sum()),
+        "valid_up_to_hz": valid_up_to_hz(m),
         "n_rigid_body_modes": result.n_rigid,
         "rigid_body_modes": mechanisms(result),
         "max_relative_residual": result.max_residual,
@@ -184,14 +244,16 @@ def dominant_text(info) -> str:
     return "; ".join(f"{b} {100 * s:.0f}%" for b, s in info.dominant_bodies)
 
 
-def write_modes_csv(infos, path) -> None:
-    """Mode table as CSV: index, frequency (Hz), multiplicity, class, stage, dominant bodies."""
+def write_modes_csv(infos, path, band=None) -> None:
+    """Mode table as CSV: index, frequency (Hz), multiplicity, class, stage, dominant bodies,
+    ``in_band`` (1, or 0 for a mode outside the band of interest; ``band``: the mask of
+    :func:`in_band`, default all in band). Every mode is written."""
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share"])
+        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share", "in_band"])
         for mi in infos:
             w.writerow([mi.index + 1, f"{mi.frequency_hz:.9g}", mi.multiplicity, mi.mode_class,
-                        mi.stage or "", dominant_text(mi)])
+                        mi.stage or "", dominant_text(mi), int(True if band is None else band[mi.index])])
 
 
 def write_comparison_csv(rows, fields, path) -> None:

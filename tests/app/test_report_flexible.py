@@ -49,12 +49,29 @@ def test_stress_csv_and_vtu_collection(run_dir):
 
 
 def test_report_says_how_the_flexible_body_was_reduced(run_dir):
-    # the page and modes.json state FE size, modes and residual vectors of each body
+    # the page and modes.json state FE size, valid range, modes and residual vectors of
+    # each body; residual vectors are counted as static corrections, never as modes
     import json
-    summary = json.loads((run_dir / "modes.json").read_text())["flexible_bodies"]
+    data = json.loads((run_dir / "modes.json").read_text())
+    summary = data["flexible_bodies"]
     assert list(summary) == ["shaft"]
     s = summary["shaft"]
     html = (run_dir / "index.html").read_text()
-    assert (f"flexible body shaft: {s['fe_dofs']} FE DOFs, {s['fixed_interface_modes']} fixed-interface "
-            f"modes") in html
-    assert f"+ {s['residual_vectors']} residual vectors" in html
+    assert (f"flexible body shaft: {s['fe_dofs']} FE DOFs, reduced model accurate to {s['accurate_to_hz']:.0f} Hz"
+            in html)
+    assert (f"{s['fixed_interface_modes']} fixed-interface modes below it + {s['residual_vectors']} residual "
+            "vectors, static corrections, not modes") in html
+    # the header states the band and, with no cutoff given (flex.n_modes = 6), the highest kept
+    # fixed-interface mode as the valid range; the model is not trusted above it
+    assert f"band_hz = {data['band_hz']:.0f} Hz" in html
+    assert data["valid_up_to_hz"] == s["accurate_to_hz"]
+    assert f"frequencies above {s['accurate_to_hz']:.0f} Hz" in html
+
+
+def test_modal_stresses_at_stated_amplitude(run_dir):
+    from assembly.modal_stress import MODAL_STRESS_COLUMN
+    rows = list(csv.DictReader(open(run_dir / "modal_stress.csv")))
+    assert [r["mode"] for r in rows] == ["2", "3", "4"]
+    assert all(float(r["peak_displacement_m"]) == 1e-3 and float(r[MODAL_STRESS_COLUMN]) > 0 for r in rows)
+    html = (run_dir / "index.html").read_text()
+    assert "per unit modal coordinate" not in html and "at 1 mm peak displacement of the flexible bodies" in html

@@ -237,7 +237,7 @@ def _fault_work_folder(monkeypatch, out, exc):
 
 
 def _fault_result_file(monkeypatch, out, exc):
-    def write_modes_csv(infos, path):  # part of the file, then a full disk reported on flush: no file name
+    def write_modes_csv(infos, path, band=None):  # part of the file, then a full disk reported on flush: no file name
         Path(path).write_text("mode,")
         raise exc
     monkeypatch.setattr("assembly.app.pipeline.write_modes_csv", write_modes_csv)
@@ -302,7 +302,7 @@ def test_other_errors_pass_unchanged(error, out, monkeypatch):
     # Only OSErrors about the output folder become one-line errors; the run still leaves the
     # earlier result as it was.
     before = _snapshot(out)
-    monkeypatch.setattr("assembly.app.pipeline.write_modes_csv", lambda infos, path: _raise(error))
+    monkeypatch.setattr("assembly.app.pipeline.write_modes_csv", lambda infos, path, band=None: _raise(error))
     with pytest.raises(type(error)):
         main(["run", RIGID, "--out", str(out), *RIGID_ARGS])
     assert _snapshot(out) == before
