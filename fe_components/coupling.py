@@ -43,8 +43,8 @@ positions); the first is a thin wrapper over the second.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
-from typing import Mapping
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
 
 import numpy as np
 import scipy.linalg as sla
@@ -69,7 +69,8 @@ NodeInterfaces = Mapping[str, tuple]
 class CoupledModel:
     """A component with its interfaces coupled to 6-DOF master nodes.
 
-    K_c, M_c : CSR matrices on q_c (SI).  T : CSR (n_full, n_c), u_full = T @ q_c.
+    K_c, M_c : CSR matrices on q_c (SI), projected on first use (``projection``: back-expansion
+        needs ``T`` only).  T : CSR (n_full, n_c), u_full = T @ q_c.
     boundary_dofs : int array into q_c, every master DOF (interface order).
     masters : list of (name, position (3,) [m], 6 indices into q_c ordered
         [ux, uy, uz, rx, ry, rz], global axes).
@@ -80,8 +81,7 @@ class CoupledModel:
     nodes : (n_full / 3, 3) node positions of the full model [m].
     """
 
-    K_c: sp.csr_matrix
-    M_c: sp.csr_matrix
+    projection: Callable[[], tuple] = field(repr=False, compare=False)  # -> (K_c, M_c)
     T: sp.csr_matrix
     boundary_dofs: np.ndarray
     masters: list[tuple[str, np.ndarray, np.ndarray]]
@@ -89,6 +89,22 @@ class CoupledModel:
     retained: np.ndarray
     model: FEModel | None = None
     nodes: np.ndarray | None = None
+    _KM: tuple | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def K_c(self) -> sp.csr_matrix:
+        """Coupled stiffness T^T K T [N/m] (CSR)."""
+        return self._projected()[0]
+
+    @property
+    def M_c(self) -> sp.csr_matrix:
+        """Coupled mass T^T M T [kg] (CSR)."""
+        return self._projected()[1]
+
+    def _projected(self) -> tuple:
+        if self._KM is None:
+            self._KM = self.projection()
+        return self._KM
 
     def master_index(self, name: str) -> np.ndarray:
         for n, _, idx in self.masters:
@@ -106,7 +122,7 @@ class CoupledModel:
         lies at its node (``nodes``, the full model's node positions) with kind 0, 1, 2
         (ux, uy, uz); a master DOF at its master with kind 0..5 (``MASTER_DOF_NAMES``).
         RBE3 null-space coordinates have no location: with any, raises CouplingError."""
-        n_extra = self.K_c.shape[0] - len(self.retained) - len(self.boundary_dofs)
+        n_extra = self.T.shape[1] - len(self.retained) - len(self.boundary_dofs)
         if n_extra:
             name = next(n for n, k in self.kinds.items() if k == "rbe3")
             raise CouplingError(name, "rbe3", f"{n_extra} RBE3 null-space coordinates have no DOF location")
@@ -128,7 +144,7 @@ class CoupledModel:
             raise CouplingError("nodes", None, "this coupled model carries no node positions")
         ref = np.asarray(reference, dtype=float)
         full = rigid_kinematics(self.nodes, ref)                 # (n_full, 6), node-major rows
-        R = np.zeros((self.K_c.shape[0], 6))
+        R = np.zeros((self.T.shape[1], 6))
         R[:len(self.retained)] = full[self.retained]
         for _, pos, idx in self.masters:
             R[idx[:3]] = rigid_kinematics(pos[None], ref)             # the master point moves rigidly
@@ -176,7 +192,7 @@ def couple(model: FEModel, kinds: Mapping[str, str] | None = None) -> CoupledMod
         raise CouplingError(name, kinds[name], f"no such interface (have {sorted(model.interfaces)})")
     interfaces = {name: (iface.nodes, iface.master, kinds.get(name, iface.coupling))
                   for name, iface in model.interfaces.items()}
-    coupled = couple_nodes(model.K, model.M, model.nodes, interfaces)
+    coupled = _couple(lambda: (model.K, model.M), model.n_dofs, model.nodes, interfaces)
     coupled.model = model
     return coupled
 
@@ -190,8 +206,13 @@ def couple_nodes(K: sp.spmatrix, M: sp.spmatrix, nodes: np.ndarray, interfaces: 
         the masters take this order in q_c.  Node sets must not share nodes.
     Returns a :class:`CoupledModel` with ``model=None``.
     """
+    return _couple(lambda: (K, M), K.shape[0], nodes, interfaces)
+
+
+def _couple(matrices: Callable[[], tuple], n_full: int, nodes, interfaces: NodeInterfaces) -> CoupledModel:
+    """:func:`couple_nodes` with K, M from ``matrices()``, called when K_c or M_c is first
+    needed (``n_full``: their size)."""
     nodes = np.asarray(nodes, dtype=float)
-    n_full = K.shape[0]
     if 3 * len(nodes) != n_full:
         raise CouplingError("nodes", nodes.shape, f"need K.shape[0] / 3 = {n_full / 3:g} node positions")
     ifaces = _checked_interfaces(len(nodes), interfaces)
@@ -203,13 +224,12 @@ def couple_nodes(K: sp.spmatrix, M: sp.spmatrix, nodes: np.ndarray, interfaces: 
         mcols = -(6 * k + np.arange(6)) - 1
         _interface_entries(kind, nodes[idx], master, _node_dofs(idx), mcols, entries, eliminated, extra)
     T, retained, n_int = _transformation(n_full, entries, eliminated, extra.n, len(ifaces))
-    K_c, M_c = _projected(T, K, M)
     masters = [(name, master.copy(), n_int + 6 * k + np.arange(6)) for k, (name, _, master, _) in enumerate(ifaces)]
     boundary = np.arange(n_int, T.shape[1])
     used = {name: kind for name, _, _, kind in ifaces}
     log.info("coupled %s: %d full DOFs -> %d (%d master DOFs)", ", ".join(f"{n}:{k}" for n, k in used.items()),
              n_full, T.shape[1], len(boundary))
-    return CoupledModel(K_c, M_c, T, boundary, masters, used, retained, nodes=nodes)
+    return CoupledModel(lambda: _projected(T, *matrices()), T, boundary, masters, used, retained, nodes=nodes)
 
 
 def _checked_interfaces(n_nodes: int, interfaces: NodeInterfaces) -> list[tuple[str, np.ndarray, np.ndarray, str]]:

@@ -12,7 +12,7 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -48,14 +48,17 @@ class Interface:
 
 @dataclass
 class FEModel:
-    """A meshed component: geometry, DOF map, K, M and interfaces together (SI units)."""
+    """A meshed component: geometry, DOF map, K, M and interfaces together (SI units).
+
+    ``K`` (stiffness, N/m) and ``M`` (consistent mass, kg) are assembled on first use
+    (``matrices``): back-expansion and stress recovery of a cached reduction need the mesh,
+    the basis and the interfaces only, and skip the assembly (most of a model's build time).
+    """
 
     params: Any
     material: Material
     mesh: Any  # skfem.MeshTet1 / MeshTet2
     basis: Any  # skfem CellBasis with ElementVector (stiffness quadrature)
-    K: sp.csr_matrix  # stiffness [N/m]
-    M: sp.csr_matrix  # consistent mass [kg]
     interfaces: dict[str, Interface]
     mass: float  # [kg]
     center_of_mass: np.ndarray  # (3,) [m]
@@ -64,7 +67,26 @@ class FEModel:
     order: int = 2
     mesh_file: Path | None = None
     mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
-    timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly"
+    timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly", "matrices"
+    matrices: Callable[[], tuple] | None = field(default=None, repr=False, compare=False)  # -> (K, M)
+    _KM: tuple | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def K(self) -> sp.csr_matrix:
+        """Stiffness matrix [N/m] (CSR), assembled on first use."""
+        return self._matrices()[0]
+
+    @property
+    def M(self) -> sp.csr_matrix:
+        """Consistent mass matrix [kg] (CSR), assembled on first use."""
+        return self._matrices()[1]
+
+    def _matrices(self) -> tuple:
+        if self._KM is None:
+            t0 = time.perf_counter()
+            self._KM = self.matrices()
+            self.timings["matrices"] = time.perf_counter() - t0
+        return self._KM
 
     @property
     def nodes(self) -> np.ndarray:
@@ -141,7 +163,8 @@ def _skfem_mesh(raw: RawMesh):
 
 def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorder: int | None = None,
              mass_intorder: int | None = None) -> FEModel:
-    """Assemble K, M and mass properties of a mesh read by :func:`read_mesh`."""
+    """FE model of a mesh read by :func:`read_mesh`: basis, interfaces and mass properties now,
+    K and M when first used (:class:`FEModel`)."""
     from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, Functional, asm
     from skfem.helpers import dot
     from skfem.models.elasticity import lame_parameters, linear_elasticity
@@ -154,17 +177,8 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     m_order = 2 * p if mass_intorder is None else mass_intorder
     kb = Basis(mesh, elem, intorder=max(k_order, 1))
     _check_jacobians(kb, raw, params)
-    lam, mu = lame_parameters(material.E, material.nu)
-    K = asm(linear_elasticity(lam, mu), kb).tocsr()
 
-    @BilinearForm
-    def _mass(u, v, w):
-        return dot(u, v)
-
-    mb = kb if m_order == k_order else Basis(mesh, elem, intorder=m_order)
-    M = (material.rho * asm(_mass, mb)).tocsr()
-
-    # mass properties from the same geometry and quadrature as M
+    # mass properties integrated over the geometry with the mass quadrature
     sb = Basis(mesh, ElementTetP1(), intorder=m_order)
     def moment(f):
         return float(Functional(f).assemble(sb))
@@ -178,19 +192,34 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
         for j in range(i, 3):
             S[i, j] = S[j, i] = rho * moment(lambda w, i=i, j=j: (w.x[i] - com[i]) * (w.x[j] - com[j]))
     inertia = np.trace(S) * np.eye(3) - S
-    # cheap check: the consistent mass matrix carries the same mass (rigid translation)
-    ex = np.zeros(M.shape[0])
-    ex[0::3] = 1.0
-    m_check = float(ex @ (M @ ex))
-    if abs(m_check - mass) > 1e-8 * mass:
-        log.warning("mass from M (%.9g kg) differs from integrated mass (%.9g kg)", m_check, mass)
+
+    def matrices():
+        """(K, M): linear elasticity and consistent mass, assembled by scikit-fem."""
+        lam, mu = lame_parameters(material.E, material.nu)
+        K = asm(linear_elasticity(lam, mu), kb).tocsr()
+
+        @BilinearForm
+        def _mass(u, v, w):
+            return dot(u, v)
+
+        mb = kb if m_order == k_order else Basis(mesh, elem, intorder=m_order)
+        M = (material.rho * asm(_mass, mb)).tocsr()
+        # cheap check: the consistent mass matrix carries the same mass (rigid translation)
+        ex = np.zeros(M.shape[0])
+        ex[0::3] = 1.0
+        m_check = float(ex @ (M @ ex))
+        if abs(m_check - mass) > 1e-8 * mass:
+            log.warning("mass from M (%.9g kg) differs from integrated mass (%.9g kg)", m_check, mass)
+        log.info("assembled K, M: %d DOFs (P%d)", kb.N, p)
+        return K, M
 
     nodes = kb.doflocs[:, ::3].T
     interfaces = _interfaces(params, raw, nodes)
     t_asm = time.perf_counter() - t0
-    log.info("assembled %d DOFs (P%d) in %.2f s", kb.N, p, t_asm)
-    return FEModel(params=params, material=material, mesh=mesh, basis=kb, K=K, M=M, interfaces=interfaces,
-                   mass=mass, center_of_mass=com, inertia=inertia, order=p, timings={"assembly": t_asm})
+    log.info("FE model of %d DOFs (P%d) in %.2f s (K, M assembled when first used)", kb.N, p, t_asm)
+    return FEModel(params=params, material=material, mesh=mesh, basis=kb, interfaces=interfaces,
+                   mass=mass, center_of_mass=com, inertia=inertia, order=p, timings={"assembly": t_asm},
+                   matrices=matrices)
 
 
 def _check_jacobians(basis, raw: RawMesh, params) -> None:
