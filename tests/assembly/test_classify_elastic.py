@@ -55,12 +55,18 @@ def carrier():
 def test_carrier_elastic_modes_and_stage_classes(carrier):
     r, infos = carrier
     assert len(infos) == len(r.frequencies_hz)
-    # Lin & Parker classes of the stage modes (N = 3: rotational singles, translational pairs).
-    expect = {1065: "translational", 1318: "rotational", 1805: "translational", 1895: "rotational",
-              2156: "translational", 2638: "rotational"}
-    for f, cls in expect.items():
-        near = [mi for mi in infos if abs(mi.frequency_hz - f) < 1.0]
-        assert near and all(mi.mode_class == cls for mi in near), (f, near)
+    # Lin & Parker (1999) for equally spaced planets: the in-plane stage modes are rotational
+    # (single) or translational (pairs of equal frequency), so a classified translational mode
+    # has exactly one translational twin and a rotational one none (twins within 1 %: the
+    # flexible carrier's mesh is periodic only to mesh accuracy).
+    stage = [mi for mi in infos if mi.mode_class in ("rotational", "translational")]
+    assert {mi.mode_class for mi in stage} == {"rotational", "translational"}
+    for mi in stage:
+        twins = [o for o in stage if o.index != mi.index and abs(o.frequency_hz / mi.frequency_hz - 1) < 0.01]
+        if mi.mode_class == "translational":
+            assert [o.mode_class for o in twins] == ["translational"], (mi, twins)
+        else:
+            assert not twins, (mi, twins)
     # Carrier on its bearing, moving as a rigid body (below its first elastic mode): not elastic.
     assert all(mi.mode_class != "elastic" for mi in infos if mi.frequency_hz < 3000)
     # Modes in the carrier's elastic range (3-10 kHz) holding >= 80 % of the kinetic energy in
