@@ -182,7 +182,7 @@ def from_dict(cls, data: Any, path: str = ""):
                 val = tuple(math.radians(d) for d in deg)
             else:
                 val = math.radians(deg)
-            check_rules(fields[name], val, p, math.degrees)
+            check_rules(fields[name], val, p, degrees_as_written)
             in_degrees.add(name)
         else:
             allowed = sorted(fields)
@@ -229,10 +229,16 @@ def as_written(obj, field: str, path: str, value=None):
         return f"{path.removesuffix(field)}n_planets", obj.__dict__[_N_PLANETS]
     value = getattr(obj, field) if value is None else value
     if field in given_in_degrees(obj) and isinstance(value, (int, float)):
-        return f"{path}_deg", float(f"{math.degrees(value):.12g}")   # 20.0, not 20.000000000000004
+        return f"{path}_deg", degrees_as_written(value)
     if field in given_in_degrees(obj) and isinstance(value, tuple):
-        return f"{path}_deg", [float(f"{math.degrees(v):.12g}") for v in value]
+        return f"{path}_deg", [degrees_as_written(v) for v in value]
     return path, value
+
+
+def degrees_as_written(value: float) -> float:
+    """An angle (rad) back in the degrees it was read from: 20.0, not 20.000000000000004
+    (12 significant digits undo the round trip through radians)."""
+    return float(f"{math.degrees(value):.12g}")
 
 
 @functools.cache

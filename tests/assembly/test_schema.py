@@ -84,3 +84,14 @@ def test_array_form_needs_every_field():
     with pytest.raises(SceneError) as e:
         from_dict(ShaftSegment, [0.1], "shaft[0]")
     assert e.value.path == "shaft[0]"
+
+
+@pytest.mark.parametrize("deg", [60.0, 45.0, 75.3])
+def test_angle_out_of_range_is_named_as_written(deg):
+    # a value written in degrees is refused in those degrees (60.0, not 59.99999999999999
+    # from the round trip through radians)
+    d = _pinion_table()
+    d["teeth"]["pressure_angle_deg"] = deg
+    with pytest.raises(SceneError) as e:
+        component_from_table(d, "bodies[0].component")
+    assert e.value.path == "bodies[0].component.teeth.pressure_angle_deg" and e.value.value == deg
