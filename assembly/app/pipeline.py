@@ -399,7 +399,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
     cases = []  # (label, model, z)
     cases += [(st.load.name, st.model, st.z) for st in ctx.statics]   # solved by step_static
     amps = modal_amplitudes(ctx.result, ctx.drawn_modes())
-    ctx.timings_detail["stress: static solve and modal scaling"] = time.perf_counter() - t0
+    ctx.timings_detail["stress: modal scaling"] = time.perf_counter() - t0
     bar.update(1)
     rows, mrows, collection = [], [], []
     images = StressImages(ctx.options.window_size) if ctx.options.images else None
@@ -431,27 +431,39 @@ def step_recovery(ctx: RunContext, bar) -> None:
                 collection.append((len(collection), vtu))
                 ctx.timings_detail[f"stress+vtu {b} {tag}"] = time.perf_counter() - t1
                 if images is not None:  # von Mises image for the load case and every drawn mode
-                    rel = f"images/stress_{b}_{tag}.png"
-                    if a is None:
-                        title = f"{ctx.scene.name}: {b}, von Mises [MPa], {label}"
-                        cap = f"von Mises stress on {b}: {label} (MPa)"
-                    else:
-                        title = (f"{ctx.scene.name}: {b}, {label}, von Mises [MPa] at {MODAL_AMPLITUDE_LABEL}\n"
-                                 f"strain energy: {_share_text(a)} of the mode's")
-                        cap = (f"von Mises stress on {b}: {label}, MPa at {MODAL_AMPLITUDE_LABEL}; strain energy "
-                               f"{_share_text(a)}" + _band_text(ctx, a.mode))
-                    images.render(bm, st, ctx.add_file(rel, f"{b} von Mises, {label}{what} (PNG)"), title)
-                    ctx.timings_detail[rel] = images.timings[-1]
-                    ctx.plots.append((rel, cap))
-                    n_images += 1
-                else:
-                    n_images += 1
+                    _stress_image(ctx, images, b, st, label, tag, a)
+                n_images += 1
                 bar.update(1)
     finally:
         if images is not None:
             images.close()
     if images is None:
         ctx.skipped.append(f"{n_images} stress images")
+    _write_recovery_files(ctx, rows, mrows, collection)
+
+
+def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) -> None:
+    """The von Mises image of flexible body ``b`` for stresses ``st`` of a load case
+    (``a`` None) or of a drawn mode (``a``: its ModalAmplitude), with title and caption."""
+    from ..modal_stress import MODAL_AMPLITUDE_LABEL
+    rel = f"images/stress_{b}_{tag}.png"
+    what = "" if a is None else f" at {MODAL_AMPLITUDE_LABEL}"
+    if a is None:
+        title = f"{ctx.scene.name}: {b}, von Mises [MPa], {label}"
+        cap = f"von Mises stress on {b}: {label} (MPa)"
+    else:
+        title = (f"{ctx.scene.name}: {b}, {label}, von Mises [MPa] at {MODAL_AMPLITUDE_LABEL}\n"
+                 f"strain energy: {_share_text(a)} of the mode's")
+        cap = (f"von Mises stress on {b}: {label}, MPa at {MODAL_AMPLITUDE_LABEL}; strain energy "
+               f"{_share_text(a)}" + _band_text(ctx, a.mode))
+    images.render(ctx.model.bodies[b], st, ctx.add_file(rel, f"{b} von Mises, {label}{what} (PNG)"), title)
+    ctx.timings_detail[rel] = images.timings[-1]
+    ctx.plots.append((rel, cap))
+
+
+def _write_recovery_files(ctx: RunContext, rows: list, mrows: list, collection: list) -> None:
+    """``stress.csv`` (load cases), ``modal_stress.csv`` (drawn modes), the ``results.pvd``
+    collection of the VTU files and the notes of :func:`step_recovery`."""
     if rows:
         with open(ctx.add_file("stress.csv", "max von Mises per flexible body and load case (CSV; Pa, m)"), "w",
                   newline="") as fh:
