@@ -464,6 +464,7 @@ def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) 
 def _write_recovery_files(ctx: RunContext, rows: list, mrows: list, collection: list) -> None:
     """``stress.csv`` (load cases), ``modal_stress.csv`` (drawn modes), the ``results.pvd``
     collection of the VTU files and the notes of :func:`step_recovery`."""
+    from ..modal_stress import MODAL_AMPLITUDE_LABEL
     if rows:
         with open(ctx.add_file("stress.csv", "max von Mises per flexible body and load case (CSV; Pa, m)"), "w",
                   newline="") as fh:
