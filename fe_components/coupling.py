@@ -42,6 +42,7 @@ positions); the first is a thin wrapper over the second.
 """
 from __future__ import annotations
 
+import functools
 import logging
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
@@ -89,22 +90,20 @@ class CoupledModel:
     retained: np.ndarray
     model: FEModel | None = None
     nodes: np.ndarray | None = None
-    _KM: tuple | None = field(default=None, repr=False, compare=False)
+
+    @functools.cached_property
+    def _KM(self) -> tuple:
+        return self.projection()
 
     @property
     def K_c(self) -> sp.csr_matrix:
         """Coupled stiffness T^T K T [N/m] (CSR)."""
-        return self._projected()[0]
+        return self._KM[0]
 
     @property
     def M_c(self) -> sp.csr_matrix:
         """Coupled mass T^T M T [kg] (CSR)."""
-        return self._projected()[1]
-
-    def _projected(self) -> tuple:
-        if self._KM is None:
-            self._KM = self.projection()
-        return self._KM
+        return self._KM[1]
 
     def master_index(self, name: str) -> np.ndarray:
         for n, _, idx in self.masters:

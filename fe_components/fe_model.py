@@ -7,6 +7,7 @@ Units: SI (m, kg, N, Pa); K in N/m, M in kg.
 """
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import time
@@ -69,24 +70,23 @@ class FEModel:
     mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
     timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly", "matrices"
     matrices: Callable[[], tuple] | None = field(default=None, repr=False, compare=False)  # -> (K, M)
-    _KM: tuple | None = field(default=None, repr=False, compare=False)
+
+    @functools.cached_property
+    def _KM(self) -> tuple:
+        t0 = time.perf_counter()
+        KM = self.matrices()
+        self.timings["matrices"] = time.perf_counter() - t0
+        return KM
 
     @property
     def K(self) -> sp.csr_matrix:
         """Stiffness matrix [N/m] (CSR), assembled on first use."""
-        return self._matrices()[0]
+        return self._KM[0]
 
     @property
     def M(self) -> sp.csr_matrix:
         """Consistent mass matrix [kg] (CSR), assembled on first use."""
-        return self._matrices()[1]
-
-    def _matrices(self) -> tuple:
-        if self._KM is None:
-            t0 = time.perf_counter()
-            self._KM = self.matrices()
-            self.timings["matrices"] = time.perf_counter() - t0
-        return self._KM
+        return self._KM[1]
 
     @property
     def nodes(self) -> np.ndarray:
