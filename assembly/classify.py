@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .energy import kinetic_by_body, kinetic_by_category, strain_energy_by_body
+from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
 from .harmonics import body_nodal_diameters
 
 #: Relative energy below which a class condition counts as zero. Exact models give
@@ -72,7 +72,7 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
     E = kinetic_by_category(result)
     share = kinetic_by_body(result)
     mult = result.multiplicity()
-    U = strain_energy_by_body(result) if any(bm.flexible for bm in model.bodies.values()) else None
+    U = strain_by_body(result) if any(bm.flexible for bm in model.bodies.values()) else None
     out = [None] * len(result.frequencies_hz)
     for g in result.groups:
         Eg = E[g].sum(axis=0)  # (n_bodies, 4)

@@ -26,25 +26,6 @@ def kinetic_energy_by_body(result) -> np.ndarray:
     return np.column_stack(cols)
 
 
-def strain_energy_by_body(result) -> np.ndarray:
-    """(n_modes, n_bodies) z_b' K_b z_b of each body's own stiffness (zero for rigid and
-    torsional bodies; for a flexible body its elastic strain energy, K_b being free of
-    rigid-body stiffness), as a share of the mode's total z' K z (0 for 0 Hz modes)."""
-    m = result.model
-    Z = result.abs_shapes
-    total = np.einsum("im,im->m", Z, np.asarray(m.K_abs @ Z))
-    cols = []
-    for name, bm in m.bodies.items():
-        sl = m.body_slice(name)
-        if not bm.flexible:
-            cols.append(np.zeros(Z.shape[1]))
-            continue
-        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(bm.stiffness_matrix() @ Z[sl])))
-    U = np.column_stack(cols)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(total[:, None] > 0, U / np.where(total > 0, total, 1.0)[:, None], 0.0)
-
-
 def strain_by_element(result) -> np.ndarray:
     """(n_modes, n_elements) strain-energy shares of the springs (rows sum to 1, or 0)."""
     m = result.model
