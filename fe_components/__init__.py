@@ -14,6 +14,7 @@ _EXPORTS = {
     "MeshCacheError": "errors", "MeshingError": "errors",
     "write_vtu": "export",
     "FEModel": "fe_model", "Interface": "fe_model", "build_component": "fe_model", "default_mesh_size": "fe_model",
+    "GearBlank": "gear_blank", "blank_mass_properties": "gear_blank",
     "STEEL": "material", "Material": "material",
     "MeshOptions": "meshing",
     "COMPONENT_KINDS": "params", "CarrierParams": "params", "CylinderParams": "params", "GearTeeth": "params",

@@ -35,6 +35,7 @@ import dataclasses
 import functools
 import hashlib
 import logging
+import contextlib
 import os
 import tempfile
 import time
@@ -57,6 +58,21 @@ MESHER_VERSION = "2"  # 2: inverted curved P2 elements repaired by gmsh high-ord
 CACHE_ENV = "FLEXGEAR_CACHE_DIR"
 #: A folder that replaces :func:`default_cache_dir` in this process, or None.
 DEFAULT_CACHE_DIR = None
+
+
+@contextlib.contextmanager
+def cache_root(folder):
+    """Within the block, :func:`default_cache_dir` (and every cache default that reads it) is
+    ``folder``: ``$FLEXGEAR_CACHE_DIR`` is set to it and restored (or removed) afterwards."""
+    saved = os.environ.get(CACHE_ENV)
+    os.environ[CACHE_ENV] = str(folder)
+    try:
+        yield Path(folder)
+    finally:
+        if saved is None:
+            os.environ.pop(CACHE_ENV, None)
+        else:
+            os.environ[CACHE_ENV] = saved
 
 
 def default_cache_dir() -> Path:
@@ -199,16 +215,17 @@ def _load_entry(path: Path, reader, heal: bool | None):
         if not (heal if heal is not None else path.parent.resolve() != REFERENCE_DIR.resolve()):
             raise MeshCacheError(path, reason, "restore the committed file (git checkout -- meshes/ref) or "
                                                "regenerate it (python -m fe_components.reference)") from exc
-        _move_aside(path, reason)
+        move_aside(path, reason)
         return None
     log.info("mesh cache hit: %s", path)
     return out
 
 
-def _move_aside(path: Path, reason: str) -> None:
-    """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn. The
-    superelement cache (cms.cache) moves bad files aside by the same rule, in its own copy:
-    the two packages import nothing of each other."""
+def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: str = "meshing again") -> None:
+    """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn
+    ("unusable <what> <path> (<reason>): moved to ...; <then>"). The superelement cache
+    (cms.cache) moves bad files aside by the same rule, in its own copy: the two packages
+    import nothing of each other; assembly.mass_cache uses this one."""
     dest = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}")
     try:
         os.replace(path, dest)
@@ -217,7 +234,7 @@ def _move_aside(path: Path, reason: str) -> None:
         where = "already gone"
     except OSError as err:
         where = f"could not be moved aside ({err})"
-    log.warning("unusable mesh cache entry %s (%s): %s; meshing again", path, reason, where)
+    log.warning("unusable %s %s (%s): %s; %s", what, path, reason, where, then)
 
 
 def _generate_entry(params, options: MeshOptions, path: Path) -> str:

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from fe_components.gear_pair import (base_radius, inv_inverse, pair_geometry, pair_mismatch,
-                                     working_centre_distance)
+from fe_components.gear_pair import (base_radius, gear_diameters, inv_inverse, pair_geometry, pair_mismatch,
+                                     tip_alteration, working_centre_distance)
 from fe_components.involute import inv
 from fe_components.params import GearTeeth
 
@@ -117,8 +117,12 @@ def test_contact_ratio_is_path_of_contact_over_base_pitch(internal):
     m_n = 0.01
     t1, t2 = teeth(19, m_n, 0.2), teeth(56 if internal else 41, m_n, 0.1)
     g = pair_geometry(t1, t2, internal)
-    r_a2 = t2.pitch_radius - m_n * (1 + t2.profile_shift) if internal else t2.tip_radius
-    g_a, ds = _path_of_contact(t1.tip_radius, t1.base_radius, r_a2, t2.base_radius, g.centre_distance,
+    # ISO 21771 tip alteration: an external pair's tips are both shortened by
+    # -k m_n = (x1 + x2) m_n - (a_w - a), a = m_n (z1 + z2) / 2 (spur); an internal pair none
+    a = m_n * (t1.n_teeth + t2.n_teeth) / 2
+    k_m = 0.0 if internal else g.centre_distance - a - (t1.profile_shift + t2.profile_shift) * m_n
+    r_a2 = t2.pitch_radius - m_n * (1 + t2.profile_shift) if internal else t2.tip_radius + k_m
+    g_a, ds = _path_of_contact(t1.tip_radius + k_m, t1.base_radius, r_a2, t2.base_radius, g.centre_distance,
                                g.working_pressure_angle, internal)
     p_bt = math.pi * m_n * math.cos(g.transverse_pressure_angle)
     assert g.contact_ratio == pytest.approx(g_a / p_bt, abs=2 * ds / p_bt)   # two sampling steps
@@ -131,3 +135,76 @@ def test_pair_mismatch_names_the_field():
     assert pair_mismatch(teeth(20, 0.004, beta=10), teeth(40, 0.004, beta=10))[0] == "helix_angle"
     assert pair_mismatch(teeth(20, 0.004, beta=10), teeth(40, 0.004, beta=-10)) is None
     assert pair_mismatch(teeth(20, 0.004, beta=10), teeth(60, 0.004, beta=10), internal=True) is None
+
+
+# Nejad et al. (2016), Wind Energy 19, Table V (as transcribed in gfsReboucas/Drivetrain on
+# GitHub, NREL_5MW.m, with the tip alteration coefficients the authors took from KISSsoft):
+# (z1, z2, x1, x2, m_n m, helix deg, tip diameters of gear 1 and 2 in m). Stage 1 and 2: sun,
+# planet; stage 3: pinion, wheel. The table's own tips use slightly different k per gear
+# (stage 1: -0.2410 sun, -0.2416 planet), so ours agree with it to its 0.1 mm rounding,
+# i.e. within half of it, 0.05 mm, not to its third decimal.
+TABLE_V_TIPS = [
+    (19, 17, 0.617, 0.802, 0.045, 0.0, 0.978839, 0.905440),
+    (18, 36, 0.389, 0.504, 0.021, 0.0, 0.432845, 0.815655),
+    (24, 95, 0.480, 0.669, 0.014, 10.0, 0.380751, 1.395372),
+]
+TIP_ROUNDING = 0.05e-3   # m
+# rings: (z, x, m_n, tip diameter m), no tip alteration
+TABLE_V_RING_TIPS = [(56, -0.501, 0.045, 2.475087), (93, 0.117, 0.021, 1.906074)]
+
+
+@pytest.mark.parametrize("z1, z2, x1, x2, m_n, beta, da1, da2", TABLE_V_TIPS)
+def test_tip_alteration_gives_the_published_tip_diameters(z1, z2, x1, x2, m_n, beta, da1, da2):
+    k = tip_alteration(z1, z2, x1, x2, m_n, DEG(20), DEG(beta))
+    # k m_n = a_w - a - (x1 + x2) m_n: stage 1 a_w 863 mm, a = 45 * 36 / 2 = 810 mm,
+    # (x1 + x2) m_n = 63.855 mm: k m_n = -10.86 mm, k = -0.241 (to a_w's 0.5 mm rounding: 0.011)
+    if z1 == 19:
+        assert k == pytest.approx((0.863 - 0.810 - 1.419 * 0.045) / 0.045, abs=0.5e-3 / 0.045)
+    for z, x, d_a in ((z1, x1, da1), (z2, x2, da2)):
+        assert abs(gear_diameters(z, m_n, DEG(beta), x, False, k)[1] - d_a) <= TIP_ROUNDING
+        # without it the tips would be 2 |k| m_n (21.7, 3.5, 1.9 mm) too large
+        assert gear_diameters(z, m_n, DEG(beta), x)[1] - d_a > 10 * TIP_ROUNDING
+
+
+@pytest.mark.parametrize("z, x, m_n, d_a", TABLE_V_RING_TIPS)
+def test_rings_take_no_tip_alteration(z, x, m_n, d_a):
+    assert abs(gear_diameters(z, m_n, 0.0, x, internal=True)[1] - d_a) <= TIP_ROUNDING
+    assert tip_alteration(17, -z, 0.802, x, m_n, DEG(20), 0.0) == 0.0
+
+
+def test_unshifted_pair_has_no_tip_alteration():
+    # x1 + x2 = 0: a_w = a, so k m_n = 0 (ISO 21771)
+    assert tip_alteration(20, 40, 0.3, -0.3, 0.004, DEG(20), DEG(15)) == pytest.approx(0.0, abs=1e-12)
+    assert tip_alteration(20, 40, 0.0, 0.0, 0.004, DEG(20), 0.0) == 0.0
+
+
+def _eps_from_tips(da1, da2, z1, z2, m_n, a_w, internal=False):
+    """eps_alpha of a spur pair from its tip diameters (ISO 21771, transverse contact ratio):
+    (sqrt(r_a1^2 - r_b1^2) +- sqrt(r_a2^2 - r_b2^2) -+ a_w sin(alpha_w)) / (pi m_n cos(alpha)),
+    r_b = z m_n cos(20 deg) / 2, cos(alpha_w) = (r_b2 +- r_b1) / a_w."""
+    s = -1 if internal else 1
+    rb1, rb2 = (z * m_n * math.cos(DEG(20)) / 2 for z in (z1, z2))
+    alpha_w = math.acos((rb2 + s * rb1) / a_w)
+    g = (math.sqrt((da1 / 2) ** 2 - rb1 ** 2) + s * math.sqrt((da2 / 2) ** 2 - rb2 ** 2)
+         - s * a_w * math.sin(alpha_w))
+    return g / (math.pi * m_n * math.cos(DEG(20)))
+
+
+@pytest.mark.parametrize("zs, m_n, xs, a_table", TABLE_V_PLANETARY)
+def test_contact_ratios_from_the_published_tips(zs, m_n, xs, a_table):
+    # eps_alpha from Table V's tips (sun, planet, ring) at our working centre distance (the
+    # table's is rounded to 1 mm); our tips differ from the table's by at most 0.05 mm, which
+    # moves eps_alpha by at most sum r_a / sqrt(r_a^2 - r_b^2) dr_a / p_bt: under 1.5e-3 here.
+    (z_s, z_p, z_r), (x_s, x_p, x_r) = zs, xs
+    tips = {(19, 17): (0.978839, 0.905440, 2.475087), (18, 36): (0.432845, 0.815655, 1.906074)}[(z_s, z_p)]
+    sun, planet, ring = (teeth(z, m_n, x) for z, x in zip(zs, xs))
+    sp = pair_geometry(sun, planet)
+    k = sp.tip_alteration
+    pr = pair_geometry(planet, ring, internal=True, tip_alterations=(k, 0.0))
+    assert sp.contact_ratio == pytest.approx(
+        _eps_from_tips(tips[0], tips[1], z_s, z_p, m_n, sp.centre_distance), abs=1.5e-3)
+    assert pr.contact_ratio == pytest.approx(
+        _eps_from_tips(tips[1], tips[2], z_p, z_r, m_n, pr.centre_distance, internal=True), abs=1.5e-3)
+    # the shortened tips lower both: stage 1 sun-planet from 1.39 to 1.11
+    assert sp.contact_ratio < pair_geometry(sun, planet, tip_alterations=(0.0, 0.0)).contact_ratio
+    assert pr.contact_ratio < pair_geometry(planet, ring, internal=True, tip_alterations=(0.0, 0.0)).contact_ratio
