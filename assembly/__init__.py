@@ -15,7 +15,7 @@ from fe_components.lazy import lazy_exports
 from .compare import compare
 from .errors import MechanismError, SceneError, SolverError
 from .scene import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
-                    Planets, Scene, Shaft, scale_bearings, with_fidelity)
+                    Planets, PointLoad, Scene, Shaft, Support, scale_bearings, with_fidelity)
 
 #: Public name -> submodule, imported on first use.
 _EXPORTS = {
@@ -23,10 +23,12 @@ _EXPORTS = {
     "get_value": "edit", "with_value": "edit", "with_values": "edit",
     "solve_modes": "modal", "assemble": "model", "load_scene": "schema", "scene_from_dict": "schema",
     "save_scene": "scene_toml", "scene_to_toml": "scene_toml", "Branch": "tracking", "track_modes": "tracking",
+    "stage_alone": "stage_alone",
 }
 
 __all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "GearMesh", "LoadCase", "MechanismError",
-                  "Member", "PlanetaryStage", "Planets", "Scene", "SceneError", "Shaft", "SolverError", "compare",
+                  "Member", "PlanetaryStage", "Planets", "PointLoad", "Scene", "SceneError", "Shaft", "SolverError",
+                  "Support", "compare",
                   "scale_bearings", "with_fidelity", *_EXPORTS])
 
 

@@ -4,12 +4,17 @@ Classes (Lin & Parker for planetary stages, extended to helical stages as in Eri
 Parker): ``rotational`` (central members only spin, and move axially if helical),
 ``translational`` (central members only translate in-plane, and tilt if helical),
 ``planet`` (central members at rest), ``out-of-plane`` (a rotational or translational
-mode whose energy is mostly axial/tilt), ``global`` (energy spread over several stages),
-``mixed`` (none of these), ``rigid-body`` (0 Hz), ``elastic`` (the mode is mostly the
-elastic deformation of one flexible body: :data:`ELASTIC_SHARE`; ``ModeInfo.body`` names
-it and ``nodal_diameters`` counts its circumferential waves). Scenes without planetary stages are
-classified by the dominant motion type (spin -> rotational, in-plane -> translational,
-axial/tilt -> out-of-plane).
+mode whose energy is mostly axial/tilt), ``mixed`` (none of these), ``rigid-body`` (0 Hz),
+``elastic`` (the mode is mostly the elastic deformation of one flexible body:
+:data:`ELASTIC_SHARE`; ``ModeInfo.body`` names it and ``nodal_diameters`` counts its
+circumferential waves). Modes local to a planetary stage get that stage's class; all
+others (global modes, modes of a parallel stage or of one body) get the dominant motion
+type of the whole mode (spin -> rotational, in-plane -> translational, axial/tilt ->
+out-of-plane).
+
+Every mode also gets a ``scope`` (Peeters, Vandepitte & Sas 2006; :mod:`assembly.locality`):
+``"global"``, or the stage holding at least :data:`assembly.locality.LOCAL_SHARE` of its
+total (kinetic + strain) energy, and ``energy``: its kinetic and strain shares per stage.
 
 Every test is made on energies summed over a group of repeated frequencies, which do not
 depend on the (arbitrary) basis the solver returns for that eigenspace.
@@ -22,6 +27,7 @@ import numpy as np
 
 from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
 from .harmonics import body_nodal_diameters
+from .locality import energy_table, group_shares, mode_scopes, total_share
 
 #: Relative energy below which a class condition counts as zero. Exact models give
 #: zeros to round-off; FE-based bodies are symmetric only to mesh accuracy (~1e-4).
@@ -45,6 +51,8 @@ class ModeInfo:
     dominant_bodies: tuple
     body: str | None = None              # elastic modes: the deforming flexible body
     nodal_diameters: int | None = None   # elastic modes: circumferential harmonic number
+    scope: str | None = None             # "global", or the stage (group) holding the mode
+    energy: tuple = ()                   # ((group, kinetic share, strain share), ...) per stage
 
     @property
     def label(self) -> str:
@@ -55,30 +63,31 @@ class ModeInfo:
         return f"elastic {self.body}{nd}"
 
 
-def _stage_of(model):
-    return [model.scene.body(b).stage or f"body:{b}" for b in model.bodies]
-
-
 def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
-    """Class of every mode (see the module doc). ``nodal_diameters``: count them for the
-    elastic modes (back-expands each such mode of a flexible body to its FE mesh, which
-    loads the body's FE model once)."""
+    """Class and scope of every mode (see the module doc). ``nodal_diameters``: count them
+    for the elastic modes (back-expands each such mode of a flexible body to its FE mesh,
+    which loads the body's FE model once)."""
     model = result.model
     names = list(model.bodies)
     sc_bodies = {b.name: b for b in model.scene.bodies}
-    stage = _stage_of(model)
-    groups_of = sorted(set(stage))
-    has_planetary = any(b.role == "planet" for b in sc_bodies.values())
+    planetary = {b.stage for b in sc_bodies.values() if b.role == "planet"}
+    stages = {b.stage for b in sc_bodies.values() if b.stage}
     E = kinetic_by_category(result)
     share = kinetic_by_body(result)
     mult = result.multiplicity()
     U = strain_by_body(result) if any(bm.flexible for bm in model.bodies.values()) else None
+    table = energy_table(result)
+    ke, se = group_shares(table, result.groups)
+    scopes = mode_scopes(table, ke, se)
+    top = [table.group_names[j] for j in total_share(ke, se).argmax(axis=1)]
     out = [None] * len(result.frequencies_hz)
     for g in result.groups:
-        Eg = E[g].sum(axis=0)  # (n_bodies, 4)
+        Eg = E[g].sum(axis=0)  # (n_bodies, 5)
         total = Eg.sum()
         body = nd = None
-        if g[0] < result.n_rigid or total <= 0:
+        i = g[0]
+        st = top[i] if top[i] in stages else None   # the stage holding most of the energy
+        if i < result.n_rigid or total <= 0:
             cls, st = "rigid-body", None
         elif U is not None and (body := _elastic_body(U[g].mean(axis=0), Eg[:, 4] / total, names)):
             cls = "elastic"
@@ -86,20 +95,16 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
             if nodal_diameters:
                 bm = model.bodies[body]
                 nd = body_nodal_diameters(bm, result.abs_shapes[model.body_slice(body)][:, g])
+        elif scopes[i] in planetary:
+            stage = [sc_bodies[b].stage for b in names]
+            cls = _planetary_class(Eg, names, sc_bodies, stage, scopes[i])
         else:
-            per_stage = {s: Eg[[i for i, x in enumerate(stage) if x == s]].sum() / total for s in groups_of}
-            st = max(per_stage, key=per_stage.get)
-            if len(groups_of) > 1 and per_stage[st] < 0.8 and (has_planetary or len(
-                    {s for s in groups_of if not s.startswith("body:")}) > 1):
-                cls = "global"
-            elif has_planetary and not st.startswith("body:"):
-                cls = _planetary_class(Eg, names, sc_bodies, stage, st)
-            else:
-                cls = _motion_class(Eg.sum(axis=0))
-            st = None if st.startswith("body:") else st
-        for i in g:
-            out[i] = ModeInfo(i, float(result.frequencies_hz[i]), int(mult[i]), cls, st,
-                              dominant_bodies(share[i], names), body, nd)
+            cls = _motion_class(Eg.sum(axis=0))
+        split = tuple((s, float(ke[i, j]), float(se[i, j])) for j, s in enumerate(table.group_names)
+                      if ke[i, j] > 0 or se[i, j] > 0)
+        for k in g:
+            out[k] = ModeInfo(k, float(result.frequencies_hz[k]), int(mult[k]), cls, st,
+                              dominant_bodies(share[k], names), body, nd, scopes[i], split)
     return out
 
 

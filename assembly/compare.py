@@ -23,13 +23,24 @@ log = logging.getLogger(__name__)
 FIDELITIES = ("torsional", "rigid", "flexible")
 
 
-def variants(scene) -> dict:
-    """Scene per fidelity (stages kept as stages, so errors name the user's tables)."""
-    flex = [b.name for b in scene.expanded().bodies if b.fidelity == "flexible"]
+def variants(scene, flexible_components: bool = False) -> dict:
+    """Scene per fidelity (stages kept as stages, so errors name the user's tables). The
+    flexible variant is the scene as given when it has flexible bodies; otherwise, with
+    ``flexible_components``, the scene with every body that has a component flexible (the
+    others as given), if there is one."""
+    bodies = scene.expanded().bodies
+    flex = [b.name for b in bodies if b.fidelity == "flexible"]
     out = {"torsional": with_fidelity(scene, "torsional"), "rigid": with_fidelity(scene, "rigid", bodies=flex)}
     if flex:
         out["flexible"] = scene
+    elif flexible_components and (components := [b.name for b in bodies if b.component is not None]):
+        out["flexible"] = with_fidelity(scene, "flexible", bodies=components)
     return out
+
+
+def given_fidelity(scene) -> str:
+    """The variant of :func:`variants` that is the scene as given."""
+    return "flexible" if any(b.fidelity == "flexible" for b in scene.expanded().bodies) else "rigid"
 
 
 @dataclass
@@ -42,22 +53,24 @@ class Comparison:
         return {k: [float(f) for f in np.sort(r.frequencies_hz)] for k, r in self.results.items()}
 
 
-def compare(scene, n_rows: int | None = None, given=None) -> Comparison:
-    """Solve every variant of ``scene`` and pair their modes. ``given`` is an already solved
-    ModalResult of the scene as given (its top fidelity), reused instead of solved again."""
+def compare(scene, n_rows: int | None = None, given=None, flexible_components: bool = False) -> Comparison:
+    """Solve every variant of ``scene`` (:func:`variants`) and pair their modes. ``given`` is
+    an already solved ModalResult of the scene as given (rigid or flexible), reused instead
+    of solved again."""
     res, times = {}, {}
-    vs = variants(scene)
+    vs = variants(scene, flexible_components)
     top = "flexible" if "flexible" in vs else "rigid"
+    as_given = given_fidelity(scene)
     for name, sc in vs.items():
         t0 = time.perf_counter()
-        if name == top and given is not None:
+        if name == as_given and given is not None:
             res[name] = given
             m = given.model
         else:
             m = assemble(sc, source=scene)
             res[name] = solve_modes(m)
         total = time.perf_counter() - t0
-        if name == top and given is not None:  # its cost was paid by the caller's solve
+        if name == as_given and given is not None:  # its cost was paid by the caller's solve
             total = sum(m.timings.values()) + given.solve_time_s
         times[name] = {"total_s": total, **m.timings, "solve_s": res[name].solve_time_s,
                        "n_dofs": int(m.K.shape[0])}

@@ -9,8 +9,8 @@ variants of one scene assemble each mesh once; meshes are cached on disk in
 
 Caches: the default root is the folder named by the environment variable
 ``FLEXGEAR_CACHE_DIR`` (``flexgear --cache-dir``), else the user's cache folder
-``$XDG_CACHE_HOME/flexgear`` or ``~/.cache/flexgear`` (meshes in it, reductions in its ``cms``
-subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
+``$XDG_CACHE_HOME/flexgear`` or ``~/.cache/flexgear`` (meshes and their mass properties,
+assembly.mass_cache, in it; reductions in its ``cms`` subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
 with a warning (fe_components.meshing, cms.cache). A committed reference mesh that fails its
 check is never touched: the scene uses a mesh generated in the cache instead, with a warning.
 Component placement: a local point ``x`` sits at ``position + R x`` with
@@ -77,9 +77,9 @@ def mesh_entry(params, options: FlexOptions, caches: CacheDirs):
     parameters and it verifies, else the mesh cache (meshed again if missing or unusable). A
     corrupt reference mesh is left alone, with a warning."""
     from fe_components.errors import MeshCacheError
-    from fe_components.meshing import MeshOptions, cached_mesh, mesh_path
+    from fe_components.meshing import cached_mesh, mesh_path
     from fe_components.reference import REF_DIR
-    mopts = MeshOptions(size=mesh_size(params, options), order=options.order)
+    mopts = _mesh_options(params, options)
     if mesh_path(params, mopts, REF_DIR).exists():
         try:
             return cached_mesh(params, mopts, REF_DIR, heal=False)
@@ -88,6 +88,21 @@ def mesh_entry(params, options: FlexOptions, caches: CacheDirs):
                         "instead; restore it with `git checkout -- meshes/ref`", exc.path,
                         exc.reason, caches.meshes)
     return cached_mesh(params, mopts, caches.meshes)
+
+
+def _mesh_options(params, options: FlexOptions):
+    from fe_components.meshing import MeshOptions
+    return MeshOptions(size=mesh_size(params, options), order=options.order)
+
+
+def mesh_file(params, options: FlexOptions, caches: CacheDirs) -> Path:
+    """Where the component's mesh is, or will be, without reading or meshing anything: the
+    committed reference mesh if there is one for these parameters, else the cache entry."""
+    from fe_components.meshing import mesh_path
+    from fe_components.reference import REF_DIR
+    mopts = _mesh_options(params, options)
+    ref = mesh_path(params, mopts, REF_DIR)
+    return ref if ref.exists() else mesh_path(params, mopts, caches.meshes)
 
 
 #: Bulk-to-shear modulus ratio K/G = 2(1 + nu) / (3(1 - 2 nu)) above which linear (P1)
@@ -141,8 +156,28 @@ def build_fe(params, options: FlexOptions, caches: CacheDirs, mesh_sha256: str |
     return _FE_MEMO[key]
 
 
+def local_mass_properties(params, options: FlexOptions, caches: CacheDirs):
+    """Mass properties of the component's mesh in its local axes
+    (:class:`assembly.mass_cache.MassProperties`): from the mass-property cache beside the
+    mesh cache when the entry is there and the mesh file has not changed since (no mesh is
+    read), else integrated over the FE model (meshing if needed) and stored."""
+    from . import mass_cache
+    rho = options.material.rho
+    path = mass_cache.entry_path(mesh_file(params, options, caches), rho, caches.meshes)
+    hit = mass_cache.load(path, mesh_file(params, options, caches), rho)
+    if hit is not None:
+        return hit
+    fe = build_fe(params, options, caches)
+    props = mass_cache.MassProperties(fe.mass, fe.center_of_mass, fe.inertia, fe.mesh_sha256)
+    entry = mesh_entry(params, options, caches)     # the verified file now there (a miss may read)
+    if entry.sha256 == fe.mesh_sha256:              # else the mesh changed under us: do not store
+        mass_cache.store(mass_cache.entry_path(entry.path, rho, caches.meshes), props, entry.path, rho)
+    return props
+
+
 def mass_properties(body, options: FlexOptions, caches: CacheDirs):
-    """(mass kg, COM global, inertia global about COM, FE model) of a component body."""
-    fe = build_fe(body.component, options, caches)
+    """(mass kg, centre of mass global m, inertia global about the centre of mass kg m^2) of
+    a component body (:func:`local_mass_properties`, placed)."""
+    p = local_mass_properties(body.component, options, caches)
     o, R = placement(body)
-    return fe.mass, o + R @ fe.center_of_mass, R @ fe.inertia @ R.T, fe
+    return p.mass, o + R @ p.center_of_mass, R @ p.inertia @ R.T

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .scene import DOF_NAMES, Bearing, Body, Scene, derive
+from .scene import DOF_NAMES, SPLIT_STIFFNESSES, Bearing, Body, Scene, derive
 
 log = logging.getLogger(__name__)
 
@@ -34,14 +34,21 @@ def can_constrain(bearing: Bearing, body: Body) -> bool:
     return body.component is None and own_frame and at_body
 
 
+#: Fields of one radial or tilt direction: a bearing turned by ``radial_angle`` acts along
+#: other axes than its body's DOFs, so one of them alone cannot become a body constraint.
+_PER_DIRECTION = frozenset(f for parts in SPLIT_STIFFNESSES.values() for f in parts)
+
+
 def candidates(scene: Scene) -> list:
     """(bearing index, field) of every finite, non-zero bearing stiffness that
-    :func:`can_constrain` allows to become a constraint (stages expanded)."""
+    :func:`can_constrain` allows to become a constraint (stages expanded), except one
+    direction of a bearing turned by ``radial_angle``."""
     by_name = {b.name: b for b in scene.bodies}
     out = []
     for i, br in enumerate(scene.bearings):
         if can_constrain(br, by_name[br.body]):
-            out += [(i, f) for f in dict.fromkeys(Bearing.FIELDS) if 0 < getattr(br, f) < math.inf]
+            out += [(i, f) for f in dict.fromkeys(br.diagonal_fields()) if 0 < getattr(br, f) < math.inf
+                    and not (br.radial_angle != 0.0 and f in _PER_DIRECTION)]
     return out
 
 
@@ -81,7 +88,7 @@ def rigidify(scene: Scene, diagonal: dict, band_hz: float) -> tuple[Scene, list]
     for i, f in candidates(scene):
         br = out[i]
         k = getattr(br, f)
-        dofs = [f"{br.body}.{d}" for d, g in zip(DOF_NAMES, Bearing.FIELDS) if g == f and f"{br.body}.{d}" in diagonal]
+        dofs = [f"{br.body}.{d}" for d, g in zip(DOF_NAMES, br.diagonal_fields()) if g == f and f"{br.body}.{d}" in diagonal]
         shift = max((constraint_shift(k, *diagonal[d], band_hz) for d in dofs), default=math.inf)
         if shift <= CONSTRAINT_RTOL:
             out[i] = dataclasses.replace(br, **{f: math.inf})

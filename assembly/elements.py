@@ -26,7 +26,11 @@ class Element:
     ``B`` has 6 columns per entry of ``bodies`` (global axes). ``fields`` names the scene
     field behind each row's stiffness (e.g. ``k_radial``, ``stiffness``) and ``item`` the
     scene table entry that made the element (e.g. ``("bearings", 2)``, expanded scene), so
-    that a spring can be named in an error message.
+    that a spring can be named in an error message. ``mass`` (optional, kg and kg m^2):
+    a mass matrix on the same stacked attachment motions, for an element that carries
+    mass of its own (a beam shaft's half masses at its end bodies, :mod:`assembly.beam`).
+    ``c`` (optional; N s/m, N m s/rad): viscous dampers, one per row of ``B`` beside ``k``
+    (a row may carry a damper without a spring, ``k = 0``); None: no damper.
     """
 
     name: str
@@ -38,32 +42,49 @@ class Element:
     interfaces: tuple = (None, None)
     fields: tuple = ()
     item: tuple = ()
+    mass: Optional[np.ndarray] = None
+    c: Optional[np.ndarray] = None
 
     def stiffness(self) -> np.ndarray:
         """Element stiffness on the stacked attachment motions (global axes), exactly
         symmetric: a sum of rank-one springs ``k_j * outer(b_j, b_j)``."""
-        if self.B.shape[0] == 1:
-            return self.k[0] * np.outer(self.B[0], self.B[0])
-        K = (self.B.T * self.k) @ self.B
-        return 0.5 * (K + K.T)
+        return _rank_one_sum(self.B, self.k)
+
+    def damping(self) -> np.ndarray:
+        """Element damping on the stacked attachment motions (global axes): a sum of
+        rank-one dampers ``c_j * outer(b_j, b_j)`` (zero without dampers)."""
+        c = np.zeros(len(self.k)) if self.c is None else self.c
+        return _rank_one_sum(self.B, c)
+
+
+def _rank_one_sum(B: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """``sum_j d_j outer(b_j, b_j)`` over the rows of ``B``, exactly symmetric."""
+    if B.shape[0] == 1:
+        return d[0] * np.outer(B[0], B[0])
+    A = (B.T * d) @ B
+    return 0.5 * (A + A.T)
 
 
 def relative_spring(name: str, kind: str, body_a, body_b, point, axes: np.ndarray,
-                    k_diag, fields: tuple = ()) -> Element:
+                    k_diag, fields: tuple = (), c_diag=None) -> Element:
     """Diagonal 6x6 spring on the motion of ``body_a`` relative to ``body_b`` at ``point``.
 
     ``axes`` (3x3, columns = local x, y, z) orient ``k_diag`` = (kx, ky, kz, krx, kry, krz);
-    ``fields`` optionally names the scene field of each of the six entries.
-    Zero entries are dropped; infinite entries must have been turned into constraints.
+    ``fields`` optionally names the scene field of each of the six entries; ``c_diag``
+    (optional, N s/m and N m s/rad) the viscous dampers in the same six directions.
+    Entries without spring and damper are dropped; infinite entries must have been turned
+    into constraints.
     """
     k = np.asarray(k_diag, float)
     if np.any(np.isinf(k)):
         raise ValueError(f"{name}: infinite stiffness must be handled as a constraint")
+    c = np.zeros(6) if c_diag is None else np.asarray(c_diag, float)
     Rt = block_rotation(axes).T
-    keep = k > 0
+    keep = (k > 0) | (c > 0)
     B = np.hstack([Rt, -Rt])[keep]
-    kept = tuple(f for f, k_on in zip(fields, keep) if k_on)
-    return Element(name, kind, (body_a, body_b), np.asarray(point, float), B, k[keep], fields=kept)
+    kept = tuple(f for f, on in zip(fields, keep) if on)
+    return Element(name, kind, (body_a, body_b), np.asarray(point, float), B, k[keep], fields=kept,
+                   c=c[keep] if np.any(c > 0) else None)
 
 
 def line_of_action(axis, c1, c2, r1: float, r2: float, pressure_angle: float,
@@ -98,8 +119,9 @@ def line_of_action(axis, c1, c2, r1: float, r2: float, pressure_angle: float,
 
 
 def gear_mesh(name: str, body1: str, body2: str, axis, c1, c2, r1, r2, pressure_angle,
-              helix_angle, drive_sign, stiffness, contact_point: str = "pitch") -> Element:
-    """Rank-one mesh spring ``k * outer(g, g)`` on the motions of both gears.
+              helix_angle, drive_sign, stiffness, contact_point: str = "pitch", damping: float = 0.0) -> Element:
+    """Rank-one mesh spring ``k * outer(g, g)`` on the motions of both gears, and beside it
+    the damper ``damping * outer(g, g)`` (N s/m, along the same line of action).
 
     ``contact_point="pitch"`` (default): compression ``delta = n . (u1(p) - u2(p))`` at the
     pitch point, shared by both gears, so a common rigid motion of the pair strains nothing.
@@ -124,4 +146,4 @@ def gear_mesh(name: str, body1: str, body2: str, axis, c1, c2, r1, r2, pressure_
     g2 = -np.concatenate([n, np.zeros(3)]) @ rigid_transfer(pts[1], pts[0])
     g = np.concatenate([g1, g2])
     return Element(name, "mesh", (body1, body2), pts[0], g[None, :], np.array([float(stiffness)]),
-                   fields=("stiffness",))
+                   fields=("stiffness",), c=np.array([float(damping)]) if damping else None)

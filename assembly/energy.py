@@ -10,28 +10,63 @@ CATEGORIES = ("inplane", "axial", "tilt", "spin", "elastic")
 
 
 def kinetic_by_body(result) -> np.ndarray:
-    """(n_modes, n_bodies) kinetic-energy shares (rows sum to 1; zero rows for no motion)."""
+    """(n_modes, n_bodies) kinetic-energy shares of the bodies alone (rows sum to 1; zero
+    rows for no motion). The half masses a beam shaft lumps at its end bodies belong to its
+    elements (:func:`kinetic_by_element`), not to those bodies; its stations are bodies."""
     return _normalise(kinetic_energy_by_body(result))
 
 
+def kinetic_by_element(result) -> np.ndarray:
+    """(n_modes, n_elements) ``w' M_e w`` of each element's own mass ``M_e`` on its
+    attachment motions ``w`` (zero for a massless spring), on the scale of
+    :func:`kinetic_energy_by_body`: with it, the mode's total ``z' M_abs z``."""
+    m = result.model
+    Z = result.abs_shapes
+    E = np.zeros((Z.shape[1], len(m.elements)))
+    for j, el in enumerate(m.elements):
+        if el.mass is not None:
+            w = m.attachment_operator(el) @ Z
+            E[:, j] = np.einsum("rm,rs,sm->m", w, el.mass, w)
+    return E
+
+
 def kinetic_energy_by_body(result) -> np.ndarray:
-    """(n_modes, n_bodies) z_b' M_b z_b of each body (mass-normalised modes: shares of 1)."""
+    """(n_modes, n_bodies) z_b' M_b z_b of each body with its own mass matrix M_b
+    (mass-normalised modes: shares of 1 less what elements carrying mass hold)."""
     m = result.model
     Z = result.abs_shapes
     cols = []
-    for b in m.bodies:
+    for b, bm in m.bodies.items():
         sl = m.body_slice(b)
-        Mb = m.M_abs[sl, sl]
-        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(Mb @ Z[sl])))
+        cols.append(np.einsum("im,im->m", Z[sl], np.asarray(bm.mass_matrix() @ Z[sl])))
     return np.column_stack(cols)
+
+
+def strain_energy_by_element(result) -> np.ndarray:
+    """(n_modes, n_elements) strain energy ``e' diag(k) e / 2`` of each spring (J for a
+    mode of modal mass 1 kg, amplitude 1)."""
+    m = result.model
+    if not m.elements:
+        return np.zeros((result.abs_shapes.shape[1], 0))
+    return np.column_stack([_element_energy(m, el, result.abs_shapes) for el in m.elements])
+
+
+def strain_energy_by_body(result) -> np.ndarray:
+    """(n_modes, n_bodies) elastic strain energy ``z_b' K_b z_b / 2`` of each body (J; 0
+    for rigid bodies, whose K_b is zero)."""
+    m = result.model
+    Z = result.abs_shapes
+    E = np.zeros((Z.shape[1], len(m.bodies)))
+    for j, (name, bm) in enumerate(m.bodies.items()):
+        if bm.flexible:
+            sl = m.body_slice(name)
+            E[:, j] = 0.5 * np.einsum("im,im->m", Z[sl], np.asarray(bm.stiffness_matrix() @ Z[sl]))
+    return E
 
 
 def strain_by_element(result) -> np.ndarray:
     """(n_modes, n_elements) strain-energy shares of the springs (rows sum to 1, or 0)."""
-    m = result.model
-    E = np.column_stack([_element_energy(m, el, result.abs_shapes) for el in m.elements]) \
-        if m.elements else np.zeros((result.abs_shapes.shape[1], 0))
-    return _normalise(E)
+    return _normalise(strain_energy_by_element(result))
 
 
 #: A flexible body whose share of a mode's total strain energy is below this carries no
@@ -46,12 +81,8 @@ def strain_by_body(result) -> np.ndarray:
     (their K_b is zero) and for modes without strain energy (rigid-body modes)."""
     m = result.model
     Z = result.abs_shapes
-    E = np.zeros((Z.shape[1], len(m.bodies)))
-    for j, (name, bm) in enumerate(m.bodies.items()):
-        if bm.flexible:
-            sl = m.body_slice(name)
-            E[:, j] = np.einsum("im,im->m", Z[sl], np.asarray(bm.stiffness_matrix() @ Z[sl]))
-    total = np.einsum("im,im->m", Z, np.asarray(m.K_abs @ Z))
+    E = strain_energy_by_body(result)
+    total = 0.5 * np.einsum("im,im->m", Z, np.asarray(m.K_abs @ Z))
     # a total below round-off of the largest mode's: no strain energy at all (rigid-body mode)
     has = total > 1e-12 * np.abs(total).max(initial=0.0)
     return np.where(has[:, None], np.clip(E, 0.0, None) / np.where(has, total, 1.0)[:, None], 0.0)

@@ -1,64 +1,158 @@
-"""A load case on an assembled model: the input torque as a load vector, the output hold as
-one independent coordinate held at zero, and the motions the held model still allows.
+"""A load case on an assembled model: the applied loads as one load vector, the held
+directions as constraint rows, and the motions the held model still allows.
 
-The input torque (N m) is a couple about the input body's axis: on a rigid body its
-rotation, on a flexible body the rotation of the named interface master about the body's
-axis (local z). The output is held against rotation about its own axis relative to the
-housing: on a rigid body its independent rotation ``rz`` (at its axis point), on a
-flexible body the rotation ``rz`` of the master of ``output_interface`` -- the column of
-``T`` (``z = T q``) for that coordinate is dropped, exactly as a ``[[fixed]]`` DOF of a rigid
-body is. Zero-energy motions come from the structure of the spring rows
-(:mod:`assembly.nullity`), never from small eigenvalues, so a held model that can still
-move is named before any solve, and the unheld model's single rigid-body mode gives the
-kinematic speed ratio of the chain (gear geometry only: base radii and centres).
+Applied loads (:func:`applied_loads`): the torque case's couple ``torque`` (N m) about the
+input body's axis -- on a flexible body at the named interface master -- and every point
+load of ``forces``: a force (N) and a moment (N m) at a point of a rigid body (through its
+rigid lever arm, :func:`assembly.kinematics.rigid_transfer`) or at an interface master of
+a flexible body. Each enters the load vector on the absolute coordinates ``z`` by virtual
+work through the body's ``motion_at``: ``F += P' [f, m]``.
+
+Held directions (:func:`held_directions`): the torque case's output, held against rotation
+about its own axis relative to the housing (on a rigid body its independent rotation ``rz``
+at its axis point, on a flexible body the rotation ``rz`` of the ``output_interface``
+master), and each support's DOFs: the motion of the body at the support point, in the
+body's local axes, relative to the housing. Each is one row ``c`` of constraints
+``c' q = 0`` on the independent coordinates ``q`` (``z = T q``); on a rigid body in the
+housing frame and on a flexible body's master it is one coordinate, which is then simply
+dropped (as a ``[[fixed]]`` DOF is). A direction a constraint already holds (fixed DOF,
+rigid bearing direction, torsional fidelity) gives a zero row and is left out.
+Zero-energy motions come from the structure of the spring rows (:mod:`assembly.nullity`),
+never from small eigenvalues, so a held model that can still move is named before any
+solve, and the unheld model's single rigid-body mode gives the kinematic speed ratio of
+the chain (gear geometry only: base radii and centres).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
+import scipy.sparse as sp
 
-from .nullity import STRUCT_RTOL, spring_rows, zero_motion_basis
+from .components import global_masters
+from .kinematics import block_rotation
+from .nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
+from .scene import DOF_NAMES
 
 
-def input_load(model, load) -> np.ndarray:
-    """Load vector on the absolute coordinates ``z``: the couple ``load.torque`` (N m)
-    about the input body's axis (at the interface master of a flexible body)."""
-    bm = model.bodies[load.input]
+@dataclass(frozen=True)
+class Applied:
+    """One applied load: ``wrench`` [force N, moment N m] in global axes at ``point``
+    (m, global) on ``body``, through ``interface`` on a flexible body."""
+
+    body: str
+    point: np.ndarray
+    wrench: np.ndarray
+    interface: str | None
+    label: str
+
+
+@dataclass(frozen=True)
+class Held:
+    """One held direction: ``dof`` (local axes) of ``body`` at ``point`` (m, global) held
+    relative to the housing; ``support``: index into the case's ``supports`` (None: the
+    torque case's output hold); ``row``: its constraint row on ``q``."""
+
+    name: str
+    body: str
+    dof: str
+    point: np.ndarray
+    support: int | None
+    row: np.ndarray
+
+
+def load_point(model, body: str, interface: str | None = None, point=None) -> np.ndarray:
+    """Where a load or support acts (m, global): the master of ``interface`` (a component
+    body), else ``point``, else the body's axis point (a flexible body: its position)."""
+    bm = model.bodies[body]
+    if interface is not None:
+        if bm.flexible:
+            return np.asarray(bm.masters[interface][0], float)
+        return np.asarray(global_masters(next(b for b in model.scene.bodies if b.name == body))[interface], float)
+    if point is not None:
+        return np.asarray(point, float)
+    return np.asarray(bm.position if bm.flexible else bm.axis_point, float)
+
+
+def applied_loads(model, load) -> list[Applied]:
+    """Every load of ``load`` (torque couple and point loads) as an :class:`Applied`."""
+    out = []
+    if load.has_torque:
+        bm = model.bodies[load.input]
+        out.append(Applied(load.input, load_point(model, load.input, load.input_interface),
+                           np.concatenate([np.zeros(3), load.torque * bm.axes[:, 2]]), load.input_interface,
+                           f"torque into {load.input}"))
+    for j, pl in enumerate(load.forces):
+        R = model.bodies[pl.body].axes if pl.axes == "body" else np.eye(3)
+        w = np.concatenate([R @ np.asarray(pl.force, float), R @ np.asarray(pl.moment, float)])
+        out.append(Applied(pl.body, load_point(model, pl.body, pl.interface, pl.point), w, pl.interface,
+                           f"forces[{j}] on {pl.body}" + (f".{pl.interface}" if pl.interface else "")))
+    return out
+
+
+def load_vector(model, load) -> np.ndarray:
+    """Load vector on the absolute coordinates ``z`` (virtual work of every applied load:
+    ``P' [f, m]`` with ``P`` the body's motion at the load point)."""
     F = np.zeros(model.n_abs)
-    sl = model.body_slice(load.input)
-    if bm.flexible:
-        idx = bm.masters[load.input_interface][1]   # local axes: z = the body's axis
-        F[sl.start + idx[5]] = load.torque
-    else:
-        F[sl.start + 3:sl.start + 6] = load.torque * bm.axes[:, 2]
+    for a in applied_loads(model, load):
+        sl = model.body_slice(a.body)
+        F[sl] += np.asarray(model.bodies[a.body].motion_at(a.point, a.interface).T @ a.wrench).ravel()
     return F
 
 
-def held_name(model, load) -> str:
-    """Name of the independent coordinate the output is held at: ``body.rz`` of a rigid
-    body, ``body.interface.rz`` of a flexible one."""
+def output_hold_name(model, load) -> str:
+    """Name of the output hold: ``body.rz`` of a rigid body, ``body.interface.rz`` of a
+    flexible one."""
     if model.bodies[load.output].flexible:
         return f"{load.output}.{load.output_interface}.rz"
     return f"{load.output}.rz"
 
 
-def held_column(model, load) -> int | None:
-    """Column of ``q`` that holds the output, or None when a constraint (a fixed DOF, a
-    rigid bearing direction) already holds its rotation."""
-    name = held_name(model, load)
-    return model.dof_names.index(name) if name in model.dof_names else None
+def held_directions(model, load) -> list[Held]:
+    """Every direction the case holds (output hold first, then the supports' DOFs), with
+    its constraint row on ``q``; directions a constraint already holds are left out."""
+    out = []
+    if load.has_torque:
+        iface = load.output_interface if model.bodies[load.output].flexible else None
+        out += _rows(model, load.output, iface, ("rz",), None, output_hold_name(model, load))
+    for j, su in enumerate(load.supports):
+        where = f"{su.body}.{su.interface}" if su.interface else su.body
+        out += _rows(model, su.body, su.interface, su.dofs, j, where)
+    return out
 
 
-def free_motions(model, held: int | None = None) -> np.ndarray:
-    """(n_q x n_free) zero-energy motions of ``model`` with coordinate ``held`` (a column
-    of q, or None) held at zero: the null space of the unit spring rows (and the hold) on
-    the motions that strain no body (:func:`assembly.nullity.zero_motion_basis`), read with
-    :data:`assembly.nullity.STRUCT_RTOL` like the rigid-body count."""
+def _rows(model, body: str, interface, dofs, support, where: str) -> list[Held]:
+    """Constraint rows of ``dofs`` (local axes) of ``body`` at its load point, relative to
+    the housing: ``e_d' R' P T`` (R the body axes, P its motion at the point); entries at
+    round-off of the product's scale dropped, zero rows (already held) left out."""
+    bm = model.bodies[body]
+    p = load_point(model, body, interface)
+    L = block_rotation(bm.axes).T @ sp.csr_matrix(bm.motion_at(p, interface)).toarray()
+    Tb = model.T[model.body_slice(body)]
+    out = []
+    for d in dofs:
+        e = L[DOF_NAMES.index(d)]
+        row = np.asarray(Tb.T @ e).ravel()
+        scale = np.asarray(abs(Tb).T @ np.abs(e)).ravel().max(initial=0.0)
+        row[np.abs(row) <= DROP_RTOL * scale] = 0.0
+        if np.any(row):
+            out.append(Held(f"{where}.{d}", body, d, p, support, row))
+    return out
+
+
+def free_motions(model, rows: np.ndarray | None = None) -> np.ndarray:
+    """(n_q x n_free) zero-energy motions of ``model`` with the constraint ``rows``
+    (n_c x n_q, or None) held at zero: the null space of the unit spring rows (and the held
+    rows) on the motions that strain no body (:func:`assembly.nullity.zero_motion_basis`),
+    read with :data:`assembly.nullity.STRUCT_RTOL` like the rigid-body count."""
     W = zero_motion_basis(model)
     if W.shape[1] == 0:
         return np.zeros((model.K.shape[0], 0))
     G = spring_rows(model, W)
-    if held is not None and np.any(W[held]):
-        G = np.vstack([G, W[held] / np.linalg.norm(W[held])])
+    if rows is not None and len(rows):
+        H = np.asarray(rows) @ W
+        n = np.linalg.norm(H, axis=1)
+        G = np.vstack([G, H[n > 0] / n[n > 0, None]])
     cn = np.linalg.norm(G, axis=0)
     cn[cn == 0] = 1.0                       # a direction no spring touches: free
     Gs = G / cn
@@ -77,14 +171,25 @@ def axial_rotation(model, Z: np.ndarray, body: str) -> np.ndarray:
     return bm.axes[:, 2] @ bm.rigid_projection()[3:] @ Z[model.body_slice(body)]
 
 
+def single_rigid_mode(model) -> tuple[np.ndarray | None, str]:
+    """The unheld model's one rigid-body mode (n_q x 1, :func:`free_motions`) and "", or
+    None and why there is not exactly one: none (a bearing or shaft to the housing carries
+    the torsion of a turning body) or several (a sub-chain turns freely of the rest)."""
+    phi = free_motions(model)
+    if phi.shape[1] == 1:
+        return phi, ""
+    if phi.shape[1] == 0:
+        return None, "no rigid-body mode: bearings or shafts to the housing carry torsion of turning bodies"
+    return None, (f"{phi.shape[1]} rigid-body modes: a sub-chain turns freely of the rest "
+                  "(the chain is not one connected gear train)")
+
+
 def speed_ratio(model, load) -> tuple[float | None, str]:
     """Kinematic speed ratio ``omega_input / omega_output`` (signed, about each body's own
     axis) from the unheld model's rigid-body mode, and a note. None when the assembly has
     no single rigid-body mode (then the ratio is not a property of the gearing alone)."""
-    phi = free_motions(model)
-    if phi.shape[1] != 1:
-        why = ("no rigid-body mode: bearings or shafts to the housing carry torsion of turning bodies"
-               if phi.shape[1] == 0 else f"{phi.shape[1]} rigid-body modes: the output does not fix the chain")
+    phi, why = single_rigid_mode(model)
+    if phi is None:
         return None, why
     Z = model.T @ phi
     w_in, w_out = axial_rotation(model, Z, load.input)[0], axial_rotation(model, Z, load.output)[0]

@@ -25,7 +25,8 @@ from .constraints import candidates, constrained_dofs, rigidify
 from .elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
 from .kinematics import axis_frame, block_rotation, rigid_transfer
-from .scene import DOF_NAMES, HOUSING, Bearing, FlexOptions, Scene, Shaft
+from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
+from .shafts import beam_elements
 from .validate import body_origins
 
 log = logging.getLogger(__name__)
@@ -59,8 +60,20 @@ class AssembledModel:
 
     def element_stiffness_abs(self, el: Element) -> sp.csr_matrix:
         """Element stiffness scattered into absolute coordinates."""
+        return self._scattered(el, el.stiffness())
+
+    def element_damping_abs(self, el: Element) -> sp.csr_matrix:
+        """Element damping (its dampers ``c``) scattered into absolute coordinates."""
+        return self._scattered(el, el.damping())
+
+    def element_mass_abs(self, el: Element) -> sp.csr_matrix:
+        """Element mass (a beam shaft's end masses) scattered into absolute coordinates."""
+        return self._scattered(el, el.mass)
+
+    def _scattered(self, el: Element, A: np.ndarray) -> sp.csr_matrix:
+        """``L' A L``: a matrix on the element's attachment motions, on z."""
         L = self.attachment_operator(el)
-        return (L.T @ sp.csr_matrix(el.stiffness()) @ L).tocsr()
+        return (L.T @ sp.csr_matrix(A) @ L).tocsr()
 
     def attachment_operator(self, el: Element) -> sp.csr_matrix:
         """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
@@ -120,19 +133,24 @@ def build_elements(scene: Scene, bodies: dict, masters: dict) -> list:
         point, iface = bearing_point(br, body, masters, f"bearings[{i}]")
         k = np.where(np.isinf(br.diagonal()), 0.0, br.diagonal())
         el = relative_spring(br.name or f"bearing[{i}]:{br.body}", "bearing", br.body,
-                             None if frame == HOUSING else frame, point, bodies[br.body].axes, k, Bearing.FIELDS)
+                             None if frame == HOUSING else frame, point, br.axes(bodies[br.body].axes), k,
+                             br.diagonal_fields(), br.damping_diagonal())
         elements.append(_with_interfaces(el, (iface, br.frame_interface), ("bearings", i)))
     for i, s in enumerate(scene.shafts):
+        name = s.name or f"shaft[{i}]:{s.body1}-{s.body2}"
+        if s.is_beam:
+            elements += beam_elements(s, i, by_name, masters, name)
+            continue
         point, i1, i2 = shaft_points(s, by_name[s.body1], by_name[s.body2], masters, f"shafts[{i}]")
-        el = relative_spring(s.name or f"shaft[{i}]:{s.body1}-{s.body2}", "shaft", s.body1, s.body2, point,
-                             bodies[s.body1].axes, s.diagonal(), Shaft.FIELDS)
+        el = relative_spring(name, "shaft", s.body1, s.body2, point,
+                             bodies[s.body1].axes, s.diagonal(), Shaft.FIELDS, s.damping_diagonal())
         elements.append(_with_interfaces(el, (i1, i2), ("shafts", i)))
     for i, m in enumerate(scene.meshes):
         b1, b2 = by_name[m.gear1], by_name[m.gear2]
         c1, c2, i1, i2 = mesh_centers(m, b1, b2, masters, f"meshes[{i}]")
         el = gear_mesh(m.name or f"mesh[{i}]:{m.gear1}-{m.gear2}", m.gear1, m.gear2, b1.axis, c1, c2,
                        m.base_radius1, m.base_radius2, m.pressure_angle, m.helix_angle, m.drive_sign,
-                       m.stiffness, m.contact_point)
+                       m.stiffness, m.contact_point, m.damping)
         elements.append(_with_interfaces(el, (i1, i2), ("meshes", i)))
     return elements
 
@@ -160,7 +178,7 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
         if b.fidelity == "flexible":
             out[b.name] = flexible_body(b, opts, band, reduce=not full_fe, caches=caches, path=path)
         else:
-            mass, com, J, _ = mass_properties(b, opts, caches)
+            mass, com, J = mass_properties(b, opts, caches)
             out[b.name] = RigidBodyModel.from_mass_properties(b.name, com, axis_frame(b.axis), mass, J,
                                                               axis_point=b.position)
         if progress is not None:
@@ -211,13 +229,13 @@ def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple
     being K without the elements whose ``item`` is in ``judged`` (empty without any)."""
     model, K_judged = _absolute_model(sc, order, bodies, judged)
     model.T, model.dof_names, model.q_slices = _independent_coordinates(sc, order, bodies)
-    model.K, model.M = _on_q(model.T, model.K_abs), _on_q(model.T, model.M_abs)
+    model.K, model.M = on_q(model.T, model.K_abs), on_q(model.T, model.M_abs)
     if not judged:
         return model, {}
-    return model, dict(zip(model.dof_names, zip(_on_q(model.T, K_judged).diagonal(), model.M.diagonal())))
+    return model, dict(zip(model.dof_names, zip(on_q(model.T, K_judged).diagonal(), model.M.diagonal())))
 
 
-def _on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
+def on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
     """``T' A T`` symmetrised: a matrix of absolute coordinates on the independent ones."""
     A = (T.T @ A @ T).tocsr()
     return ((A + A.T) * 0.5).tocsr()
@@ -225,7 +243,8 @@ def _on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
 
 def _absolute_model(sc: Scene, order: list, bodies: dict,
                     judged=frozenset()) -> tuple[AssembledModel, sp.csr_matrix | None]:
-    """Body mass and stiffness blocks plus every element, on the absolute coordinates z;
+    """Body mass and stiffness blocks plus every element (its stiffness, and its mass if it
+    carries any), on the absolute coordinates z;
     and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
     offsets, n = {}, 0
     for b in order:
@@ -239,6 +258,7 @@ def _absolute_model(sc: Scene, order: list, bodies: dict,
                            None, [], abs_names, None, None)
     parts = [model.element_stiffness_abs(el) for el in elements]
     model.K_abs = sum(parts, K_abs).tocsr()
+    model.M_abs = sum((model.element_mass_abs(el) for el in elements if el.mass is not None), M_abs).tocsr()
     if not judged:
         return model, None
     return model, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()

@@ -54,8 +54,8 @@ def spring_rows(model, W: np.ndarray) -> np.ndarray:
     rows = []
     for el in model.elements:
         A = model.attachment_operator(el)
-        G = el.B @ (A @ TW)
-        scale = np.abs(el.B) @ (abs(A) @ absTW)
+        G = el.B[el.k > 0] @ (A @ TW)          # a damper row without a spring stores no energy
+        scale = np.abs(el.B[el.k > 0]) @ (abs(A) @ absTW)
         G[np.abs(G) <= DROP_RTOL * scale.max(axis=1, keepdims=True)] = 0.0
         rows.append(G)
     G = np.vstack(rows) if rows else np.zeros((0, W.shape[1]))

@@ -104,6 +104,9 @@ def _placed(bodies, index, m, i: int, target: str, k: int):
     g1 = ob if other == m.gear1 else tb
     E = axis_frame(g1.axis)
     d = math.cos(m.centre_line_angle) * E[:, 0] + math.sin(m.centre_line_angle) * E[:, 1]
+    # round-off of cos/sin (cos(pi/2) = 6e-17) would put a gear 5e-17 m off the line it is
+    # meant to lie on: a lever arm that couples its turning to springs which must not see it
+    d[np.abs(d) < 4 * np.finfo(float).eps] = 0.0
     c_target = c_other + (a_w * d if target == m.gear2 else -a_w * d)
     pos = c_target - _gear_offset(tb, if_t, path_t)
     if tb.position is not None:

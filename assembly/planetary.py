@@ -21,16 +21,21 @@ from fe_components.params import CarrierParams
 
 from .errors import SceneError
 from .kinematics import axis_frame
+from .planet_spacing import planets_field
 from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
 
 
-def carrier_pins(params: CarrierParams, angles, radius: float, path: str) -> CarrierParams:
-    """The stage's carrier ``params`` with its pins at the planets: ``angles`` (rad) on
-    ``radius`` (m, the carrier radius). A pin check that fails names ``path``."""
+def carrier_pins(st: PlanetaryStage, path: str) -> CarrierParams:
+    """The carrier component of stage ``st`` (scene path ``path``) with its pins at the
+    planets: their angles (rad) on the carrier radius (m). A pin check that fails names the
+    carrier's field, or the planets' count or angles when the pins follow from those."""
     try:
-        return dataclasses.replace(params, planet_angles=tuple(angles), pin_pitch_radius=radius)
+        return dataclasses.replace(st.carrier.component, planet_angles=st.planet_angles(),
+                                   pin_pitch_radius=st.carrier_radius())
     except GeometryError as err:
-        raise SceneError(f"{path}.{err.parameter}", err.value, err.reason) from None
+        if err.parameter == "planet_angles":   # the planets' own numbers, as the user wrote them
+            raise SceneError(*planets_field(st, path), f"the carrier component {err.reason}") from None
+        raise SceneError(f"{path}.carrier.component.{err.parameter}", err.value, err.reason) from None
 
 
 def expand_stages(scene) -> dict:
@@ -54,15 +59,14 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
         bname = f"{n}.{role}"
         comp = None
         if m.component is not None:
-            comp = carrier_pins(m.component, st.planet_angles(), Rc, f"{path}.{role}.component")
+            comp = carrier_pins(st, path)
         bodies.append(Body(name=bname, mass=m.mass, polar_inertia=m.polar_inertia,
                            transverse_inertia=m.transverse_inertia, position=tuple(c),
                            axis=tuple(E[:, 2]), fidelity=m.fidelity, stage=n, role=role,
                            component=comp, flex=m.flex))
         if m.support == "bearing":
             b = m.bearing
-            bearings.append(Bearing(body=bname, k_radial=b.k_radial, k_axial=b.k_axial,
-                                    k_tilt=b.k_tilt, k_torsion=b.k_torsion, name=f"{bname}.bearing",
+            bearings.append(Bearing(body=bname, **b.stiffnesses(), **b.dampings(), name=f"{bname}.bearing",
                                     interface=m.bearing_interface if comp is not None else None))
         elif m.support == "fixed":
             fixed.append(Fixed(body=bname))
@@ -80,8 +84,8 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
                            axis=tuple(E[:, 2]), frame=carrier, fidelity=pl.fidelity,
                            stage=n, role="planet"))
         b = pl.bearing
-        bearings.append(Bearing(body=pname, k_radial=b.k_radial, k_axial=b.k_axial, k_tilt=b.k_tilt,
-                                k_torsion=b.k_torsion, name=f"{pname}.bearing",
+        # the planet's bearing axes: x radial, y tangential (the planet's axes are E's)
+        bearings.append(Bearing(body=pname, **b.stiffnesses(), **b.dampings(), name=f"{pname}.bearing", radial_angle=psi,
                                 frame_interface=f"pin_{i}" if st.carrier.component is not None else None))
         # Sun closes its mesh turning in +drive_sign; the planet it pushes turns the other
         # way and so closes the ring mesh turning in -drive_sign.
@@ -89,11 +93,11 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
                                base_radius1=st.sun.base_radius, base_radius2=pl.base_radius,
                                pressure_angle=st.pressure_angle_sun, helix_angle=st.mesh_helix_angle(),
                                drive_sign=st.drive_sign, name=f"{n}.sun-planet{i}",
-                               contact_point=st.contact_point))
+                               contact_point=st.contact_point, damping=st.c_mesh_sun))
         meshes.append(GearMesh(gear1=pname, gear2=ring, stiffness=st.k_mesh_ring,
                                base_radius1=pl.base_radius, base_radius2=-st.ring.base_radius,
                                pressure_angle=st.pressure_angle_ring, helix_angle=-st.mesh_helix_angle(),
                                drive_sign=-st.drive_sign, name=f"{n}.planet{i}-ring",
-                               contact_point=st.contact_point))
+                               contact_point=st.contact_point, damping=st.c_mesh_ring))
     return {"bodies": tuple(bodies), "bearings": tuple(bearings), "meshes": tuple(meshes),
             "fixed": tuple(fixed)}

@@ -28,6 +28,7 @@ from typing import Literal, Optional, get_args
 import numpy as np
 
 from fe_components.fields import quantity
+from fe_components.gear_blank import GearBlank
 from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
 
@@ -44,7 +45,7 @@ DISPLAY_BAND_FACTOR = 1.5
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 Fidelity = Literal["torsional", "rigid", "flexible"]
 Vec3 = tuple[float, float, float]
-Support = Literal["bearing", "fixed", "floating"]
+MemberSupport = Literal["bearing", "fixed", "floating"]
 #: Most fixed-interface modes one flexible body may keep (``flex.n_modes``, or the modes
 #: below its cutoff): a superelement of a few hundred modes already resolves a band far
 #: above any drivetrain excitation, while the modes of a cutoff without bound (every
@@ -70,6 +71,11 @@ def name_field(default=dataclasses.MISSING):
 def stiffness(unit: str, default=dataclasses.MISSING):
     """A bearing stiffness (N/m or N m/rad): >= 0, ``inf`` = rigid."""
     return quantity(unit, default, ge=0.0, inf_ok=True)
+
+
+def damper(unit: str, default=0.0):
+    """A viscous damping coefficient (N s/m or N m s/rad): finite, >= 0."""
+    return quantity(unit, default, ge=0.0)
 
 
 @dataclass(frozen=True)
@@ -118,6 +124,13 @@ class Body:
     (:mod:`assembly.gear_data`). ``internal = true``: the teeth are internal (a ring gear;
     ``teeth.n_teeth`` stays positive). ``position`` (m) left out: (0, 0, 0), or where a mesh
     with ``place`` puts the body (:mod:`assembly.placement`).
+
+    A body with ``teeth`` and without ``mass``, ``polar_inertia``, ``inertia_tensor`` and
+    component takes its mass and inertias from its gear blank
+    (:func:`fe_components.gear_blank.blank_mass_properties`: solid to the root circle, the
+    tooth zone half metal, steel; a ring's rim 1.2 tooth depths thick), whose optional
+    ``blank`` table (:class:`fe_components.gear_blank.GearBlank`) gives a bore, a ring's outer
+    diameter or a length other than the face width (:func:`assembly.gear_data.blank_body`).
     """
 
     name: str = name_field()
@@ -135,6 +148,7 @@ class Body:
     flex: Optional[FlexOptions] = None
     teeth: Optional[GearTeeth] = None
     internal: bool = False
+    blank: Optional[GearBlank] = None
 
     def inertia_local(self) -> np.ndarray:
         """3x3 inertia tensor about the centre of mass in local axes (kg m^2)."""
@@ -144,32 +158,99 @@ class Body:
         return np.diag([jt, jt, self.polar_inertia])
 
 
+#: Every bearing stiffness field (:class:`Bearing`, :class:`BearingSpec`), in field order.
+STIFFNESS_FIELDS = ("k_radial", "k_axial", "k_tilt", "k_torsion", "k_radial_x", "k_radial_y", "k_tilt_x", "k_tilt_y")
+#: The stiffnesses that may be given per direction instead: {field: (its x field, its y field)}.
+SPLIT_STIFFNESSES = {"k_radial": ("k_radial_x", "k_radial_y"), "k_tilt": ("k_tilt_x", "k_tilt_y")}
+#: Every bearing damper field (:class:`Bearing`, :class:`BearingSpec`), in field order.
+DAMPING_FIELDS = ("c_radial", "c_axial", "c_tilt", "c_torsion", "c_radial_x", "c_radial_y", "c_tilt_x", "c_tilt_y")
+#: The dampers that may be given per direction instead, as the stiffnesses.
+SPLIT_DAMPINGS = {"c_radial": ("c_radial_x", "c_radial_y"), "c_tilt": ("c_tilt_x", "c_tilt_y")}
+
+
+class SixStiffnesses:
+    """The diagonal 6x6 spring of a bearing table (:class:`Bearing`, :class:`BearingSpec`):
+    ``k_radial`` along local x and y, or ``k_radial_x`` / ``k_radial_y`` (N/m); ``k_axial``
+    along the axis (local z); ``k_tilt`` about local x and y, or ``k_tilt_x`` / ``k_tilt_y``
+    (N m/rad); ``k_torsion`` about the axis. (Nejad et al. (2016), Wind Energy 19, Table VI
+    give K_x axial, K_y, K_z radial and K_beta, K_gamma tilt: our k_axial, k_radial_x,
+    k_radial_y, k_tilt_x, k_tilt_y.) Viscous dampers ``c_*`` (N s/m, N m s/rad; default 0)
+    mirror the stiffnesses: ``c_radial`` or ``c_radial_x`` / ``c_radial_y``, ``c_axial``,
+    ``c_tilt`` or ``c_tilt_x`` / ``c_tilt_y``, ``c_torsion``."""
+
+    def diagonal_fields(self, prefix: str = "k") -> tuple[str, ...]:
+        """The field behind each entry of :meth:`diagonal` (local x, y, z, rx, ry, rz):
+        ``k_radial_x`` for x when given, else ``k_radial``; likewise y and the tilts.
+        ``prefix="c"``: the same for the dampers (:meth:`damping_diagonal`)."""
+        def pick(whole, part):
+            return part if getattr(self, part) is not None else whole
+        r, t = f"{prefix}_radial", f"{prefix}_tilt"
+        return (pick(r, f"{r}_x"), pick(r, f"{r}_y"), f"{prefix}_axial",
+                pick(t, f"{t}_x"), pick(t, f"{t}_y"), f"{prefix}_torsion")
+
+    def damping_diagonal(self) -> np.ndarray:
+        """diag(c_x, c_y, c_axial, c_rx, c_ry, c_torsion) (N s/m, N m s/rad): the viscous
+        dampers beside the springs, same directions and split rule (a damper left out: 0)."""
+        return np.array([getattr(self, f) or 0.0 for f in self.diagonal_fields("c")], float)
+
+    def dampings(self) -> dict:
+        """{field: value} of the damper fields given (not None, not 0)."""
+        return {f: getattr(self, f) for f in DAMPING_FIELDS if getattr(self, f)}
+
+    def diagonal(self) -> np.ndarray:
+        """diag(k_x, k_y, k_axial, k_rx, k_ry, k_torsion) (N/m, N m/rad; ``inf`` = rigid)."""
+        return np.array([getattr(self, f) for f in self.diagonal_fields()], float)
+
+    def stiffnesses(self) -> dict:
+        """{field: value} of the stiffness fields given (not None)."""
+        return {f: getattr(self, f) for f in STIFFNESS_FIELDS if getattr(self, f) is not None}
+
+
 @dataclass(frozen=True)
-class Bearing:
-    """Diagonal 6x6 spring diag(k_radial, k_radial, k_axial, k_tilt, k_tilt, k_torsion).
+class Bearing(SixStiffnesses):
+    """Diagonal 6x6 spring diag(k_radial_x, k_radial_y, k_axial, k_tilt_x, k_tilt_y, k_torsion)
+    (:class:`SixStiffnesses`: ``k_radial`` / ``k_tilt`` stand for both directions).
 
     Acts on the motion of ``body`` relative to ``frame`` (default: the body's own reference
     frame) at ``position`` (default: the body's position, or the master node of
     ``interface`` for a body with a component), in the body's axes.
     Translational stiffness N/m, rotational N m/rad; ``inf`` constrains that direction.
+    ``k_axial`` is required (:func:`assembly.validate.check_bearing`), as are ``k_radial`` or
+    both ``k_radial_x``/``k_radial_y``, and ``k_tilt`` or both ``k_tilt_x``/``k_tilt_y``.
+    ``radial_angle`` (rad) turns the bearing's local x about the body's axis from the body's
+    local x (:meth:`axes`): a planet's bearing takes its planet's angle on the carrier, so its
+    x is radial and y tangential in every planet alike.
     """
 
     body: str
-    k_radial: float = stiffness("N/m")
-    k_axial: float = stiffness("N/m")
-    k_tilt: float = stiffness("N m/rad")
+    k_radial: Optional[float] = stiffness("N/m", None)
+    k_axial: Optional[float] = stiffness("N/m", None)
+    k_tilt: Optional[float] = stiffness("N m/rad", None)
     k_torsion: float = stiffness("N m/rad", 0.0)
     frame: Optional[str] = None
     position: Optional[Vec3] = quantity("m", None)
     name: Optional[str] = name_field(None)
     interface: Optional[str] = None
     frame_interface: Optional[str] = None
+    k_radial_x: Optional[float] = stiffness("N/m", None)
+    k_radial_y: Optional[float] = stiffness("N/m", None)
+    k_tilt_x: Optional[float] = stiffness("N m/rad", None)
+    k_tilt_y: Optional[float] = stiffness("N m/rad", None)
+    radial_angle: float = angle(0.0, abs_lt=4 * math.pi)
+    c_radial: Optional[float] = damper("N s/m", None)
+    c_axial: float = damper("N s/m")
+    c_tilt: Optional[float] = damper("N m s/rad", None)
+    c_torsion: float = damper("N m s/rad")
+    c_radial_x: Optional[float] = damper("N s/m", None)
+    c_radial_y: Optional[float] = damper("N s/m", None)
+    c_tilt_x: Optional[float] = damper("N m s/rad", None)
+    c_tilt_y: Optional[float] = damper("N m s/rad", None)
 
-    #: The field behind each entry of :meth:`diagonal` (local x, y, z, rx, ry, rz).
-    FIELDS = ("k_radial", "k_radial", "k_axial", "k_tilt", "k_tilt", "k_torsion")
-
-    def diagonal(self) -> np.ndarray:
-        return np.array([getattr(self, f) for f in self.FIELDS], float)
+    def axes(self, body_axes: np.ndarray) -> np.ndarray:
+        """The bearing's axes (columns local x, y, z): the body's turned by ``radial_angle``
+        about its axis, so that ``k_radial_x`` / ``k_tilt_x`` act along / about the new x."""
+        c, s = math.cos(self.radial_angle), math.sin(self.radial_angle)
+        return np.asarray(body_axes, float) @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 @dataclass(frozen=True)
@@ -198,11 +279,19 @@ class GearMesh:
     ``place`` ("gear1" or "gear2") puts that gear at the working centre distance from the
     other, along ``centre_line_angle`` (rad, in the other gear's axes from its local x;
     default 0) -- see :mod:`assembly.placement`.
+
+    ``stiffness`` (N/m) left out on a mesh between two gears with teeth: the ISO 6336-1
+    (method B) mean mesh stiffness c_gamma_alpha b of solid gears, b the smaller face width
+    (:mod:`fe_components.mesh_stiffness`); a typed number wins. Without teeth on both gears
+    it must be given.
+
+    ``damping`` (N s/m, default 0): a viscous damper beside the mesh spring, along the same
+    line of action (:func:`assembly.elements.gear_mesh`).
     """
 
     gear1: str
     gear2: str
-    stiffness: float = quantity("N/m", gt=0.0)
+    stiffness: Optional[float] = quantity("N/m", None, gt=0.0)
     base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
     base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
     pressure_angle: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
@@ -216,17 +305,48 @@ class GearMesh:
     interface2: Optional[str] = None
     place: Optional[Literal["gear1", "gear2"]] = None
     centre_line_angle: float = angle(0.0, abs_lt=4 * math.pi)
+    damping: float = damper("N s/m")
+
+
+@dataclass(frozen=True)
+class Station:
+    """A named point on a beam shaft, ``at`` metres from body1's attachment point along the
+    shaft, strictly inside the shaft. It becomes the rigid body ``<shaft name>.<name>``
+    (bearings, meshes and loads may name it like any body)."""
+
+    name: str = name_field()
+    at: float = quantity("m")
 
 
 @dataclass(frozen=True)
 class Shaft:
-    """Shaft spring between two bodies: torsion (N m/rad), optional bending (N m/rad),
-    axial and shear (N/m), acting on their relative motion at ``position`` (default: midway)
-    in the axes of ``body1``."""
+    """A shaft between two bodies: a diagonal spring typed by hand, or a Timoshenko beam
+    of circular section.
+
+    Spring (no ``diameter``): torsion (N m/rad), optional bending (N m/rad), axial and shear
+    (N/m), acting on their relative motion at ``position`` (default: midway) in the axes of
+    ``body1``.
+
+    Beam (``diameter`` in m, optional ``bore_diameter`` in m and ``material``): the shaft
+    runs from body1's attachment point (its position, ``position1`` (m, global) on a body
+    without a component -- e.g. a gear's face where its shaft starts -- or ``interface1``'s
+    master) to body2's (likewise ``position2``);
+    its length is their distance and its axis their direction (parallel to body1's axis).
+    The k_* fields and ``position`` are then derived and must be left out. ``stations``
+    (:class:`Station`, e.g. the bearing seats) split it into Timoshenko elements
+    (:mod:`assembly.beam`) and become rigid bodies ``<name>.<station>`` of stage label
+    ``stage`` (:mod:`assembly.shafts`); the shaft's mass is lumped at its nodes.
+
+    Damping: a spring shaft takes viscous dampers ``c_torsion``, ``c_bending`` (N m s/rad),
+    ``c_axial`` and ``c_shear`` (N s/m) beside its springs (default 0); a beam shaft takes
+    stiffness-proportional damping ``beta`` (s): each element's damping is
+    ``C_e = beta K_e`` (a mode that strains only the shaft gets the ratio
+    ``beta omega / 2``, omega in rad/s).
+    """
 
     body1: str
     body2: str
-    k_torsion: float = quantity("N m/rad", gt=0.0)
+    k_torsion: Optional[float] = quantity("N m/rad", None, gt=0.0)
     k_bending: float = quantity("N m/rad", 0.0, ge=0.0)
     k_axial: float = quantity("N/m", 0.0, ge=0.0)
     k_shear: float = quantity("N/m", 0.0, ge=0.0)
@@ -234,12 +354,35 @@ class Shaft:
     name: Optional[str] = name_field(None)
     interface1: Optional[str] = None
     interface2: Optional[str] = None
+    diameter: Optional[float] = quantity("m", None, gt=0.0)
+    bore_diameter: float = quantity("m", 0.0, ge=0.0)
+    material: Material = STEEL
+    stations: tuple[Station, ...] = ()
+    stage: Optional[str] = None
+    position1: Optional[Vec3] = quantity("m", None)
+    position2: Optional[Vec3] = quantity("m", None)
+    c_torsion: float = damper("N m s/rad")
+    c_bending: float = damper("N m s/rad")
+    c_axial: float = damper("N s/m")
+    c_shear: float = damper("N s/m")
+    beta: float = quantity("s", 0.0, ge=0.0)
 
     #: The field behind each entry of :meth:`diagonal` (local x, y, z, rx, ry, rz).
     FIELDS = ("k_shear", "k_shear", "k_axial", "k_bending", "k_bending", "k_torsion")
+    #: The damper behind each entry of :meth:`damping_diagonal`.
+    DAMPING_FIELDS = ("c_shear", "c_shear", "c_axial", "c_bending", "c_bending", "c_torsion")
+
+    @property
+    def is_beam(self) -> bool:
+        """A Timoshenko beam (``diameter`` given), not a hand-typed spring."""
+        return self.diameter is not None
 
     def diagonal(self) -> np.ndarray:
         return np.array([getattr(self, f) for f in self.FIELDS], float)
+
+    def damping_diagonal(self) -> np.ndarray:
+        """The spring shaft's dampers (N s/m, N m s/rad), in :meth:`diagonal`'s order."""
+        return np.array([getattr(self, f) for f in self.DAMPING_FIELDS], float)
 
 
 @dataclass(frozen=True)
@@ -251,13 +394,27 @@ class Fixed:
 
 
 @dataclass(frozen=True)
-class BearingSpec:
-    """Stiffnesses of a member's bearing (N/m, N m/rad; ``inf`` = rigid direction)."""
+class BearingSpec(SixStiffnesses):
+    """Stiffnesses of a member's bearing (N/m, N m/rad; ``inf`` = rigid direction), as
+    :class:`Bearing`'s: ``k_radial`` or ``k_radial_x``/``k_radial_y``, ``k_tilt`` or
+    ``k_tilt_x``/``k_tilt_y``, in the member's local axes."""
 
-    k_radial: float = stiffness("N/m")
-    k_axial: float = stiffness("N/m")
-    k_tilt: float = stiffness("N m/rad")
+    k_radial: Optional[float] = stiffness("N/m", None)
+    k_axial: Optional[float] = stiffness("N/m", None)
+    k_tilt: Optional[float] = stiffness("N m/rad", None)
     k_torsion: float = stiffness("N m/rad", 0.0)
+    k_radial_x: Optional[float] = stiffness("N/m", None)
+    k_radial_y: Optional[float] = stiffness("N/m", None)
+    k_tilt_x: Optional[float] = stiffness("N m/rad", None)
+    k_tilt_y: Optional[float] = stiffness("N m/rad", None)
+    c_radial: Optional[float] = damper("N s/m", None)
+    c_axial: float = damper("N s/m")
+    c_tilt: Optional[float] = damper("N m s/rad", None)
+    c_torsion: float = damper("N m s/rad")
+    c_radial_x: Optional[float] = damper("N s/m", None)
+    c_radial_y: Optional[float] = damper("N s/m", None)
+    c_tilt_x: Optional[float] = damper("N m s/rad", None)
+    c_tilt_y: Optional[float] = damper("N m s/rad", None)
 
 
 @dataclass(frozen=True)
@@ -271,13 +428,15 @@ class Member:
     ``flex`` options; its bearing then acts at the component's ``bearing_interface``.
     ``teeth`` (number of teeth, sun and ring) and ``profile_shift`` (ISO 21771 x, the
     ring's as given in ISO's convention) replace ``base_radius`` when the stage gives
-    ``normal_module`` (see :class:`PlanetaryStage`). ``fidelity`` left out: the scene's."""
+    ``normal_module`` (see :class:`PlanetaryStage`), and with them ``mass`` and
+    ``polar_inertia`` may be left out (the gear blank, ``blank``). ``fidelity`` left out: the
+    scene's."""
 
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive")
-    support: Support = "bearing"
+    support: MemberSupport = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Optional[Fidelity] = None
     component: Optional[ComponentParams] = None
@@ -285,6 +444,7 @@ class Member:
     bearing_interface: str = "bearing_b"
     teeth: Optional[int] = quantity("", None, integer=True, ge=3)
     profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
+    blank: Optional[GearBlank] = None
 
 
 @dataclass(frozen=True)
@@ -292,12 +452,15 @@ class Planets:
     """N identical planets at ``angles`` (rad; default equally spaced from 0).
     ``outer_radius`` (m, default the pitch radius) is used for the overlap check.
     ``teeth`` and ``profile_shift`` (ISO 21771) replace ``base_radius`` when the stage gives
-    ``normal_module``. ``fidelity`` left out: the scene's."""
+    ``normal_module``; ``mass`` and ``polar_inertia`` left out then come from the planets'
+    gear blank (``blank``; see :class:`PlanetaryStage`). ``fidelity`` left out: the scene's.
+    With teeth the planets must also mesh with sun and ring at their angles (assembly
+    condition, :mod:`assembly.planet_spacing`)."""
 
     count: int = quantity("", integer=True, ge=1, le=MAX_PLANETS)
-    mass: float = quantity("kg", gt=0.0)
-    polar_inertia: float = quantity("kg m^2", gt=0.0)
-    bearing: BearingSpec = field()
+    mass: Optional[float] = quantity("kg", None, gt=0.0)
+    polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
+    bearing: BearingSpec = field(kw_only=True)
     base_radius: Optional[float] = quantity("m", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     angles: Optional[tuple[float, ...]] = angle(None)
@@ -305,6 +468,7 @@ class Planets:
     fidelity: Optional[Fidelity] = None
     teeth: Optional[int] = quantity("", None, integer=True, ge=3)
     profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
+    blank: Optional[GearBlank] = None
 
 
 @dataclass(frozen=True)
@@ -324,6 +488,18 @@ class PlanetaryStage:
     ``normal_module`` it is the sun-planet meshes' line-of-action helix, as
     ``[[meshes]].helix_angle``; with it, the sun teeth's reference helix angle (> 0 right
     hand, as ``GearTeeth.helix_angle``), and the meshes take the signed base helix angle.
+
+    ``k_mesh_sun`` / ``k_mesh_ring`` (N/m) left out on a stage with ``normal_module``: the ISO
+    6336-1 (method B) mean mesh stiffness c_gamma_alpha b of the sun-planet / planet-ring pair
+    (solid gears, standard basic rack), b = ``face_width`` (m, then required); a typed number
+    wins. Without ``normal_module`` both must be given.
+
+    With ``normal_module``, sun, planets and ring may leave out ``mass`` and
+    ``polar_inertia``: they come from their gear blanks (as a :class:`Body` with teeth; the
+    ring's internal), of length ``face_width`` (m) unless their ``blank`` table says otherwise.
+
+    ``c_mesh_sun`` / ``c_mesh_ring`` (N s/m, default 0): viscous dampers along the line of
+    action of every sun-planet / planet-ring mesh (:attr:`GearMesh.damping`).
     """
 
     name: str = name_field()
@@ -331,17 +507,20 @@ class PlanetaryStage:
     ring: Member = field()
     carrier: Member = field()
     planets: Planets = field()
-    k_mesh_sun: float = quantity("N/m", gt=0.0)
-    k_mesh_ring: float = quantity("N/m", gt=0.0)
+    k_mesh_sun: Optional[float] = quantity("N/m", None, gt=0.0)
+    k_mesh_ring: Optional[float] = quantity("N/m", None, gt=0.0)
     pressure_angle_sun: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     pressure_angle_ring: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
     normal_module: Optional[float] = quantity("m", None, gt=0.0)
     normal_pressure_angle: Optional[float] = angle(None, gt=0.0, lt=math.radians(45))
+    face_width: Optional[float] = quantity("m", None, gt=0.0)
     drive_sign: int = 1
     center: Vec3 = quantity("m", (0.0, 0.0, 0.0))
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     contact_point: Literal["pitch", "tangent"] = "pitch"
+    c_mesh_sun: float = damper("N s/m")
+    c_mesh_ring: float = damper("N s/m")
 
     def carrier_radius(self) -> float:
         """Planet-centre radius (m) from the sun-planet mesh geometry."""
@@ -364,20 +543,98 @@ class PlanetaryStage:
 
 
 @dataclass(frozen=True)
+class PointLoad:
+    """A force (N) and a moment (N m) applied to ``body`` in a static load case.
+
+    Where: at the master node of ``interface`` on a component body (required there), or at
+    ``point`` (m, global) on a plain body -- default its position (its axis point). A force
+    away from a rigid body's reference point acts on it through the rigid lever arm; on a
+    flexible body the master node carries it. ``axes``: "global" (default) or "body" (the
+    body's local axes, z = its axis) for both ``force`` and ``moment``."""
+
+    body: str
+    force: Vec3 = quantity("N", (0.0, 0.0, 0.0))
+    moment: Vec3 = quantity("N m", (0.0, 0.0, 0.0))
+    point: Optional[Vec3] = quantity("m", None)
+    interface: Optional[str] = None
+    axes: Literal["global", "body"] = "global"
+
+
+@dataclass(frozen=True)
+class Support:
+    """DOFs of ``body`` held at zero relative to the housing for one load case only:
+    ``dofs`` (subset of x, y, z, rx, ry, rz; default all six) in the body's local axes at
+    the master node of ``interface`` (a component body: required) or at a plain body's
+    position (its axis point)."""
+
+    body: str
+    interface: Optional[str] = None
+    dofs: tuple[str, ...] = DOF_NAMES
+
+
+@dataclass(frozen=True)
 class LoadCase:
-    """Static load case: ``torque`` (N m) about ``input``'s axis, reacted by holding
-    ``output`` against rotation about its own axis (relative to the housing).
+    """Static load case. A torque case: ``torque`` (N m) about ``input``'s axis, reacted by
+    holding ``output`` against rotation about its own axis (relative to the housing);
     ``input_interface`` / ``output_interface`` name where the torque enters / where the
     output is held on a component body (e.g. its coupling seat): the interface's master
-    node. A scene gives one ``[load]`` or a list ``[[loads]]`` (not both; names unique);
-    see docs/static.md."""
+    node. Give all three of ``input``, ``output``, ``torque`` or none. Besides (or
+    instead): ``forces``, point loads (:class:`PointLoad`), and ``supports``, DOFs held for
+    this case only (:class:`Support`). A scene gives one ``[load]`` or a list ``[[loads]]``
+    (not both; names unique); see docs/static.md."""
 
-    input: str
-    output: str
-    torque: float = quantity("N m", nonzero=True)
+    input: Optional[str] = None
+    output: Optional[str] = None
+    torque: Optional[float] = quantity("N m", None, nonzero=True)
     input_interface: Optional[str] = None
     output_interface: Optional[str] = None
     name: str = name_field("rated torque")
+    forces: tuple[PointLoad, ...] = ()
+    supports: tuple[Support, ...] = ()
+
+    def __post_init__(self):
+        for f in ("forces", "supports"):
+            if isinstance(getattr(self, f), list):  # Python callers may pass lists
+                object.__setattr__(self, f, tuple(getattr(self, f)))
+
+    @property
+    def has_torque(self) -> bool:
+        """Whether this is a torque case (input, output and torque given)."""
+        return self.torque is not None
+
+
+#: Mode classes a ``[damping] class_ratios`` key may name (:mod:`assembly.classify`).
+MODE_CLASSES = ("rotational", "translational", "planet", "out-of-plane", "mixed", "elastic")
+
+
+@dataclass(frozen=True)
+class Damping:
+    """Scene-level damping (``[damping]``), on top of the element dampers (``c_*``).
+
+    ``modal_ratio``: one damping ratio zeta for every elastic mode; ``class_ratios``
+    ({mode class: zeta}, classes of :mod:`assembly.classify`, e.g. ``rotational = 0.05``)
+    overrides it for the modes of those classes. Ratios lie in [0, 1). Rigid-body (0 Hz)
+    modes stay undamped. ``rayleigh_alpha`` (1/s) and ``rayleigh_beta`` (s): Rayleigh
+    damping ``C = alpha M + beta K``, a mode of omega (rad/s) then having
+    ``zeta = alpha / (2 omega) + beta omega / 2``; the ``alpha M`` part is taken with the
+    rigid-body modes projected out (``alpha (M - M Phi_r Phi_r' M)``), so that it damps
+    every elastic mode as the formula says and brakes no free rotation (see
+    :mod:`assembly.dynamics.damping`)."""
+
+    modal_ratio: Optional[float] = quantity("", None, ge=0.0, lt=1.0)
+    class_ratios: Optional[dict] = None
+    rayleigh_alpha: float = quantity("1/s", 0.0, ge=0.0)
+    rayleigh_beta: float = quantity("s", 0.0, ge=0.0)
+
+    @property
+    def modal(self) -> bool:
+        """Whether modal ratios are given (``modal_ratio`` or ``class_ratios``)."""
+        return self.modal_ratio is not None or bool(self.class_ratios)
+
+    @property
+    def rayleigh(self) -> bool:
+        """Whether Rayleigh damping is given (alpha or beta > 0)."""
+        return self.rayleigh_alpha > 0 or self.rayleigh_beta > 0
 
 
 #: True while :func:`derive` builds a scene from an already validated one.
@@ -392,6 +649,8 @@ class Scene:
     bearings and meshes. ``band_hz``: the frequency band of interest (Hz), which sets the
     Craig-Bampton cutoff of flexible bodies. ``fidelity``: the default fidelity of every
     body, stage member and planets table that does not give its own (default "rigid").
+    ``damping``: scene-level damping (:class:`Damping`); element dampers are the ``c_*``
+    fields of bearings, meshes, shafts and stages.
     Construction first derives the gear numbers from teeth and places the bodies meshes
     place (:func:`assembly.gear_data.resolve`), then validates everything (``SceneError``
     on bad input); the scene then holds the derived numbers.
@@ -409,6 +668,7 @@ class Scene:
     load: Optional[LoadCase] = None
     loads: tuple[LoadCase, ...] = ()
     fidelity: Optional[Fidelity] = None
+    damping: Optional[Damping] = None
 
     def __post_init__(self):
         for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages", "loads"):
@@ -439,15 +699,21 @@ class Scene:
         return self.__dict__.get("_given", {}).get(field_name, getattr(self, field_name))
 
     def expanded(self) -> "Scene":
-        """The same scene with every planetary stage expanded into plain elements (computed
-        once per scene)."""
-        if not self.stages:
-            return self
+        """The same scene with every planetary stage expanded into plain elements and the
+        stations of every beam shaft added as bodies (computed once per scene; a scene
+        already expanded is its own expansion)."""
         cached = self.__dict__.get("_expanded")
-        if cached is None:
-            from .planetary import expand_stages  # the builder reads these types
-            cached = derive(self, **expand_stages(self), stages=())
-            object.__setattr__(self, "_expanded", cached)
+        if cached is not None:
+            return cached
+        # the builders read these types
+        from .planetary import expand_stages
+        from .shafts import expand_shafts, shafts_expanded
+        if not self.stages and shafts_expanded(self):
+            return self
+        cached = derive(self, **expand_stages(self), stages=()) if self.stages else self
+        if not shafts_expanded(cached):
+            cached = derive(cached, bodies=cached.bodies + expand_shafts(cached))
+        object.__setattr__(self, "_expanded", cached)
         return cached
 
     def load_cases(self) -> tuple[tuple[str, LoadCase], ...]:
@@ -505,7 +771,9 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
     """Copy of ``scene`` with ``bodies`` (names in the expanded scene, or one name; default
     all) at ``fidelity``. Planetary stages stay stages -- the chosen members, or all the
     planets, take the fidelity -- so an error of the new scene names the table the user
-    wrote; only a choice that splits the planets of one stage expands the scene."""
+    wrote; only a choice that splits the planets of one stage expands the scene. The bodies
+    a beam shaft's stations make follow the scene's default fidelity (never flexible): all
+    bodies chosen, that default becomes ``fidelity`` too."""
     allowed = get_args(Fidelity)
     if not isinstance(fidelity, str) or fidelity not in allowed:
         raise SceneError("fidelity", fidelity, f"must be one of {list(allowed)}")
@@ -519,37 +787,43 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
     def pick(items):
         return tuple(dataclasses.replace(b, fidelity=fidelity) if b.name in chosen else b for b in items)
 
+    # a shaft's stations are made again by the new scene, at its default fidelity (never flexible)
+    stations = {f"{s.name}.{st.name}" for s in scene.shafts for st in s.stations}
+    default = {"fidelity": fidelity} if bodies is None and stations else {}
     stages = []
-    for st in scene.stages:
+    # the tables as the user wrote them: numbers derived from teeth are derived again
+    for st in scene.as_given("stages"):
         planets = {b.name for b in sc.bodies[len(scene.bodies):] if b.stage == st.name and b.role == "planet"}
         if chosen & planets not in (set(), planets):  # some planets of a stage, not all
-            return dataclasses.replace(sc, bodies=pick(sc.bodies))
+            return dataclasses.replace(sc, bodies=pick(b for b in sc.bodies if b.name not in stations), **default)
         changes = {role: dataclasses.replace(getattr(st, role), fidelity=fidelity)
                    for role in ("sun", "ring", "carrier") if f"{st.name}.{role}" in chosen}
         if planets and planets <= chosen:
             changes["planets"] = dataclasses.replace(st.planets, fidelity=fidelity)
         stages.append(dataclasses.replace(st, **changes))
-    return dataclasses.replace(scene, bodies=pick(scene.bodies), stages=tuple(stages))
-
-
-#: The bearing stiffness fields, each once, in field order.
-_STIFFNESSES = tuple(dict.fromkeys(Bearing.FIELDS))
+    return dataclasses.replace(scene, bodies=pick(scene.as_given("bodies")), meshes=scene.as_given("meshes"),
+                               stages=tuple(stages), **default)
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:
     """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
-    its own bearings and the bearing tables of its planetary stages (kept as stages)."""
+    its own bearings and the bearing tables of its planetary stages (kept as stages).
+    ``k_radial`` (``k_tilt``) scales ``k_radial_x``/``k_radial_y`` too where those are given."""
     if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 0 < factor < math.inf:
         raise SceneError("factor", factor, "must be a finite number > 0")
     for d in directions:
-        if d not in _STIFFNESSES:
-            raise SceneError("directions", d, f"must be among {list(_STIFFNESSES)}")
+        if d not in STIFFNESS_FIELDS:
+            raise SceneError("directions", d, f"must be among {list(STIFFNESS_FIELDS)}")
+    named = {f for d in directions for f in (d, *SPLIT_STIFFNESSES.get(d, ()))}
 
     def scaled(b):
-        return None if b is None else dataclasses.replace(b, **{d: getattr(b, d) * factor for d in directions})
+        if b is None:
+            return None
+        return dataclasses.replace(b, **{f: k * factor for f, k in b.stiffnesses().items() if f in named})
 
     stages = tuple(dataclasses.replace(
         st, planets=dataclasses.replace(st.planets, bearing=scaled(st.planets.bearing)),
         **{role: dataclasses.replace(getattr(st, role), bearing=scaled(getattr(st, role).bearing))
-           for role in ("sun", "ring", "carrier")}) for st in scene.stages)
-    return dataclasses.replace(scene, bearings=tuple(scaled(b) for b in scene.bearings), stages=stages)
+           for role in ("sun", "ring", "carrier")}) for st in scene.as_given("stages"))
+    return dataclasses.replace(scene, bearings=tuple(scaled(b) for b in scene.bearings), stages=stages,
+                               bodies=scene.as_given("bodies"), meshes=scene.as_given("meshes"))

@@ -12,6 +12,18 @@ from __future__ import annotations
 from .flexible import CUTOFF_FACTOR
 from .scene import DEFAULT_BAND_HZ, HOUSING, MAX_MODES, MAX_NAME_LENGTH
 
+#: The damper fields of a bearing table (:class:`Bearing`, :class:`BearingSpec`).
+_BEARING_DAMPERS = {
+    "c_radial": "Viscous damper along local x and y, beside `k_radial` (default none; or give `c_radial_x` and `c_radial_y`).",
+    "c_axial": "Viscous damper along the axis (default 0).",
+    "c_tilt": "Viscous damper about local x and y (default none; or give `c_tilt_x` and `c_tilt_y`).",
+    "c_torsion": "Viscous damper about the axis (default 0).",
+    "c_radial_x": "Damper along local x, with `c_radial_y` instead of `c_radial` (Nejad et al. 2016: c_y).",
+    "c_radial_y": "Damper along local y, with `c_radial_x` instead of `c_radial` (Nejad et al. 2016: c_z).",
+    "c_tilt_x": "Damper about local x, with `c_tilt_y` instead of `c_tilt` (Nejad et al. 2016: c_beta).",
+    "c_tilt_y": "Damper about local y, with `c_tilt_x` instead of `c_tilt` (Nejad et al. 2016: c_gamma).",
+}
+
 #: class name -> {field name -> one-line description}.
 FIELDS: dict[str, dict[str, str]] = {
     "Scene": {
@@ -20,7 +32,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "bodies": "Plain bodies, one `[[bodies]]` table each.",
         "bearings": "Bearings: 6x6 diagonal springs from a body to its frame or another body.",
         "meshes": "Parallel-axis gear meshes between two bodies.",
-        "shafts": "6-DOF springs between two bodies (quill shafts, shrink fits, couplings).",
+        "shafts": "Shafts between two bodies: 6-DOF springs typed by hand (quill shafts, shrink "
+                  "fits, couplings), or Timoshenko beams by diameter with bearing stations.",
         "fixed": "DOFs held at zero relative to a body's frame.",
         "stages": "Planetary stages, each expanded into bodies, bearings and meshes.",
         "band_hz": f"Frequency band of interest; sets the Craig-Bampton cutoff of flexible bodies "
@@ -29,10 +42,21 @@ FIELDS: dict[str, dict[str, str]] = {
         "loads": "Several static load cases, names unique (not together with `[load]`).",
         "fidelity": "Default fidelity of every body, member and planets table that gives none "
                     "(default rigid).",
+        "damping": "Scene-level damping: modal ratios or Rayleigh (`[damping]`); element dampers are "
+                   "the `c_*` fields.",
+    },
+    "Damping": {
+        "modal_ratio": "Damping ratio zeta of every elastic mode, in [0, 1).",
+        "class_ratios": "Ratio per mode class, e.g. `{ rotational = 0.05 }` (rotational, translational, "
+                        "planet, out-of-plane, mixed, elastic); overrides `modal_ratio` for those modes.",
+        "rayleigh_alpha": "Mass-proportional Rayleigh coefficient (>= 0): zeta = alpha/(2 omega) + "
+                          "beta omega/2; rigid-body modes projected out.",
+        "rayleigh_beta": "Stiffness-proportional Rayleigh coefficient (>= 0).",
     },
     "Body": {
         "name": f"Unique body name, not `{HOUSING}`; referred to by bearings, meshes, shafts, `[load]`.",
-        "mass": "Mass of a plain body (not with a `component`).",
+        "mass": "Mass of a plain body (not with a `component`); left out with `polar_inertia` on a body "
+                "with `teeth`: from its gear blank.",
         "polar_inertia": "Inertia about the rotation axis, about the centre of mass.",
         "transverse_inertia": "Inertia about the two axes normal to the rotation axis (default polar/2).",
         "inertia_tensor": "Full 3x3 inertia about the centre of mass in local axes (x, y, axis), "
@@ -43,12 +67,21 @@ FIELDS: dict[str, dict[str, str]] = {
         "frame": f"Body whose motion this body's DOFs are measured from (`{HOUSING}`: ground).",
         "fidelity": "torsional (1 DOF), rigid (6 DOFs) or flexible (Craig-Bampton; needs a component).",
         "stage": "Set by the planetary-stage builder (the stage name); leave unset.",
-        "role": "Set by the planetary-stage builder (sun, ring, carrier, planet); leave unset.",
+        "role": "`rotor` or `generator` (one body each): the ends of the drivetrain for `flexgear export "
+                "elastodyn`; other text is free; the planetary-stage builder sets sun, ring, carrier, planet.",
         "component": "FE component table chosen by `kind`; its mesh gives mass and inertia.",
         "flex": "Meshing and reduction options of a component body.",
         "teeth": "Gear teeth of a plain gear body (`[bodies.teeth]`, as a component's); a component "
                  "gear's own `teeth` serve instead (both given: must be equal).",
         "internal": "true: the teeth are internal (a ring gear; `n_teeth` stays positive).",
+        "blank": "Gear blank dimensions (`[bodies.blank]`) of a body whose mass and inertia come from "
+                 "its `teeth` (mass, polar_inertia and inertia_tensor left out).",
+    },
+    "GearBlank": {
+        "bore_diameter": "Bore of an external gear's blank (0: solid to the centre).",
+        "outer_diameter": "Outer diameter of a ring's rim (default d_f + 2 x 1.2 x 2.25 m_n; ISO 6336-3's "
+                          "rim thickness for rim factor Y_B = 1).",
+        "length": "Axial length of the blank (default the face width).",
     },
     "FlexOptions": {
         "mesh_size": "Element size (default from the component's thinnest wall).",
@@ -122,20 +155,29 @@ FIELDS: dict[str, dict[str, str]] = {
     },
     "Bearing": {
         "body": "Body the bearing carries (a `[[bodies]]` name or a stage member name).",
-        "k_radial": "Stiffness along local x and y.",
-        "k_axial": "Stiffness along the axis (local z).",
-        "k_tilt": "Stiffness about local x and y.",
+        "k_radial": "Stiffness along local x and y (or give `k_radial_x` and `k_radial_y`).",
+        "k_axial": "Stiffness along the axis (local z); required.",
+        "k_tilt": "Stiffness about local x and y (or give `k_tilt_x` and `k_tilt_y`).",
         "k_torsion": "Stiffness about the axis (0: free to turn).",
         "frame": "Other side of the bearing (default the body's own `frame`, usually the housing).",
         "position": "Where it acts (default the body's position, or its `interface`'s master node).",
         "name": "Name in tables and messages (default `bearing[i]:<body>`).",
         "interface": "Interface of a component body where the bearing acts (e.g. `bearing_a`); required there.",
         "frame_interface": "Interface of the frame body where the bearing acts (e.g. a carrier's `pin_0`).",
+        "k_radial_x": "Stiffness along local x, with `k_radial_y` instead of `k_radial` (Nejad et al. 2016: K_y).",
+        "k_radial_y": "Stiffness along local y, with `k_radial_x` instead of `k_radial` (Nejad et al. 2016: K_z).",
+        "k_tilt_x": "Stiffness about local x, with `k_tilt_y` instead of `k_tilt` (Nejad et al. 2016: K_beta).",
+        "k_tilt_y": "Stiffness about local y, with `k_tilt_x` instead of `k_tilt` (Nejad et al. 2016: K_gamma).",
+        "radial_angle": "Turns the bearing's local x (and y) about the body's axis from the body's local x: "
+                        "`k_radial_x` and `k_tilt_x` then act along / about that direction. Planet bearings of "
+                        "a stage take their planet's angle: x radial, y tangential.",
+        **_BEARING_DAMPERS,
     },
     "GearMesh": {
         "gear1": "First gear (a body or stage member name); the signs below refer to it.",
         "gear2": "Second gear.",
-        "stiffness": "Mesh stiffness along the line of action.",
+        "stiffness": "Mesh stiffness along the line of action; left out between gears with teeth: "
+                     "ISO 6336-1 method B, c_gamma_alpha times the smaller face width.",
         "base_radius1": "Base radius of gear 1 (negative for an internal gear).",
         "base_radius2": "Base radius of gear 2 (negative for an internal gear, e.g. a ring).",
         "pressure_angle": "Transverse operating (working) pressure angle; from the teeth when both "
@@ -155,18 +197,43 @@ FIELDS: dict[str, dict[str, str]] = {
                  "distance from the other.",
         "centre_line_angle": "Direction of the line of centres for `place`, about the other gear's "
                              "axis from its local x.",
+        "damping": "Viscous damper along the line of action, beside the mesh spring (default 0).",
     },
     "Shaft": {
         "body1": "First body; the spring's axes are this body's axes.",
         "body2": "Second body (e.g. `<stage>.sun` for a quill shaft into a planetary stage).",
-        "k_torsion": "Torsional stiffness about body1's axis (G J / L for a plain shaft).",
-        "k_bending": "Bending stiffness about local x and y (0: none).",
-        "k_axial": "Axial stiffness along body1's axis (0: none).",
-        "k_shear": "Shear stiffness along local x and y (0: none).",
-        "position": "Where the spring acts (default midway between the two attachment points).",
-        "name": "Name in tables and messages (default `shaft[i]:<body1>-<body2>`).",
+        "position1": "Beam shaft: where it ends on body1 when that is not the body's position, e.g. "
+                     "a gear's face (global, on a body without a component; a component names its "
+                     "`interface1`). The shaft's length runs from here.",
+        "position2": "Beam shaft: where it ends on body2, as `position1`.",
+        "k_torsion": "Torsional stiffness about body1's axis (G J / L for a plain shaft); required "
+                     "without `diameter`, left out with it.",
+        "k_bending": "Bending stiffness about local x and y (0: none; not with `diameter`).",
+        "k_axial": "Axial stiffness along body1's axis (0: none; not with `diameter`).",
+        "k_shear": "Shear stiffness along local x and y (0: none; not with `diameter`).",
+        "position": "Where the spring acts (default midway between the two attachment points; "
+                    "not with `diameter`).",
+        "name": "Name in tables and messages (default `shaft[i]:<body1>-<body2>`); required with "
+                "`stations`, whose bodies it prefixes.",
         "interface1": "Interface of a component body1 where the shaft attaches (e.g. `bore`).",
         "interface2": "Interface of a component body2.",
+        "diameter": "Outer diameter: the shaft is a Timoshenko beam from body1's attachment point "
+                    "to body2's, its k_* derived.",
+        "bore_diameter": "Bore of a beam shaft (0 = solid; less than `diameter`).",
+        "material": "Material of a beam shaft (default steel).",
+        "stations": "Points on a beam shaft (e.g. bearing seats), each a body `<name>.<station>`.",
+        "stage": "Stage label of the station bodies (tables group bodies by it).",
+        "c_torsion": "Spring shaft: viscous damper about body1's axis (default 0; not with `diameter`).",
+        "c_bending": "Spring shaft: damper about local x and y (default 0; not with `diameter`).",
+        "c_axial": "Spring shaft: damper along body1's axis (default 0; not with `diameter`).",
+        "c_shear": "Spring shaft: damper along local x and y (default 0; not with `diameter`).",
+        "beta": "Beam shaft: stiffness-proportional damping, each element's C_e = beta K_e (default 0; "
+                "only with `diameter`).",
+    },
+    "Station": {
+        "name": "Station name (no `.`, unique on its shaft); its body is `<shaft name>.<name>`.",
+        "at": "Distance from body1's attachment point along the shaft, strictly between 0 and the "
+              "shaft's length.",
     },
     "Fixed": {
         "body": "Body whose DOFs are held (a body or stage member name).",
@@ -178,8 +245,10 @@ FIELDS: dict[str, dict[str, str]] = {
         "ring": "The ring member (internal gear).",
         "carrier": "The carrier member.",
         "planets": "The planets.",
-        "k_mesh_sun": "Stiffness of every sun-planet mesh.",
-        "k_mesh_ring": "Stiffness of every planet-ring mesh.",
+        "k_mesh_sun": "Stiffness of every sun-planet mesh; left out with `normal_module`: ISO 6336-1 "
+                      "method B, c_gamma_alpha times `face_width`.",
+        "k_mesh_ring": "Stiffness of every planet-ring mesh; left out with `normal_module`: ISO 6336-1 "
+                       "method B, c_gamma_alpha times `face_width`.",
         "pressure_angle_sun": "Transverse pressure angle of the sun-planet meshes.",
         "pressure_angle_ring": "Transverse pressure angle of the planet-ring meshes.",
         "helix_angle": "Without `normal_module`: the sun-planet meshes' helix as `[[meshes]]` "
@@ -188,13 +257,19 @@ FIELDS: dict[str, dict[str, str]] = {
         "normal_module": "Normal module m_n of every gear of the stage: base radii, pressure angles "
                          "and carrier radius then come from the members' `teeth` and `profile_shift`.",
         "normal_pressure_angle": "Normal pressure angle alpha_n of the stage's gears (with `normal_module`).",
+        "face_width": "Face width b of the stage's gears (with `normal_module`): the length of the gear "
+                      "blanks that give sun, planets and ring the mass and inertia they leave out, and "
+                      "the b of the ISO 6336-1 mesh stiffness when `k_mesh_sun` or `k_mesh_ring` is left out.",
         "drive_sign": "+1 or -1: the sense about `axis` in which the sun closes its meshes.",
         "center": "Position of sun, ring and carrier (their centre of mass or component origin).",
         "axis": "Common axis of the stage; planet angles are measured from its local x.",
         "contact_point": "'pitch' or 'tangent', for every mesh of the stage (as `[[meshes]]`).",
+        "c_mesh_sun": "Viscous damper along the line of action of every sun-planet mesh (default 0).",
+        "c_mesh_ring": "Viscous damper along the line of action of every planet-ring mesh (default 0).",
     },
     "Member": {
-        "mass": "Mass (not with a `component`).",
+        "mass": "Mass (not with a `component`); sun and ring with `teeth` may leave it out with "
+                "`polar_inertia` (from the gear blank and the stage's `face_width`).",
         "polar_inertia": "Inertia about the axis (not with a `component`).",
         "transverse_inertia": "Inertia normal to the axis (default polar/2).",
         "base_radius": "Base radius of sun or ring, positive for both (unused for the carrier).",
@@ -207,33 +282,61 @@ FIELDS: dict[str, dict[str, str]] = {
         "bearing_interface": "Interface of a component carrier where its bearing acts.",
         "teeth": "Number of teeth of sun or ring (with the stage's `normal_module`).",
         "profile_shift": "Profile shift coefficient x of sun or ring (ISO 21771; the ring's as ISO gives it).",
+        "blank": "Gear blank of sun or ring (`bore_diameter`, `outer_diameter` of the ring, `length`) when "
+                 "their mass and polar_inertia are left out.",
     },
     "BearingSpec": {
-        "k_radial": "Stiffness along local x and y.",
-        "k_axial": "Stiffness along the axis.",
-        "k_tilt": "Stiffness about local x and y.",
+        "k_radial": "Stiffness along local x and y (or give `k_radial_x` and `k_radial_y`).",
+        "k_axial": "Stiffness along the axis; required.",
+        "k_tilt": "Stiffness about local x and y (or give `k_tilt_x` and `k_tilt_y`).",
         "k_torsion": "Stiffness about the axis (0: free to turn).",
+        "k_radial_x": "Stiffness along local x, with `k_radial_y` instead of `k_radial` (Nejad et al. 2016: K_y).",
+        "k_radial_y": "Stiffness along local y, with `k_radial_x` instead of `k_radial` (Nejad et al. 2016: K_z).",
+        "k_tilt_x": "Stiffness about local x, with `k_tilt_y` instead of `k_tilt` (Nejad et al. 2016: K_beta).",
+        "k_tilt_y": "Stiffness about local y, with `k_tilt_x` instead of `k_tilt` (Nejad et al. 2016: K_gamma).",
+        **_BEARING_DAMPERS,
     },
     "Planets": {
-        "count": "Number of planets (`<stage>.planet0` ... `planet<count-1>`).",
-        "mass": "Mass of one planet.",
+        "count": "Number of planets (`<stage>.planet0` ... `planet<count-1>`). On a stage with teeth, "
+                 "equally spaced planets need (sun teeth + ring teeth) / count an integer (assembly condition).",
+        "mass": "Mass of one planet; with `teeth` it may be left out with `polar_inertia` (from the gear "
+                "blank and the stage's `face_width`).",
         "polar_inertia": "Polar inertia of one planet.",
         "base_radius": "Base radius of the planets.",
         "bearing": "Bearing of each planet to the carrier (named `<stage>.planet<i>.bearing`).",
         "transverse_inertia": "Inertia normal to the axis (default polar/2).",
-        "angles": "Planet angles about the axis from the stage's local x (default equally spaced from 0).",
+        "angles": "Planet angles about the axis from the stage's local x (default equally spaced from 0). On a "
+                  "stage with teeth, (sun teeth + ring teeth) (angle - first angle) / 2 pi must be an integer "
+                  "(to 0.01/pi of a pitch).",
         "outer_radius": "Outer radius for the overlap check (default the operating pitch radius).",
         "fidelity": "torsional or rigid (planets have no component).",
         "teeth": "Number of teeth of each planet (with the stage's `normal_module`).",
         "profile_shift": "Profile shift coefficient x of the planets (ISO 21771).",
+        "blank": "Gear blank of each planet (`bore_diameter`, `length`) when mass and polar_inertia are "
+                 "left out.",
     },
     "LoadCase": {
-        "input": "Body the torque enters (a body or stage member name).",
+        "input": "Body the torque enters (a body or stage member name); with `output` and `torque`, or none.",
         "output": "Body held against rotation about its own axis (the reaction), in the housing frame.",
         "torque": "Torque about the input body's axis (sign: right-hand about that axis).",
         "input_interface": "Interface where the torque enters a component input body (required there).",
         "name": "Name of the load case.",
         "output_interface": "Interface of a component output body where it is held (required there).",
+        "forces": "Point loads of this case, `[[loads.forces]]` tables (force and moment at a point or interface).",
+        "supports": "DOFs held relative to the housing for this case only, `[[loads.supports]]` tables.",
+    },
+    "PointLoad": {
+        "body": "Body the load acts on (a body or stage member name).",
+        "force": "Force vector (in `axes`).",
+        "moment": "Moment vector (in `axes`); force and moment not both zero.",
+        "point": "Where a plain body is loaded (global; default its position); not on a component body.",
+        "interface": "Interface master node where a component body is loaded (required there).",
+        "axes": "`global` or `body` (the body's local axes, z = its axis) for `force` and `moment`.",
+    },
+    "Support": {
+        "body": "Body held (a body or stage member name).",
+        "interface": "Interface master node of a component body where it is held (required there).",
+        "dofs": "Held DOFs, local axes at the support point: subset of x, y, z, rx, ry, rz (default all six).",
     },
 }
 
@@ -251,13 +354,24 @@ EXTRA_KEYS: dict[str, dict[str, str]] = {
 
 #: class name -> prose notes on the table (Markdown).
 NOTES: dict[str, str] = {
+    "Damping": (
+        "Damping shows as \"damping ratio\" and \"damped frequency\" columns of the mode table "
+        "(`flexgear modes`, the report). Element dampers (`c_*` of bearings, shafts, stages; a mesh's "
+        "`damping`; a beam shaft's `beta`) and Rayleigh damping solve the quadratic eigenproblem "
+        "(K + s C + s^2 M) x = 0; modal ratios give each elastic mode its zeta directly; given together, "
+        "they add in the undamped modes' coordinates. Rigid-body (0 Hz) modes stay undamped: "
+        "Rayleigh's alpha M acts with them projected out [assembly.dynamics]."),
     "Scene": (
         "Units are SI throughout: m, kg, s, N, rad, Pa; stiffness N/m and N m/rad; frequency Hz. "
         "Every angle may be given in degrees under its key plus `_deg` (`helix_angle_deg = 12.0`), "
         "never both. A bearing stiffness may be `inf`: that direction is then a constraint, not a "
         "spring. Unknown keys are refused, naming the allowed ones. Names of stage members "
         "(`<stage>.sun`, `.ring`, `.carrier`, `.planet<i>`) can be used wherever a body name is "
-        "expected: `[[bearings]]`, `[[meshes]]`, `[[shafts]]`, `[[fixed]]`, `[load]`."),
+        "expected: `[[bearings]]`, `[[meshes]]`, `[[shafts]]`, `[[fixed]]`, `[load]`. "
+        "**Variants.** A file whose top level holds `extends = \"<scene file>\"` (relative to its "
+        "folder, or a shipped scene) describes that scene with the fields under `[set]` changed, "
+        "each key a path such as `\"stages.stage1.carrier.fidelity\"` or `\"bearings[2].k_radial\"`; "
+        "besides `[set]` it may give only `name` and `description` [assembly.variant]."),
     "Body": (
         "**Position.** A plain body's DOFs and inertia sit at its centre of mass, `position`; a gear's "
         "mesh centre defaults to it, so for a gear `position` is the centre of its mid-face. A body "
@@ -293,10 +407,19 @@ NOTES: dict[str, str] = {
         "positive means gear 1 is left-hand. From teeth it is minus gear 1's base helix angle "
         "beta_b, tan(beta_b) = tan(beta) cos(alpha_t) (plus for an internal gear 1); an external "
         "pair has opposite hands, an internal pair the same hand."),
+    "GearBlank": (
+        "A gear given by its teeth only gets mass and inertia from a steel blank "
+        "(`fe_components/gear_blank.py`): coaxial annuli of length `length` (default the face width) -- "
+        "solid from the bore to the root diameter d_f, the tooth zone from d_f to the tip diameter d_a "
+        "counted as half metal (ISO 21771 / ISO 53: d_a = d + 2 m_n (1 + x + k), d_f = d - 2 m_n (1.25 - x), "
+        "k <= 0 the tip alteration of the gear's external pair, k m_n = a_w - a - (x1 + x2) m_n; none on a ring); "
+        "a ring's tooth zone lies inside d_f and its rim runs from d_f to `outer_diameter`."),
     "ShaftSegment": "Written as a two-number array `[length, diameter]` or as a table.",
     "Bearing": (
         "Diagonal spring diag(k_radial, k_radial, k_axial, k_tilt, k_tilt, k_torsion) on the motion of "
-        "`body` relative to `frame`, at `position`, in the body's axes. `inf` holds that direction "
+        "`body` relative to `frame`, at `position`, in the body's axes; `k_radial_x`/`k_radial_y` and "
+        "`k_tilt_x`/`k_tilt_y` give the two radial or tilt directions different stiffnesses (both of "
+        "a pair instead of `k_radial` or `k_tilt`). `inf` holds that direction "
         "exactly (plain rigid bodies, at the body's position, to its own frame). A stage's own "
         "bearings are named `<body>.bearing` (`stage.sun.bearing`, `stage.planet0.bearing`)."),
     "GearMesh": (
@@ -321,7 +444,21 @@ NOTES: dict[str, str] = {
         "shaft of length L, diameter d: k_torsion = G pi d^4 / (32 L), k_axial = E pi d^2 / (4 L). "
         "It joins two stages: body1 = the output gear of one stage, body2 = `<stage>.sun` of the "
         "next, whose sun has `support = \"floating\"` (no bearing: the shaft and the meshes carry "
-        "it). A shaft also joins a component hub to a plain shaft body (`interface1 = \"bore\"`)."),
+        "it). A shaft also joins a component hub to a plain shaft body (`interface1 = \"bore\"`).\n\n"
+        "**Beam shafts.** Give `diameter` (and optionally `bore_diameter`, `material`) instead of "
+        "the k_* fields: the shaft runs from body1's attachment point (its position, or "
+        "`interface1`'s master) to body2's, its length L is their distance and its axis their "
+        "direction, which must be body1's axis. `stations` split it: each `[[shafts.stations]]` "
+        "(`name`, `at` in m from body1's end, strictly inside (0, L), any order) becomes a rigid "
+        "body `<shaft name>.<station name>` on the axis (the scene's default fidelity, never "
+        "flexible; `stage` = the shaft's `stage`), which bearings, meshes and loads name like any "
+        "body, e.g. `body = \"main_shaft.inp_a\"`. Between consecutive nodes (body1's end, the "
+        "stations by `at`, body2's end) act two-node Timoshenko elements (shear coefficient of "
+        "Cowper 1966); their mass is lumped, half of each element at each of its nodes (mass, "
+        "polar and section rotary inertia): a station body holds the halves of its two elements, "
+        "the halves at the end bodies stay with the shaft's first and last elements."),
+    "Station": ("Written as a table or as an array `[name, at]`; e.g. the NREL 5 MW main shaft "
+                "(Nejad et al. 2016): `stations = [[\"inp_a\", 0.333], [\"inp_b\", 1.166]]`."),
     "Fixed": "Holds DOFs of a body relative to its frame (a `support = \"fixed\"` member adds one).",
     "PlanetaryStage": (
         "One table expands into bodies `<name>.sun`, `<name>.ring`, `<name>.carrier` at `center`, "
@@ -349,7 +486,19 @@ NOTES: dict[str, str] = {
     "Planets": "N identical planets, each on a bearing to the carrier at its pin.",
     "LoadCase": (
         "Static load case: `torque` about `input`'s axis, reacted by holding `output` against "
-        "rotation about its own axis. Stage members by name (`input = \"stage.carrier\"`). "
-        "`flexgear static` and `flexgear run` report mesh forces, bearing reactions, shaft loads "
-        "and torque-balance and ratio checks for every case at every fidelity (docs/static.md)."),
+        "rotation about its own axis, and/or point loads (`[[loads.forces]]`) with supports "
+        "(`[[loads.supports]]`) for this case only. Stage members by name (`input = \"stage.carrier\"`). "
+        "`flexgear static` and `flexgear run` report mesh forces, bearing and support reactions, "
+        "shaft loads, the equilibrium check and, for a torque case, torque-balance and ratio "
+        "checks for every case at every fidelity (docs/static.md). A case that leaves the "
+        "assembly free to move, or holds one direction twice, is refused naming the case."),
+    "PointLoad": (
+        "A plain body is loaded at `point` (default its position; a force away from it acts "
+        "through the rigid lever arm), a component body at the master node of `interface`, at "
+        "every fidelity; never both."),
+    "Support": (
+        "Holds the motion of the body at the support point relative to the housing: a plain "
+        "body's position, a component body's interface master node. Directions a constraint "
+        "already holds (fixed DOF, rigid bearing direction, torsional fidelity) report their "
+        "reaction under the held directions."),
 }

@@ -11,11 +11,10 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
-import tempfile
 from pathlib import Path
 
+from .atomic_file import write_text_atomic
 from .scene import Scene
 from .schema import to_dict
 
@@ -86,20 +85,6 @@ def scene_to_toml(scene: Scene) -> str:
 
 
 def save_scene(scene: Scene, path) -> Path:
-    """Write ``scene`` as TOML to ``path`` atomically (a temporary file in the same folder,
-    then ``os.replace``): the file is the old one or the whole new one, never half-written."""
-    path = Path(path)
-    text = scene_to_toml(scene)
-    mode = path.stat().st_mode & 0o777 if path.exists() else 0o644  # mkstemp makes it 0600
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        os.chmod(tmp, mode)
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write ``scene`` as TOML to ``path`` atomically (:func:`assembly.atomic_file.write_text_atomic`):
+    the file is the old one or the whole new one, never half-written."""
+    return write_text_atomic(path, scene_to_toml(scene))

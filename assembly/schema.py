@@ -415,9 +415,10 @@ def resolve_scene_path(path) -> Path:
     raise SceneError("scene", str(path), f"no such file{hint}")
 
 
-def load_scene(path) -> Scene:
+def load_scene(path, _chain: tuple = ()) -> Scene:
     """Read and validate a scene file (UTF-8 TOML; :func:`resolve_scene_path` finds it);
-    :class:`SceneError` names the offending field path, or the file and what is wrong with it."""
+    :class:`SceneError` names the offending field path, or the file and what is wrong with it.
+    A file with ``extends`` varies another scene file (:mod:`assembly.variant`)."""
     p = resolve_scene_path(path)
     try:
         raw = p.read_bytes()
@@ -432,6 +433,9 @@ def load_scene(path) -> Scene:
         data = tomllib.loads(text.removeprefix("\ufeff"))  # a BOM some editors write
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(str(p), "<file>", f"not valid TOML: {exc}") from None
+    from .variant import is_variant, variant_scene
+    if is_variant(data):
+        return variant_scene(data, p, load_scene, _chain)
     return scene_from_dict(data)
 
 

@@ -1,22 +1,29 @@
-"""Static load cases: a torque into one body, reacted by holding another, and the solve.
+"""Static load cases: applied torques and point loads, held outputs and supports, and the
+solve.
 
-The input torque (N m) acts about the input body's axis (at a flexible body, on the named
-interface master); the output body is held against rotation about its own axis
-(:mod:`assembly.loads`). Solved on the same assembled stiffness as the modes -- one
-factorisation per model serves every load case -- and the forces in every spring follow
-from the deflections (:mod:`assembly.reactions`); flexible bodies are back-expanded for
-stresses. Sign conventions and checks: docs/static.md.
+The applied loads and the held directions of a case come from :mod:`assembly.loads`: a
+torque about the input body's axis reacted by holding the output against rotation, point
+loads anywhere, supports holding chosen DOFs for that case only. The held directions are
+constraint rows ``C q = 0``; they are eliminated exactly (``q = N q_r``, each row solved
+for one pivot coordinate -- for a plain held coordinate that is dropping its column), and
+the reduced stiffness ``N' K N`` is factorised once per distinct set of holds (cases
+holding the same directions share it). Solved on the same assembled stiffness as the modes;
+the forces in every spring follow from the deflections (:mod:`assembly.reactions`), the
+hold reactions from the residual ``K q - F = C' lambda``; flexible bodies are
+back-expanded for stresses. Sign conventions and checks: docs/static.md.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .errors import MechanismError
-from .loads import held_column, held_name, input_load, free_motions
+from .errors import MechanismError, SceneError
+from .loads import free_motions, held_directions, load_vector
 from .model import assemble
+from .nullity import STRUCT_RTOL
 from .scene import LoadCase
 
 #: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
@@ -26,16 +33,24 @@ DENSE_MAX = 3000
 @dataclass
 class StaticResult:
     """Static response of ``model`` to ``load`` (scene path ``path``): ``q`` on the
-    independent coordinates (0 at the held one), ``z = T q`` on the absolute ones (m, rad,
-    flexible bodies: component coordinates); ``held``: the column of q holding the output
-    (None when a constraint already holds it)."""
+    independent coordinates (0 in every held direction), ``z = T q`` on the absolute ones
+    (m, rad, flexible bodies: component coordinates); ``held``: the held directions
+    (:class:`assembly.loads.Held`) and ``hold_reactions`` their reactions (N or N m: the
+    force or moment the hold exerts on the body along that local direction)."""
 
     model: object
     z: np.ndarray
     load: LoadCase
     q: np.ndarray = None
-    held: int | None = None
+    held: list = field(default_factory=list)
     path: str = "load"
+    hold_reactions: np.ndarray = None
+
+    @property
+    def output_held(self) -> bool:
+        """Whether the torque case's output hold is a held direction (False: a constraint
+        already holds that rotation)."""
+        return any(h.support is None for h in self.held)
 
     def body_dofs(self, name: str) -> np.ndarray:
         return self.z[self.model.body_slice(name)]
@@ -51,46 +66,84 @@ def solve_static(scene, load: LoadCase, bodies: dict | None = None, model=None,
 
 def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> list:
     """:class:`StaticResult` of every (path, load case) in ``cases`` on one model
-    (default :meth:`Scene.load_cases`); cases holding the same coordinate share one
+    (default :meth:`Scene.load_cases`); cases holding the same directions share one
     factorisation."""
     m = model if model is not None else assemble(scene, bodies=bodies)
     cases = list(scene.load_cases() if cases is None else cases)
     out, solvers = [], {}
     for path, load in cases:
-        col = held_column(m, load)
-        if col not in solvers:
-            _refuse_mechanism(m, load, path, col)
-            solvers[col] = _factor(m.K, col)
-        keep, solve = solvers[col]
-        Fq = np.asarray(m.T.T @ input_load(m, load)).ravel()
-        q = np.zeros(m.K.shape[0])
-        q[keep] = solve(Fq[keep])
-        out.append(StaticResult(m, np.asarray(m.T @ q).ravel(), load, q, col, path))
+        held = held_directions(m, load)
+        key = tuple(h.name for h in held)
+        if key not in solvers:
+            C = np.array([h.row for h in held]).reshape(len(held), m.K.shape[0])
+            _refuse_mechanism(m, load, path, held, C)
+            N = constraint_basis(C, [_hold_path(path, h) for h in held])
+            solvers[key] = (C, N, _factor((N.T @ m.K @ N).tocsr()))
+        C, N, solve = solvers[key]
+        Fq = np.asarray(m.T.T @ load_vector(m, load)).ravel()
+        q = np.asarray(N @ solve(np.asarray(N.T @ Fq).ravel())).ravel()
+        lam = np.linalg.solve(C @ C.T, C @ (m.K @ q - Fq)) if len(held) else np.zeros(0)
+        out.append(StaticResult(m, np.asarray(m.T @ q).ravel(), load, q, held, path, lam))
     return out
 
 
-def _refuse_mechanism(m, load, path: str, col) -> None:
-    free = free_motions(m, col)
+def _hold_path(path: str, h) -> tuple[str, str]:
+    """(scene path, value) naming a held direction in an error."""
+    if h.support is None:
+        return f"{path}.output", h.body
+    return f"{path}.supports[{h.support}].dofs", h.dof
+
+
+def constraint_basis(C: np.ndarray, paths: list) -> sp.csr_matrix:
+    """``N`` (n_q x (n_q - n_c)) with ``C N = 0``: each row of ``C`` solved for one pivot
+    coordinate among the few it touches (column-pivoted QR), the other coordinates kept.
+    A row dependent on the rows before it holds nothing new: SceneError at its ``paths``
+    entry (scene path, value)."""
+    n_q = C.shape[1]
+    if C.shape[0] == 0:
+        return sp.identity(n_q, format="csr")
+    J = np.flatnonzero(np.any(C != 0, axis=0))
+    Cj = C[:, J] / np.linalg.norm(C[:, J], axis=1, keepdims=True)
+    for k in range(1, Cj.shape[0]):
+        s = np.linalg.svd(Cj[:k + 1], compute_uv=False)
+        if len(s) < k + 1 or s[-1] <= STRUCT_RTOL * s[0]:
+            raise SceneError(*paths[k], "holds a direction the case already holds (another support, or the "
+                                        "output hold): give it once")
+    _, _, piv = sla.qr(Cj, pivoting=True, mode="economic")
+    P, F = J[piv[:C.shape[0]]], J[piv[C.shape[0]:]]
+    A = np.linalg.solve(Cj[:, piv[:C.shape[0]]], Cj[:, piv[C.shape[0]:]])    # q_P = -A q_F
+    keep = np.setdiff1d(np.arange(n_q), P)
+    col = np.full(n_q, -1)
+    col[keep] = np.arange(len(keep))
+    rows, cols, vals = list(keep), list(range(len(keep))), [1.0] * len(keep)
+    for i, p in enumerate(P):
+        for f, a in zip(F, A[i]):
+            if a != 0.0:
+                rows.append(p)
+                cols.append(col[f])
+                vals.append(-a)
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n_q, len(keep)))
+
+
+def _refuse_mechanism(m, load, path: str, held: list, C: np.ndarray) -> None:
+    free = free_motions(m, C)
     if free.shape[1]:
         j = int(np.argmax(np.abs(free[:, 0])))
-        raise MechanismError(f"{path} ({load.name!r}): with {held_name(m, load)} held the assembly still has "
+        what = ", ".join(h.name for h in held) if held else "nothing"
+        raise MechanismError(f"{path} ({load.name!r}): with {what} held the assembly still has "
                              f"{free.shape[1]} free motion(s) (dominant DOF {m.dof_names[j]}); no static "
                              "solution", m.dof_names[j])
 
 
-def _factor(K, col):
-    """(kept columns, solve) for K without row/column ``col``."""
-    keep = np.ones(K.shape[0], bool)
-    if col is not None:
-        keep[col] = False
-    Kk = K[keep][:, keep]
-    if Kk.shape[0] <= DENSE_MAX:
-        import scipy.linalg as sla
-        c = sla.cho_factor(Kk.toarray() if sp.issparse(Kk) else Kk)
-        return keep, lambda b: sla.cho_solve(c, b)
+def _factor(K):
+    """Solve function of the symmetric positive definite ``K`` (dense Cholesky up to
+    DENSE_MAX, else the sparse factorisation of :mod:`cms.linsolve`)."""
+    if K.shape[0] <= DENSE_MAX:
+        c = sla.cho_factor(K.toarray() if sp.issparse(K) else K)
+        return lambda b: sla.cho_solve(c, b)
     from cms.linsolve import factor
-    f = factor(sp.csc_matrix(Kk))
-    return keep, f.solve
+    f = factor(sp.csc_matrix(K))
+    return f.solve
 
 
 def stress_summary(model, Z: np.ndarray, names=None) -> dict:

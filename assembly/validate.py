@@ -19,13 +19,17 @@ import numpy as np
 from fe_components.geometry import volume_lower_bound
 from fe_components.params import CarrierParams, component_kind
 
-from .attach import bearing_point, component_masters, interface_point, mesh_centers, shaft_points
+from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .constraints import can_constrain
 from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .kinematics import unit
-from .scene import MAX_MODES, HOUSING, DOF_NAMES, Body, FlexOptions, Fixed, GearMesh, LoadCase, PlanetaryStage, Shaft
+from .planet_spacing import check_planet_assembly, check_planet_spacing
+from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,
+                    FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
+from .shafts import shaft_line, station_body
+from .validate_loads import check_load
 
 
 def _nonzero_axis(path, axis) -> None:
@@ -107,9 +111,54 @@ def _drive_sign(obj, path: str) -> None:
 
 
 def check_shaft(s: Shaft, path: str) -> None:
-    """Two different bodies (stiffness ranges: the field rules; a rigid joint is a bearing)."""
+    """Two different bodies (stiffness ranges: the field rules; a rigid joint is a bearing);
+    a spring shaft gives k_torsion, a beam shaft (``diameter``) derives every k_* field and
+    names itself and its stations (where the stations lie: :mod:`assembly.shafts`)."""
     if s.body1 == s.body2:
         raise SceneError(f"{path}.body2", s.body2, "a shaft needs two different bodies")
+    if not s.is_beam:
+        if s.k_torsion is None:
+            raise SceneError(f"{path}.k_torsion", None, "missing required field (N m/rad), or give the "
+                                                        "shaft's diameter to derive it")
+        if s.stations:
+            raise SceneError(f"{path}.stations", [st.name for st in s.stations],
+                             "stations sit on a beam shaft: give its diameter")
+        for f in ("position1", "position2"):
+            if getattr(s, f) is not None:
+                raise SceneError(f"{path}.{f}", list(getattr(s, f)), "where a beam shaft ends: give its "
+                                                                     "diameter, or use position for a spring shaft")
+        if s.beta != 0.0:
+            raise SceneError(f"{path}.beta", s.beta, "stiffness-proportional damping of a beam shaft: give "
+                                                     "c_torsion, c_bending, c_axial, c_shear on a spring shaft")
+        return
+    for f in dict.fromkeys(Shaft.DAMPING_FIELDS):
+        if getattr(s, f) != 0.0:
+            raise SceneError(f"{path}.{f}", getattr(s, f), "a beam shaft is damped by beta (s, C = beta K): "
+                                                           "leave this out")
+    for f in ("k_torsion", "k_bending", "k_axial", "k_shear", "position"):
+        if getattr(s, f) not in (None, 0.0):
+            raise SceneError(f"{path}.{f}", getattr(s, f), "a shaft with a diameter derives its stiffness from "
+                                                           "its section and length: leave this out")
+    if s.bore_diameter >= s.diameter:
+        raise SceneError(f"{path}.bore_diameter", s.bore_diameter, f"must be less than diameter = {s.diameter!r} m")
+    if s.stations and s.name is None:
+        raise SceneError(f"{path}.name", None, "a shaft with stations needs a name: its stations become bodies "
+                                               "<shaft name>.<station name>")
+    for j, st in enumerate(s.stations):
+        if "." in st.name:
+            raise SceneError(f"{path}.stations[{j}].name", st.name, "must be a name without '.'")
+    unique_names(s.stations, f"{path}.stations")
+
+
+def stations_unclaimed(scene) -> None:
+    """No body of the scene already bears the name a shaft's station becomes."""
+    names = {b.name: i for i, b in enumerate(scene.bodies)}
+    for i, s in enumerate(scene.shafts):
+        for j, st in enumerate(s.stations):
+            if station_body(s, st) in names:
+                raise SceneError(f"shafts[{i}].stations[{j}].name", st.name,
+                                 f"station body {station_body(s, st)!r} would duplicate "
+                                 f"bodies[{names[station_body(s, st)]}].name")
 
 
 def check_fixed(f: Fixed, path: str) -> None:
@@ -117,6 +166,47 @@ def check_fixed(f: Fixed, path: str) -> None:
     for i, d in enumerate(f.dofs):
         if d not in DOF_NAMES:
             raise SceneError(f"{path}.dofs[{i}]", d, f"must be one of {list(DOF_NAMES)}")
+
+
+def check_bearing(br, path: str) -> None:
+    """A bearing table (:class:`assembly.scene.Bearing` or ``BearingSpec``): ``k_axial``, and
+    for the radial and the tilt directions either the one stiffness of both (``k_radial``)
+    or both per-direction ones (``k_radial_x`` and ``k_radial_y``), not both ways."""
+    if br.k_axial is None:
+        raise SceneError(f"{path}.k_axial", None, "missing required field (N/m)")
+    for whole, parts in SPLIT_STIFFNESSES.items():
+        unit = "N/m" if whole == "k_radial" else "N m/rad"
+        given = _split_given(br, path, whole, parts, unit)
+        if getattr(br, whole) is None and not given:
+            raise SceneError(f"{path}.{whole}", None,
+                             f"missing required field ({unit}; or both {parts[0]} and {parts[1]})")
+        if getattr(br, "radial_angle", 0.0) != 0.0 and len(given) == 2 and \
+                math.isinf(getattr(br, parts[0])) != math.isinf(getattr(br, parts[1])):
+            raise SceneError(f"{path}.radial_angle", br.radial_angle,
+                             f"a bearing turned about the body's axis cannot be rigid ({unit} inf) in "
+                             f"only one of {parts[0]}, {parts[1]}: give both or neither as inf")
+    _check_split_dampers(br, path)
+
+
+def _check_split_dampers(br, path: str) -> None:
+    """The dampers' split rule, as the stiffnesses': ``c_radial`` or both ``c_radial_x`` and
+    ``c_radial_y`` (likewise tilt), not both ways; none of them: no damper there."""
+    for whole, parts in SPLIT_DAMPINGS.items():
+        _split_given(br, path, whole, parts, "N s/m" if whole == "c_radial" else "N m s/rad")
+
+
+def _split_given(br, path: str, whole: str, parts: tuple, unit: str) -> list:
+    """The per-direction fields of ``parts`` given; refuses ``whole`` given with them and one
+    of the pair without the other."""
+    given = [f for f in parts if getattr(br, f) is not None]
+    if getattr(br, whole) is not None and given:
+        raise SceneError(f"{path}.{given[0]}", getattr(br, given[0]),
+                         f"give either {whole} ({whole} = {getattr(br, whole)} is given) or both "
+                         f"{parts[0]} and {parts[1]}, not both ways")
+    if len(given) == 1:
+        other = next(f for f in parts if f not in given)
+        raise SceneError(f"{path}.{other}", None, f"missing: {given[0]} needs {other} ({unit})")
+    return given
 
 
 # ---------------------------------------------------------------- planetary stages
@@ -131,13 +221,19 @@ def check_stage(st: PlanetaryStage, path: str) -> None:
             raise SceneError(f"{path}.{role}.base_radius", None, "missing required field (m, > 0; "
                                                                  "give the ring's as positive)")
     pl = st.planets
+    for f, unit in (("mass", "kg"), ("polar_inertia", "kg m^2")):
+        if getattr(pl, f) is None:
+            raise SceneError(f"{path}.planets.{f}", None, f"missing required field ({unit}, > 0; or the planets' "
+                                                          f"teeth and the stage's normal_module and face_width)")
+    check_bearing(pl.bearing, f"{path}.planets.bearing")
     if pl.outer_radius is not None and pl.outer_radius <= pl.base_radius:
         raise SceneError(f"{path}.planets.outer_radius", pl.outer_radius,
                          f"must exceed the planet base radius {pl.base_radius} m")
     _drive_sign(st, path)
     _nonzero_axis(f"{path}.axis", st.axis)
     _check_ring_radius(st, path)
-    _check_planet_spacing(st, path)
+    check_planet_spacing(st, path)
+    check_planet_assembly(st, path)
 
 
 def _check_member(m, role: str, p: str) -> None:
@@ -161,6 +257,8 @@ def _check_member(m, role: str, p: str) -> None:
             raise SceneError(f"{p}.polar_inertia", None, "missing required field (kg m^2, > 0)")
     if m.support == "bearing" and m.bearing is None:
         raise SceneError(f"{p}.bearing", None, "support = 'bearing' needs a bearing table")
+    if m.bearing is not None:
+        check_bearing(m.bearing, f"{p}.bearing")
     if m.support != "bearing" and m.bearing is not None:
         raise SceneError(f"{p}.support", m.support, "a bearing table is given but support is not 'bearing'")
 
@@ -179,37 +277,32 @@ def _check_ring_radius(st: PlanetaryStage, path: str) -> None:
                          f"which needs a ring base radius of {want:.9g} m")
 
 
-def _check_planet_spacing(st: PlanetaryStage, path: str) -> None:
-    """One angle per planet, and neighbouring planets must not overlap."""
-    pl = st.planets
-    if pl.angles is not None and len(pl.angles) != pl.count:
-        raise SceneError(f"{path}.planets.angles", list(pl.angles),
-                         f"must list exactly planets.count = {pl.count} angles")
-    if pl.count < 2:
-        return
-    psi = np.sort(np.mod(np.asarray(st.planet_angles()), 2 * math.pi))
-    gaps = np.diff(np.concatenate([psi, psi[:1] + 2 * math.pi]))
-    r_out = pl.outer_radius if pl.outer_radius is not None else pl.base_radius / math.cos(st.pressure_angle_sun)
-    chord = 2 * st.carrier_radius() * np.sin(gaps.min() / 2)
-    if chord <= 2 * r_out:
-        key = "angles" if pl.angles is not None else "count"
-        val = list(pl.angles) if pl.angles is not None else pl.count
-        raise SceneError(f"{path}.planets.{key}", val, f"planets overlap: closest centres {chord:.4g} m apart, "
-                                                       f"planet outer diameter {2 * r_out:.4g} m")
-
-
 # ---------------------------------------------------------------- whole-scene rules
+def check_damping(d, path: str = "damping") -> None:
+    """``[damping]``: ``class_ratios`` keys are mode classes and its ratios lie in [0, 1)
+    (the other fields: their field rules)."""
+    for key, zeta in (d.class_ratios or {}).items():
+        if key not in MODE_CLASSES:
+            raise SceneError(f"{path}.class_ratios", key, f"must be a mode class, one of {list(MODE_CLASSES)}")
+        if isinstance(zeta, bool) or not isinstance(zeta, (int, float)) or not 0.0 <= zeta < 1.0:
+            where = f".{key}" if key.isidentifier() else f"[{key!r}]"
+            raise SceneError(f"{path}.class_ratios{where}", zeta, "must be a damping ratio in [0, 1)")
+
+
 def check_tables(scene) -> None:
     """Every field (type, unit, range), then every table on its own, in the order the user
     wrote them."""
     check_instance(scene)
+    if scene.damping is not None:
+        check_damping(scene.damping)
     for i, st in enumerate(scene.stages):
         check_stage(st, f"stages[{i}]")
     unique_names(scene.stages, "stages")
-    for key, check in (("bodies", check_body), ("meshes", check_mesh), ("shafts", check_shaft),
-                       ("fixed", check_fixed)):
+    for key, check in (("bodies", check_body), ("bearings", check_bearing), ("meshes", check_mesh),
+                       ("shafts", check_shaft), ("fixed", check_fixed)):
         for i, item in enumerate(getattr(scene, key)):
             check(item, f"{key}[{i}]")
+    stations_unclaimed(scene)
 
 
 def unique_names(items, path, attr="name") -> None:
@@ -229,9 +322,13 @@ _STAGE_TABLE = {"sun": "sun", "ring": "ring", "carrier": "carrier", "planet": "p
 
 
 def body_origins(scene, expanded) -> dict:
-    """Body name -> the path of the table that made it: ``bodies[i]``, or the member table
-    of the stage (``stages[i].sun``, ``.ring``, ``.carrier``, ``.planets``)."""
+    """Body name -> the path of the table that made it: ``bodies[i]``, a shaft's station
+    (``shafts[i].stations[j]``), or the member table of the stage (``stages[i].sun``,
+    ``.ring``, ``.carrier``, ``.planets``)."""
     origin = {b.name: f"bodies[{i}]" for i, b in enumerate(scene.bodies)}
+    for i, s in enumerate(scene.shafts):
+        for j, st in enumerate(s.stations):
+            origin.setdefault(station_body(s, st), f"shafts[{i}].stations[{j}]")
     for i, st in enumerate(scene.stages):
         for b in expanded.bodies:
             if b.stage == st.name and b.name not in origin:
@@ -323,7 +420,7 @@ def flexible_bodies_supported(expanded, origin: dict) -> None:
 
 def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
     """Every bearing and shaft attaches at a body point or a named interface (a stage
-    member's bearing at its ``bearing_interface``)."""
+    member's bearing at its ``bearing_interface``); a beam shaft runs along body1's axis."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
         try:
             bearing_point(br, names[br.body], masters, p)
@@ -333,6 +430,8 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
             raise
     for i, s in enumerate(expanded.shafts):
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
+        if s.is_beam:
+            shaft_line(s, i, names, masters)
 
 
 def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
@@ -342,10 +441,11 @@ def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
         body = names[br.body]
         if not np.any(np.isinf(br.diagonal())) or can_constrain(br, body):
             continue
+        f = next(f for f, k in zip(br.diagonal_fields(), br.diagonal()) if np.isinf(k))
         if body.component is not None:
-            raise SceneError(f"{p}.k_radial", br.k_radial, "infinite stiffness is only supported for "
+            raise SceneError(f"{p}.{f}", getattr(br, f), "infinite stiffness is only supported for "
                              "plain rigid bodies; give a component body a finite bearing")
-        raise SceneError(f"{p}.k_radial", br.k_radial, "infinite (rigid) stiffness is only supported for a "
+        raise SceneError(f"{p}.{f}", getattr(br, f), "infinite (rigid) stiffness is only supported for a "
                          "bearing at the body's position to its own frame")
 
 
@@ -441,29 +541,6 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
                                           f"{MAX_MODES}; lower the cutoff or give flex.n_modes")
 
 
-def check_load(load: LoadCase, path: str, names: dict, masters: dict) -> None:
-    """A static load case names two different bodies (torque range: the field rule), the
-    output riding in the housing frame (it is held relative to the housing), and the
-    interface where the torque enters / the output is held on a component body."""
-    for f in ("input", "output"):
-        if getattr(load, f) not in names:
-            raise SceneError(f"{path}.{f}", getattr(load, f), f"no body of that name; have {sorted(names)}")
-    if load.input == load.output:
-        raise SceneError(f"{path}.output", load.output, "input and output must differ")
-    out = names[load.output]
-    if out.frame != HOUSING:
-        raise SceneError(f"{path}.output", load.output, f"the reacting body rides in {out.frame!r}'s frame; it is "
-                                                        "held against the housing, so it must ride in the housing frame")
-    for role in ("input", "output"):
-        body, iface = names[getattr(load, role)], getattr(load, f"{role}_interface")
-        if body.component is not None and iface is None:
-            raise SceneError(f"{path}.{role}_interface", None, f"{body.name} is a component: name the interface "
-                             + ("the torque enters at" if role == "input" else "it is held at")
-                             + f"; have {sorted(masters[body.name])}")
-        if iface is not None:
-            interface_point(body, iface, masters, f"{path}.{role}_interface")
-
-
 def check_loads(scene, names: dict, masters: dict) -> None:
     """``[load]`` or ``[[loads]]`` (not both), every case valid, names unique."""
     if scene.load is not None and scene.loads:
@@ -486,6 +563,7 @@ def everything_connected(expanded, names: dict, origin: dict) -> None:
         linked.update((m.gear1, m.gear2))
     for s in expanded.shafts:
         linked.update((s.body1, s.body2))
+        linked.update(station_body(s, st) for st in s.stations)
     linked.update(f.body for f in expanded.fixed)
     for b in expanded.bodies:
         if b.name not in linked:

@@ -1,4 +1,4 @@
-"""``flexgear`` command line: modes, compare, static, run, sweep, demo, reference, bench.
+"""``flexgear`` command line: modes, compare, static, run, sweep, campbell, frf, export, demo, reference, bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
@@ -11,7 +11,6 @@ import argparse
 import importlib
 import json
 import logging
-import os
 import signal
 import sys
 from pathlib import Path
@@ -19,7 +18,8 @@ from pathlib import Path
 log = logging.getLogger("flexgear")
 
 SCENE_HELP = "scene TOML file (or the name of a shipped example)"
-BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex"}
+BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex",
+              "drivetrain": "assembly.app.bench_drivetrain"}
 
 
 OUT_HELP = ("output folder, replaced as a whole when the run succeeds (never half-written); files you "
@@ -115,7 +115,7 @@ def cmd_compare(args) -> int:
     from .tables import comparison_table
 
     scene = load_scene(scene_file(args))
-    c = compare(scene, n_rows=args.modes)
+    c = compare(scene, n_rows=args.modes, flexible_components=True)
     if args.json:
         json.dump({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
                    "pairs": c.rows, "timings": c.timings}, sys.stdout, indent=1)
@@ -181,6 +181,139 @@ def cmd_sweep(args) -> int:
         print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
               f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
     return 0
+
+
+def cmd_export_elastodyn(args) -> int:
+    """``flexgear export elastodyn``: the two-mass drivetrain as an ElastoDyn fragment, to
+    ``--out`` (atomically, with a summary on stdout) or to stdout."""
+    from ..drivetrain import derive_two_mass
+    from ..schema import load_scene
+    from .elastodyn import fragment_text, write_fragment
+    from .output import OutputDirError
+
+    scene = load_scene(scene_file(args))
+    tm = derive_two_mass(scene, args.rotor, args.generator)
+    if args.out is None:
+        sys.stdout.write(fragment_text(tm, scene.name))
+        return 0
+    try:
+        write_fragment(args.out, tm, scene.name)
+    except OSError as exc:
+        raise OutputDirError(f"--out {args.out}: cannot write: {exc.strerror or exc}") from exc
+    f_free, f_locked = tm.frequencies_hz()
+    print(f"{scene.name}: GBRatio {tm.gear_ratio:.6g}, GenIner {tm.generator_inertia:.6g} kg m^2, "
+          f"DTTorSpr {tm.stiffness:.6g} N m/rad; two-mass {f_free:.4g} Hz free, {f_locked:.4g} Hz generator "
+          f"locked -> {args.out}")
+    return 0
+
+
+def cmd_campbell(args) -> int:
+    """``flexgear campbell``: natural frequencies, excitation orders and their crossings over
+    a speed range of the reference body (rpm): a table, ``--json``, or files in ``--out``."""
+    from ..dynamics.campbell import campbell
+    from ..errors import SceneError
+    from ..schema import load_scene
+    from .campbell import campbell_json, campbell_to_dir, crossings_text
+
+    if args.rated_rpm is not None and not args.rated_rpm >= 0:
+        raise SceneError("--rated-rpm", args.rated_rpm, "must be a speed >= 0 rpm")
+    path = scene_file(args)
+    scene = load_scene(path)
+    c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
+    if args.out is not None:
+        campbell_to_dir(c, args.out, args.rated_rpm, path)
+    if args.json:
+        json.dump(campbell_json(c, args.rated_rpm), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    elif args.out is not None:
+        print(f"{c.scene}: {len(c.orders)} orders, {len(c.crossings)} crossings -> "
+              f"{Path(args.out) / 'campbell.png'}")
+    else:
+        print(crossings_text(c))
+    return 0
+
+
+def cmd_frf(args) -> int:
+    """``flexgear frf``: frequency response from one input to outputs: a summary, ``--json``,
+    or files in ``--out``."""
+    from ..dynamics.frf import frequency_response
+    from ..model import assemble
+    from ..schema import load_scene
+    from .frf import frequencies, frf_json, frf_to_dir, summary_text
+
+    try:
+        f = frequencies(args.fmin, args.fmax, args.points, args.log)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    path = scene_file(args)
+    scene = load_scene(path)
+    r = frequency_response(assemble(scene), args.input, args.output, f)
+    if args.out is not None:
+        frf_to_dir(r, args.out, scene.name, path, args.log)
+    if args.json:
+        json.dump(frf_json(r, scene.name), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    elif args.out is not None:
+        print(f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs -> {Path(args.out) / 'index.html'}")
+    else:
+        print(summary_text(r, scene.name))
+    return 0
+
+
+def _add_frf(sub) -> None:
+    p = sub.add_parser("frf", help="frequency response (damped, every mode): shaft torques, mesh and bearing "
+                                   "forces, motions per unit torque or force")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--input", required=True, metavar="IN",
+                   help="torque:BODY[:INTERFACE] (about its axis), force:BODY[:INTERFACE]:x|y|z or "
+                        "moment:BODY[:INTERFACE]:x|y|z (global axes)")
+    p.add_argument("--output", required=True, action="append", metavar="OUT",
+                   help="torque:SHAFT, force:MESH, force:BEARING[:x..rz], motion:BODY[:INTERFACE]:x..rz|spin "
+                        "(repeat for more)")
+    p.add_argument("--fmin", type=float, default=0.1, help="lowest frequency, Hz (default 0.1)")
+    p.add_argument("--fmax", type=float, default=1000.0, help="highest frequency, Hz (default 1000)")
+    p.add_argument("--points", type=int, default=2000, help="frequencies (default 2000)")
+    p.add_argument("--log", action="store_true", help="logarithmic frequency spacing (and axis)")
+    p.add_argument("--out", default=None, metavar="DIR", help=OUT_HELP + " (frf.csv, frf.json, bode_NN.png, "
+                                                                         "index.html)")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    p.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    p.set_defaults(func=cmd_frf)
+
+
+def _add_campbell(sub) -> None:
+    p = sub.add_parser("campbell", help="Campbell diagram: natural frequencies, gear-mesh and rotor orders, "
+                                        "their crossings over a speed range (Parker's planet phasing rule)")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--speed-range", nargs=2, type=float, required=True, metavar=("RPM_MIN", "RPM_MAX"),
+                   help="speed range of the reference body (rpm)")
+    p.add_argument("--reference", default=None, metavar="BODY",
+                   help="body whose speed is swept (default: the body of role = \"rotor\")")
+    p.add_argument("--points", type=int, default=41, help="speeds sampled (default 41; used with --gyroscopic)")
+    p.add_argument("--gyroscopic", action="store_true",
+                   help="add each spinning body's gyroscopic coupling (frequencies then depend on speed)")
+    p.add_argument("--harmonics", type=int, default=3, metavar="H", help="mesh harmonics 1..H (default 3)")
+    p.add_argument("--rated-rpm", type=float, default=None, metavar="RPM", help="mark the rated speed")
+    p.add_argument("--out", default=None, metavar="DIR", help=OUT_HELP + " (campbell.png, crossings.csv, "
+                                                                         "campbell.json)")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    p.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    p.set_defaults(func=cmd_campbell)
+
+
+def _add_export(sub) -> None:
+    p = sub.add_parser("export", help="export to other tools: elastodyn (OpenFAST two-mass drivetrain)")
+    what = p.add_subparsers(dest="what", required=True)
+    e = what.add_parser("elastodyn", help="GBRatio, GenIner, DTTorSpr of the rotor-generator chain "
+                                          "(an OpenFAST ElastoDyn input fragment)")
+    e.add_argument("scene", help=SCENE_HELP)
+    e.add_argument("--out", default=None, metavar="FILE", help="write the fragment to FILE (atomically) "
+                                                               "instead of stdout")
+    e.add_argument("--rotor", default=None, metavar="NAME", help="rotor body (default: the body of role = \"rotor\")")
+    e.add_argument("--generator", default=None, metavar="NAME",
+                   help="generator body (default: the body of role = \"generator\")")
+    e.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    e.set_defaults(func=cmd_export_elastodyn)
 
 
 def cmd_demo(args) -> int:
@@ -252,13 +385,17 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="cmd", required=True)
     _add_run(sub)
     _add_sweep(sub)
+    _add_campbell(sub)
+    _add_frf(sub)
+    _add_export(sub)
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
     m.add_argument("scene", help=SCENE_HELP)
     m.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     m.add_argument("--all", action="store_true", help="list every mode, also those outside the band of interest "
                                                       "(default: up to the display limit, a multiple of band_hz)")
     m.set_defaults(func=cmd_modes)
-    c = sub.add_parser("compare", help="torsional, rigid and flexible variants side by side (MAC-paired)")
+    c = sub.add_parser("compare", help="torsional, rigid and flexible variants side by side (MAC-paired); "
+                                         "flexible: the scene's flexible bodies, else every body with a component")
     c.add_argument("scene", help=SCENE_HELP)
     c.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     c.add_argument("--modes", type=int, default=20, help="rows of the table (default 20)")
@@ -286,16 +423,9 @@ def main(argv=None) -> int:
     from .output import signal_handler
 
     if args.cache_dir is not None:  # every cache default of this process reads it (CacheDirs)
-        from fe_components.meshing import CACHE_ENV
-        saved = os.environ.get(CACHE_ENV)
-        os.environ[CACHE_ENV] = str(Path(args.cache_dir).expanduser().absolute())
-        try:
+        from fe_components.meshing import cache_root
+        with cache_root(Path(args.cache_dir).expanduser().absolute()):
             return _run(args, signal_handler)
-        finally:
-            if saved is None:
-                os.environ.pop(CACHE_ENV, None)
-            else:
-                os.environ[CACHE_ENV] = saved
     return _run(args, signal_handler)
 
 

@@ -59,13 +59,16 @@ def render_index(report: dict) -> str:
     """HTML text of the run page. ``report`` keys: title, scene, meta (list of str),
     modes (header, rows), modes_note (str: rows left out), comparison (header, rows, row_classes,
     note) or None, sections [{title, note, tables: [(title, header, rows, left columns)]}]
-    (optional), overview
+    (optional), key_images [(path, caption)] shown first (optional), overview
     (path, caption) or None, images [(path, caption)], plots [(path, caption)],
     files [(path, description)], notes [str]."""
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>{_e(report['title'])}</title>", f"<style>{CSS}</style></head><body>",
              f"<h1>{_e(report['title'])}</h1>"]
     parts.append('<p class="meta">' + "<br>".join(_e(m) for m in report.get("meta", [])) + "</p>")
+    if report.get("key_images"):   # the drivetrain pictures come first
+        parts.append("<h2>Drivetrain pictures</h2>")
+        parts.append('<div class="grid">' + "".join(_img(p, c) for p, c in report["key_images"]) + "</div>")
     for n in report.get("notes", []):
         parts.append(f'<p class="note">{_e(n)}</p>')
 

@@ -11,10 +11,13 @@ replaced only when it is empty or an earlier flexgear run, and files a user adde
 carried over. A step that writes files (``Step.writes``) turns an OSError about its files
 into one ``--out DIR: writing ...: <reason>`` line.
 
-Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``,
-``fidelity_comparison.csv``, ``images/overview.png``, ``images/mode_NNN.png``,
+Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``, ``energy_by_mode.csv``,
+``fidelity_comparison.csv``, ``images/overview.png``, ``images/global_torsional.png`` and
+``images/stage_local.png`` (modes picked by :mod:`assembly.app.key_modes`), ``images/mode_NNN.png``,
 ``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``; with a load case also
-``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`); flexible bodies:
+``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`); with roles "rotor" and
+"generator", planetary stages and damping ``frf.csv`` and ``images/frf_generator.png``
+(:mod:`assembly.app.run_frf`); flexible bodies:
 ``stress.csv``, ``modal_stress.csv``, ``images/stress_*.png``, ``vtu/*.vtu``, ``results.pvd``
 (docs/results.md: band, valid range, modal stress amplitude).
 """
@@ -38,6 +41,7 @@ from ..compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
 from ..compare import compare
 from ..energy import NEGLIGIBLE_STRAIN_SHARE
 from ..errors import MechanismError, SceneError, SolverError
+from ..gear_data import ISO_SOURCE, iso_stiffnesses
 from ..modal import solve_modes
 from ..model import assemble
 from ..scene import DISPLAY_BAND_FACTOR, Scene
@@ -47,10 +51,10 @@ from ..static import solve_static_cases
 from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
-from .static_tables import static_json, static_tables, static_text, write_static_csv
+from .run_frf import step_frf
+from .static_tables import case_summary, static_json, static_tables, static_text, write_static_csv
 from .tables import (band_note, comparison_cells, dominant_text, flexible_lines, in_band, modes_json, modes_table,
-                     write_comparison_csv,
-                     write_modes_csv)
+                     ENERGY_SPLIT_HEADER, stage_split_text, write_comparison_csv, write_energy_csv, write_modes_csv)
 
 log = logging.getLogger(__name__)
 
@@ -88,6 +92,7 @@ class RunContext:
     variants: dict = field(default_factory=dict)      # fidelity -> (model, result, infos)
     comparison: list = field(default_factory=list)    # rows (dicts)
     overview: Optional[tuple] = None
+    key_images: list = field(default_factory=list)    # (relpath, caption): shown first (_render_key_images)
     images: list = field(default_factory=list)        # (relpath, caption, mode index)
     plots: list = field(default_factory=list)         # (relpath, caption)
     files: list = field(default_factory=list)         # (relpath, description)
@@ -135,9 +140,14 @@ class Step:
 # --------------------------------------------------------------------------------------
 
 def step_load(ctx: RunContext, bar) -> None:
-    """Read the scene file, unless the caller gave a Scene object (``ctx.scene``)."""
+    """Read the scene file, unless the caller gave a Scene object (``ctx.scene``); note the mesh
+    stiffnesses that came from ISO 6336-1."""
     if ctx.scene is None:
         ctx.scene = load_scene(ctx.scene_source)
+    derived = iso_stiffnesses(ctx.scene)
+    if derived:
+        ctx.notes.append(f"mesh stiffness from {ISO_SOURCE} (c_gamma_alpha x face width, solid gears; typed "
+                         f"where given): " + "; ".join(f"{p} = {k:.4g} N/m" for p, k in derived))
 
 
 def scene_source(scene) -> str:
@@ -199,6 +209,9 @@ def step_tables(ctx: RunContext, bar) -> None:
     res = ctx.result
     write_modes_csv(ctx.infos, ctx.add_file("modes.csv", "frequencies and mode table, every mode, in_band flag (CSV)"),
                     in_band(res))
+    write_energy_csv(ctx.result, ctx.infos,
+                     ctx.add_file("energy_by_mode.csv", "kinetic and strain energy shares of every mode per stage, "
+                                  "body, bearing, mesh and shaft (CSV)"))
     with open(ctx.add_file("modes.json", "frequencies, classes, energy shares and shapes (JSON)"), "w") as fh:
         json.dump(modes_json(res), fh, indent=1)
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
@@ -211,7 +224,7 @@ def step_tables(ctx: RunContext, bar) -> None:
 def _render_total(ctx: RunContext) -> int:
     if not ctx.options.images:
         return 1
-    return 1 + len(ctx.drawn_modes())
+    return 3 + len(ctx.drawn_modes())
 
 
 def _band_text(ctx, i: int) -> str:
@@ -237,11 +250,16 @@ def _render_images(ctx: RunContext, rnd, bar) -> None:
 
     rel = "images/overview.png"
     t0 = time.perf_counter()
-    rnd.render_overview(ctx.add_file(rel, "undeformed assembly with body names (PNG)"),
+    rnd.render_overview(ctx.add_file(rel, "undeformed assembly, one label per stage (PNG)"),
                         title=f"{ctx.scene.name}: assembly")
     ctx.timings_detail[rel] = time.perf_counter() - t0
-    ctx.overview = (rel, "assembly, undeformed (springs: bearings grey, meshes red, shafts blue)")
+    capped = [f"{n} is lumped: drawn as a hub of the largest gear's radius"
+              for n, s in rnd.shapes.items() if s.equivalent_radius > 0]
+    ctx.key_images.append((rel, "assembly, undeformed, one colour and label per stage (springs: bearings grey, "
+                                "meshes red, shafts blue; beam shafts as cylinders of their diameter)"
+                           + "".join(f"; {c}" for c in capped)))
     bar.update(1)
+    _render_key_modes(ctx, rnd, bar)
     for i in ctx.drawn_modes():
         mi = ctx.infos[i]
         rel = f"images/mode_{i + 1:03d}.png"
@@ -253,6 +271,39 @@ def _render_images(ctx: RunContext, rnd, bar) -> None:
         ctx.images.append((rel, f"mode {i + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}"
                                 + (f" (x{mi.multiplicity})" if mi.multiplicity > 1 else "")
                                 + (f"; kinetic energy: {dom}" if dom else "") + _band_text(ctx, i), i))
+        bar.update(1)
+
+
+def _render_key_modes(ctx: RunContext, rnd, bar) -> None:
+    """``images/global_torsional.png`` (twist arrows, whole drivetrain framed) and
+    ``images/stage_local.png`` (framed on the stage), picked by :mod:`assembly.app.key_modes`;
+    a scene without such a mode gets a note instead of the picture."""
+    from .key_modes import global_torsional_mode, stage_local_mode
+    from .render import mode_title
+    n_rigid = ctx.result.n_rigid
+    picks = [("global_torsional", global_torsional_mode(ctx.infos, n_rigid), "the lowest rotational global mode"),
+             ("stage_local", stage_local_mode(ctx.infos, n_rigid, ctx.model.scene), "the lowest stage-local mode")]
+    for tag, i, what in picks:
+        if i is None:
+            ctx.notes.append(f"no images/{tag}.png: the scene has no {what.replace('the lowest ', '')}")
+            bar.update(1)
+            continue
+        mi = ctx.infos[i]
+        rel = f"images/{tag}.png"
+        t0 = time.perf_counter()
+        if tag == "global_torsional":
+            rnd.render_mode(ctx.result, i, ctx.add_file(rel, f"{what} (mode {i + 1}) with twist arrows (PNG)"),
+                            title=mode_title(ctx.scene.name, mi), focus=tuple(ctx.model.bodies), twist=True)
+            cap = (f"{what}: mode {i + 1}, {mi.frequency_hz:.2f} Hz; arrows: each body's angle divided by its "
+                   f"speed ratio (referred to the rotor shaft), bodies undeformed, coloured by displacement")
+        else:
+            focus = tuple(b.name for b in ctx.model.scene.bodies   # a ring would hide its planets: faint
+                          if (b.stage or b.name) == mi.scope and b.role != "ring") or None
+            rnd.render_mode(ctx.result, i, ctx.add_file(rel, f"{what} (mode {i + 1}) (PNG)"),
+                            title=mode_title(ctx.scene.name, mi), focus=focus)
+            cap = f"{what}: mode {i + 1}, {mi.frequency_hz:.2f} Hz, {mi.mode_class}, held by {mi.scope}"
+        ctx.timings_detail[rel] = time.perf_counter() - t0
+        ctx.key_images.append((rel, cap + _band_text(ctx, i)))
         bar.update(1)
 
 
@@ -292,7 +343,8 @@ def build_report(ctx: RunContext) -> dict:
         if not (band[mi.index] or mi.index in img_of):
             continue
         modes_rows.append([mi.index + 1, f"{mi.frequency_hz:.2f}" + ("" if band[mi.index] else " (outside the band)"),
-                           mi.multiplicity, mi.mode_class, mi.stage or "", dominant_text(mi), strain[mi.index],
+                           mi.multiplicity, mi.mode_class, mi.scope or "", stage_split_text(mi), dominant_text(mi),
+                           strain[mi.index],
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
@@ -314,10 +366,10 @@ def build_report(ctx: RunContext) -> dict:
     files = list(ctx.files) + [("index.html", "this page"), (MANIFEST, "run manifest (JSON)")]
     files = [(p, d) for p, d in files if not p.startswith("images/mode_")]
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta,
-                modes=(["mode", "f [Hz]", "mult.", "class", "stage", "dominant bodies (kinetic energy)",
+                modes=(["mode", "f [Hz]", "mult.", "class", "scope", ENERGY_SPLIT_HEADER, "dominant bodies (kinetic energy)",
                         "strain energy in flexible bodies", ""], modes_rows),
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
-                comparison=comp, sections=static_sections(ctx), overview=ctx.overview,
+                comparison=comp, sections=static_sections(ctx), overview=ctx.overview, key_images=list(ctx.key_images),
                 images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
                 files=files, notes=notes)
 
@@ -359,16 +411,19 @@ def step_static(ctx: RunContext, bar) -> None:
     ctx.add_file("static_table.txt", "static load cases (text)").write_text(
         static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     for r in ctx.static_reports:
-        ctx.notes.append(f"load case {r.case!r}: output reaction {r.output_torque_Nm:.6g} N m on {r.output}; "
-                         f"torque balance error {r.balance['relative_error']:.1e}"
-                         + (f", ratio check error {r.ratio['relative_error']:.1e}"
-                            if r.ratio["relative_error"] is not None else f", ratio check: {r.ratio['note']}"))
+        note = f"load case {r.case!r}: {case_summary(r)}; equilibrium error {r.equilibrium['relative_error']:.1e}"
+        if r.balance:
+            note += f", torque balance error {r.balance['relative_error']:.1e}"
+        if r.ratio:
+            note += (f", ratio check error {r.ratio['relative_error']:.1e}" if r.ratio["relative_error"] is not None
+                     else f", ratio check: {r.ratio['note']}")
+        ctx.notes.append(note)
     bar.update(bar.total - bar.n)
 
 
 def static_sections(ctx) -> list:
     """Report sections (title, note, tables) of the static load cases."""
-    return [dict(title=f"Static load case {r.case!r} ({r.torque_Nm:.6g} N m into {r.input}, {r.output} held)",
+    return [dict(title=f"Static load case {r.case!r} ({case_summary(r)})",
                  note="Forces from the springs (stiffness x relative deflection); sign conventions: docs/static.md.",
                  tables=[t for t in static_tables(r) if t[2]]) for r in ctx.static_reports]
 
@@ -398,6 +453,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
     t0 = time.perf_counter()
     cases = []  # (label, model, z)
     cases += [(st.load.name, st.model, st.z) for st in ctx.statics]   # solved by step_static
+    titled = {st.load.name: _case_label(st, r) for st, r in zip(ctx.statics, ctx.static_reports)}
     amps = modal_amplitudes(ctx.result, ctx.drawn_modes())
     ctx.timings_detail["stress: modal scaling"] = time.perf_counter() - t0
     bar.update(1)
@@ -431,7 +487,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
                 collection.append((len(collection), vtu))
                 ctx.timings_detail[f"stress+vtu {b} {tag}"] = time.perf_counter() - t1
                 if images is not None:  # von Mises image for the load case and every drawn mode
-                    _stress_image(ctx, images, b, st, label, tag, a)
+                    _stress_image(ctx, images, b, st, titled.get(label, label) if a is None else label, tag, a)
                 n_images += 1
                 bar.update(1)
     finally:
@@ -440,6 +496,13 @@ def step_recovery(ctx: RunContext, bar) -> None:
     if images is None:
         ctx.skipped.append(f"{n_images} stress images")
     _write_recovery_files(ctx, rows, mrows, collection)
+
+
+def _case_label(st, rep) -> str:
+    """A load case as named in stress tables and images: its name and the torque it puts in."""
+    if rep.torque_Nm is None:
+        return st.load.name
+    return f"{st.load.name} ({rep.torque_Nm:.4g} N m into {rep.input})"
 
 
 def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) -> None:
@@ -533,6 +596,7 @@ DEFAULT_STEPS = [
     Step("tables", step_tables, writes=True),
     Step("mode-shape images", step_render, total=_render_total, unit="image", writes=True),
     Step("plots", step_plots, writes=True),
+    Step("frequency response", step_frf, writes=True),
     Step("static load cases", step_static, writes=True),
     Step("stress recovery and VTU", step_recovery, total=_recovery_total, unit="case", writes=True),
     Step("index.html", step_html, writes=True),

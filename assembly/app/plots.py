@@ -128,3 +128,75 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
         ax.text(0.01, 0.99, f"elastic modes {start + 1}-{stop} (mode number by ascending frequency)",
                 transform=ax.transAxes, fontsize=7, va="top")
     return Path(path)
+
+
+def plot_campbell(speeds, F, orders, crossings, path, title: str = "", rated_rpm: float | None = None,
+                  speed_label: str = "reference speed [rpm]") -> Path:
+    """Campbell diagram: natural frequencies (Hz; ``F`` is (len(speeds), n_lines), grey) and
+    order lines f = slope x n (``orders``: (label, slope in Hz/rpm), coloured, labelled at
+    their end) against speed (rpm); ``crossings``: (speed, frequency, filled) marked by
+    circles, filled where the order can excite the crossed mode, hollow where it cannot.
+    ``rated_rpm``: a dashed vertical line."""
+    n = np.asarray(speeds, float)
+    F = np.asarray(F, float)
+    top = max([s * n[-1] for _, s in orders] + [1.0]) * 1.05
+    with _figure(path, (9.0, 6.5)) as (fig, ax):
+        for j in range(F.shape[1]):
+            if F[:, j].min() <= top:
+                ax.plot(n, F[:, j], "-", color="0.55", lw=0.7)
+        for k, (label, slope) in enumerate(orders):
+            c = f"C{k % 10}"
+            end = min(n[-1], top / slope) if slope > 0 else n[-1]
+            ax.plot([n[0], end], [slope * n[0], slope * end], "-", color=c, lw=1.3)
+            ax.text(end, slope * end, f" {label}", color=c, fontsize=7, va="bottom", ha="right" if end < n[-1] else "left")
+        for x, f, filled in crossings:
+            ax.plot([x], [f], "o", ms=4.5, mec="k", mew=0.7, mfc="k" if filled else "none")
+        if rated_rpm is not None:
+            ax.axvline(rated_rpm, color="0.2", ls="--", lw=1.0)
+            ax.text(rated_rpm, top * 0.98, f" rated {rated_rpm:g} rpm", fontsize=7, va="top")
+        ax.set_xlim(n[0], n[-1] * 1.08 if n[-1] > 0 else 1.0)
+        ax.set_ylim(0, top)
+        ax.set_xlabel(speed_label)
+        ax.set_ylabel("frequency [Hz]")
+        ax.set_title(title or "Campbell diagram", fontsize=10)
+        ax.text(0.01, -0.08, "grey: natural frequencies; circles: crossings (filled: the order can excite the "
+                "mode, hollow: mesh phasing rules it out)", transform=ax.transAxes, fontsize=7, va="top")
+    return Path(path)
+
+
+def plot_bode(frequency_hz, H, path, title: str = "", ylabel: str = "", natural_hz=(), logx: bool = False) -> Path:
+    """Bode plot of one frequency response ``H`` (complex, per Hz of ``frequency_hz``), or
+    of several in one figure (``H`` a dict {label: response}, with a legend): magnitude (log
+    scale) above, phase (deg) below, the natural frequencies ``natural_hz`` inside the range
+    marked by dotted lines."""
+    plt = _plt()
+    f = np.asarray(frequency_hz, float)
+    curves = list(H.items()) if isinstance(H, dict) else [("", H)]
+    fig, (am, ap) = plt.subplots(2, 1, figsize=(8.0, 6.0), dpi=DPI, sharex=True)
+    try:
+        for j, (label, h) in enumerate(curves):
+            h = np.asarray(h, complex)
+            mag = np.abs(h)
+            am.plot(f, np.where(mag > 0, mag, np.nan), lw=1.1, color=f"C{j}", label=label or None)
+            ap.plot(f, np.degrees(np.angle(h)), lw=1.1, color=f"C{j if len(curves) > 1 else 1}")
+        if len(curves) > 1:
+            am.legend(fontsize=7, loc="best")
+        am.set_yscale("log")
+        am.set_ylabel(f"|H| [{ylabel}]" if ylabel else "|H|")
+        am.set_title(title, fontsize=10)
+        ap.set_ylabel("phase [deg]")
+        ap.set_ylim(-180, 180)
+        ap.set_yticks([-180, -90, 0, 90, 180])
+        ap.set_xlabel("frequency [Hz]")
+        for fn in np.asarray(natural_hz, float):
+            if f.min() <= fn <= f.max():
+                for ax in (am, ap):
+                    ax.axvline(fn, color="0.5", lw=0.6, ls=":")
+        if logx:
+            ap.set_xscale("log")
+        ap.set_xlim(f.min(), f.max())
+        fig.tight_layout()
+        fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    return Path(path)

@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..kinematics import axis_frame
+from ..kinematics import axis_frame, rigid_transfer
 
 log = logging.getLogger(__name__)
 
@@ -54,6 +54,22 @@ WIDTH_FRACTION = 0.35
 PLATE_WIDTH_FRACTION = 0.12
 #: Smallest gear of the scene gets this many teeth (drawing only).
 MIN_TEETH = 18
+#: A gearless scene caps a plain body's drawn radius at this fraction of the spread of the
+#: body positions (m): :func:`plain_radius_cap`.
+CAP_LENGTH_FRACTION = 0.25
+#: A beam shaft's station (bearing seat) is drawn as a collar of this many shaft radii,
+#: as wide as its radius.
+COLLAR_RADIUS = 1.3
+
+#: Overview: stage colours, beam shaft colour, label font (points) and margin (fraction of
+#: the assembly size) around the drawing and its labels.
+PALETTE = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3", "#8c8c8c",
+           "#ccb974", "#64b5cd")
+BEAM_COLOR = "#a0a4aa"
+#: Twist arrows: turning with the reference body, against it.
+TWIST_COLORS = ("#d62728", "#1f5fbf")
+LABEL_FONT = 12
+OVERVIEW_MARGIN = 0.04
 
 GHOST_COLOR = "#6a6a6a"
 BEARING_COLOR = "#303030"
@@ -92,6 +108,7 @@ class BodyShape:
     axial_offset: float = 0.0
     teeth: int = 0
     tooth_height: float = 0.0
+    equivalent_radius: float = 0.0   # m: sqrt(2 J / m) of a plain body drawn smaller (capped)
 
     @property
     def face_center_front(self) -> np.ndarray:
@@ -145,13 +162,36 @@ def _width_from_inertia(body, radius: float, fraction: float) -> float:
     return fraction * radius
 
 
+def plain_radius_cap(scene, rp: dict) -> float:
+    """Largest drawn radius (m) of a body without gear geometry: the largest pitch radius of
+    the scene's gears, or without gears :data:`CAP_LENGTH_FRACTION` of the spread of the
+    body positions (inf for a scene of coincident bodies). A lumped rotor's equivalent
+    solid cylinder (``sqrt(2 J / m)``: 26 m for the NREL 5 MW rotor) would hide the
+    drivetrain; a hub of the size of the largest gear does not."""
+    if rp:
+        return max(abs(r) for r in rp.values())
+    P = np.array([b.position for b in scene.bodies if b.position is not None], float).reshape(-1, 3)
+    spread = float(np.linalg.norm(np.ptp(P, axis=0))) if len(P) > 1 else 0.0
+    return CAP_LENGTH_FRACTION * spread if spread > 0 else math.inf
+
+
+def _station_shaft_radii(scene) -> dict:
+    """Station body name -> outer radius (m) of its beam shaft."""
+    from ..shafts import station_body
+    return {station_body(s, st): 0.5 * s.diameter for s in scene.shafts if s.is_beam for st in s.stations}
+
+
 def body_shapes(model) -> dict:
-    """:class:`BodyShape` of every body of an assembled model (name -> shape)."""
+    """:class:`BodyShape` of every body of an assembled model (name -> shape). A beam
+    shaft's station is a collar on the shaft (:data:`COLLAR_RADIUS`); a plain body's radius
+    is capped by :func:`plain_radius_cap` (``equivalent_radius`` keeps the uncapped one)."""
     sc = model.scene
     by_name = {b.name: b for b in sc.bodies}
     rp = pitch_radii(sc)
     gear_r = [abs(r) for r in rp.values()]
     module = 2.0 * min(gear_r) / MIN_TEETH if gear_r else 0.0
+    cap = plain_radius_cap(sc, rp)
+    collars = _station_shaft_radii(sc)
     children = {}
     for b in sc.bodies:
         if b.frame in by_name:
@@ -176,10 +216,16 @@ def body_shapes(model) -> dict:
                 width = _width_from_inertia(mp, r, WIDTH_FRACTION)
                 shapes[b.name] = BodyShape(b.name, "gear", bm.position, bm.axes, 0.22 * r, r,
                                            width, 0.0, n_teeth, h)
+        elif b.name in collars:
+            r = COLLAR_RADIUS * collars[b.name]
+            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, r, r)
         else:
             r = math.sqrt(2.0 * mp.inertia_local()[2, 2] / mp.mass)
-            width = _width_from_inertia(mp, r, WIDTH_FRACTION)
-            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, r, width)
+            width = _width_from_inertia(mp, min(r, cap), WIDTH_FRACTION)
+            if r > cap:
+                width = min(width, 2.0 * WIDTH_FRACTION * cap)
+            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, min(r, cap), width,
+                                       equivalent_radius=r if r > cap else 0.0)
     for name, kids in children.items():
         if name in shapes:
             continue
@@ -304,7 +350,8 @@ class SpringGlyph:
 
 
 def spring_glyphs(model, shapes: dict) -> list:
-    """Where to draw each bearing, shaft and mesh of ``model``."""
+    """Where to draw each bearing, shaft and mesh of ``model`` (beam shafts are cylinders:
+    :mod:`assembly.app.render_shafts`)."""
     size = assembly_size(shapes)
     out = []
     used_starts: list = []
@@ -320,7 +367,10 @@ def spring_glyphs(model, shapes: dict) -> list:
         used_starts.append(q)
         return q
 
+    beams = {i for i, sh in enumerate(model.scene.shafts) if sh.is_beam}
     for el in model.elements:
+        if el.kind == "shaft" and el.item[:1] == ("shafts",) and el.item[1] in beams:
+            continue   # drawn as a cylinder (render_shafts)
         if el.kind == "mesh":
             s1, s2 = shapes[el.bodies[0]], shapes[el.bodies[1]]
             ax = s1.axes[:, 2]
@@ -655,9 +705,12 @@ class AssemblyRenderer:
     def __init__(self, model, window_size=WINDOW_SIZE):
         self.model = model
         self.window_size = tuple(int(v) for v in window_size)
+        from .render_shafts import shaft_segments
         self.shapes = body_shapes(model)
         self.glyphs = spring_glyphs(model, self.shapes)
-        ends = [p for g in self.glyphs for p in (g.a, g.b)]
+        self.segments = shaft_segments(model)
+        ends = [p for g in self.glyphs for p in (g.a, g.b)] + [p for sg in self.segments for p in (sg.a, sg.b)]
+        self._ends = ends
         self.view = assembly_view(self.shapes, self.window_size, ends)
         self._cache: dict = {}
         self._pl = None
@@ -711,6 +764,29 @@ class AssemblyRenderer:
                 P = P + scale * rigid_displacement(rigid_part(bm, z), bm.position, P)
             pl.add_mesh(pv.Line(*P), color="black", line_width=4, render_lines_as_tubes=True)
 
+    def _motion(self, shape_of):
+        """``motion(body, point)`` -> [u, theta] (m, rad; global) at ``point`` of ``body``
+        in the mode shape ``shape_of`` (a flexible body's interface master when ``point`` is
+        one, else its rigid-equivalent motion)."""
+        def motion(body, p):
+            bm = self.model.bodies[body]
+            z = shape_of(body)
+            if z is None:
+                return np.zeros(6)
+            if bm.flexible:
+                try:
+                    return np.asarray(bm.motion_at(p) @ np.asarray(z, float), float).ravel()
+                except (ValueError, KeyError):
+                    pass
+            return rigid_transfer(p, bm.position) @ rigid_part(bm, z)
+        return motion
+
+    def _tubes(self, shape_of, scale):
+        """Beam shaft tubes (pyvista) moved by ``scale`` x the mode ``shape_of`` (None: undeformed)."""
+        from .render_shafts import shaft_tube
+        motion = None if shape_of is None else self._motion(shape_of)
+        return [shaft_tube(sg, motion, scale) for sg in self.segments]
+
     def _scale_bar(self, pl, view=None):
         pv = _pyvista()
         v = view or self.view
@@ -756,29 +832,87 @@ class AssemblyRenderer:
                                     z_length=0.025 * v.size), color="#606060")
 
     # -- public ----------------------------------------------------------------------
+    def _label_layout(self, groups: dict, view, font: int) -> dict:
+        """Key -> (label text, x, y, side, box) in pixels of ``view`` (render_labels)."""
+        from .render_labels import pixel_box, place_labels
+        right = np.cross(view.up, view.direction)
+        ppm = self.window_size[1] / 2 / view.parallel_scale
+        boxes, texts = {}, {}
+        for key, (text, names) in groups.items():
+            P = [np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points) for n in names]
+            boxes[key] = pixel_box(np.vstack(P), right, view.up, view.focal, ppm, self.window_size)
+            texts[key] = text
+        lo = min(b[2] for b in boxes.values())
+        hi = max(b[3] for b in boxes.values())
+        place = place_labels(boxes, texts, font, lo, hi)
+        return {k: (texts[k], *place[k], boxes[k]) for k in place}
+
+    def _pixel_point(self, view, x: float, y: float) -> np.ndarray:
+        """Point (m) in front of the drawing that ``view`` shows at pixel (x, y)."""
+        W, H = self.window_size
+        right = np.cross(view.up, view.direction)
+        return (view.focal + right * ((x - W / 2) / (H / 2) * view.parallel_scale)
+                + view.up * ((y - H / 2) / (H / 2) * view.parallel_scale) + view.direction * view.size)
+
+    def overview_view(self, groups: dict, font: int = LABEL_FONT) -> View:
+        """The assembly's view refitted with room for the stage labels' rows."""
+        from .render_labels import CHAR_WIDTH, ROW_HEIGHT
+        v0 = self.view
+        pts = [solid_surface(s, n_radial=1)[0] for s in self.shapes.values()] + [np.asarray(self._ends).reshape(-1, 3)]
+        for text, x, y, side, _ in self._label_layout(groups, v0, font).values():
+            half = 0.5 * CHAR_WIDTH * font * len(text) + 4
+            pts.append(np.array([self._pixel_point(v0, x + dx, y + dy) for dx in (-half, half)
+                                 for dy in (0.0, ROW_HEIGHT * font)]))
+        first = next(iter(self.shapes.values()))
+        side, across = wants_side_view(self.shapes)
+        direction, up = view_axes(first.axes[:, 2], side, across)
+        size = assembly_size(self.shapes)
+        return _fit(np.vstack(pts), direction, up, self.window_size, size, OVERVIEW_MARGIN * size)
+
     def render_overview(self, path, title: str = "") -> Path:
-        """Undeformed assembly with body names (PNG)."""
+        """Undeformed assembly (PNG): bodies coloured per stage with one label per stage (a
+        body without a stage is labelled alone: :func:`assembly.app.render_labels.stage_groups`),
+        beam shafts as cylinders of their diameter, springs, a length scale, and a note on
+        bodies drawn smaller than their equivalent radius (a lumped rotor drawn as a hub).
+        ``self.labels_drawn`` lists the label texts drawn."""
+        from .render_labels import CHAR_WIDTH, ROW_HEIGHT, stage_groups
+        pv = _pyvista()
         pl = self._plotter()
         try:
-            palette = ["#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860",
-                       "#da8bc3", "#8c8c8c", "#ccb974", "#64b5cd"]
-            for k, name in enumerate(self.model.bodies):
+            groups = stage_groups(self.model.scene, set(pitch_radii(self.model.scene)))
+            # one colour per stage; a scene of one stage gets one colour per body
+            sets = list(groups.values()) if len(groups) > 1 else [(None, [n]) for n in self.model.bodies]
+            colour = {n: PALETTE[k % len(PALETTE)] for k, (_, names) in enumerate(sets) for n in names}
+            for name in self.model.bodies:
                 ref = reference_surface(self.model, name, self.shapes, self._cache)
-                pl.add_mesh(ref, color=palette[k % len(palette)], smooth_shading=True, split_sharp_edges=True,
+                pl.add_mesh(ref, color=colour.get(name, PALETTE[0]), smooth_shading=True, split_sharp_edges=True,
                             feature_angle=40.0)
+            for tube in self._tubes(None, 0.0):
+                pl.add_mesh(tube, color=BEAM_COLOR, smooth_shading=True)
             self._springs(pl, lambda b: None, 0.0)
-            labels, pts = [], []
-            for name, s in self.shapes.items():
-                labels.append(name)
-                pts.append(s.face_center_front if s.kind != "ring" else
-                           s.face_center_front - s.axes[:, 1] * 0.5 * (s.r_inner + s.r_outer))
-            pl.add_point_labels(np.array(pts), labels, font_size=16, point_size=1, shape_opacity=0.6,
-                                always_visible=True)
+            view = self.overview_view(groups)
+            self.labels_drawn = []
+            for text, x, y, side, box in self._label_layout(groups, view, LABEL_FONT).values():
+                half = 0.5 * CHAR_WIDTH * LABEL_FONT * len(text)
+                pl.add_text(text, position=(int(round(x - half)), int(round(y))), font_size=LABEL_FONT,
+                            color="black")
+                edge = box[3] if side > 0 else box[2]
+                end = y - 2 if side > 0 else y + 0.5 * ROW_HEIGHT * LABEL_FONT + 4
+                pl.add_mesh(pv.Line(self._pixel_point(view, x, edge), self._pixel_point(view, x, end)),
+                            color="#404040", line_width=1)
+                self.labels_drawn.append(text)
             pl.add_text(title or "assembly", position="upper_left", font_size=14, color="black")
-            pl.add_text("springs: bearings (dark grey), gear meshes (red, along the line of action), "
+            lines = [f"{n}: lumped mass, drawn as a hub of radius {s.r_outer:.3g} m (largest gear radius;\n"
+                     f"    its equivalent solid cylinder would have sqrt(2 J / m) = {s.equivalent_radius:.3g} m)"
+                     for n, s in self.shapes.items() if s.equivalent_radius > 0]
+            if lines:
+                pl.add_text("\n".join(lines), position=(12, self.window_size[1] - 50 - 26 * len(lines)), font_size=10,
+                            color="#202020")
+            beams = "beam shafts: grey cylinders of their diameter; " if self.segments else ""
+            pl.add_text(f"{beams}springs: bearings (dark grey), gear meshes (red, along the line of action), "
                         "shafts (blue); grey cubes = housing", position="lower_right", font_size=9,
                         color="black")
-            self._finish(pl, path)
+            self._finish(pl, path, view)
         finally:
             pl.close()
         return Path(path)
@@ -792,6 +926,8 @@ class AssemblyRenderer:
             z = result.abs_shapes[self.model.body_slice(name), mode]
             dmax = max(dmax, float(np.asarray(body_actor(self.model, name, z, 0.0, self.shapes, self._cache)
                                               .point_data["displacement_m"]).max(initial=0.0)))
+        for tube in self._tubes(lambda b: result.abs_shapes[self.model.body_slice(b), mode], 0.0):
+            dmax = max(dmax, float(np.asarray(tube.point_data["displacement_m"]).max(initial=0.0)))
         if dmax <= 0:
             return 0.0, 0.0
         return DEFORMATION_FRACTION * (size or self.view.size) / dmax, dmax
@@ -808,6 +944,23 @@ class AssemblyRenderer:
         dom = tuple(b for b, _ in dominant_bodies(self._cache[key][mode], names))
         return dom or tuple(names)
 
+    def _twist(self, pl, result, mode: int, sign: float, view) -> str:
+        """Twist arrows of ``mode`` (render_twist) added to ``pl``; returns their caption."""
+        from .render_twist import referred_angles, twist_arrows
+        pv = _pyvista()
+        angles, ref = referred_angles(self.model, sign * result.abs_shapes[:, mode])
+        if ref is not None and angles.get(ref, 0.0) < 0:   # the reference turns the positive way
+            angles = {b: -a for b, a in angles.items()}
+        for _, start, vec, sgn in twist_arrows(self.shapes, angles, view.direction, view.size):
+            L = float(np.linalg.norm(vec))
+            pl.add_mesh(pv.Arrow(start=start, direction=vec / L, tip_length=min(0.5, 0.02 * view.size / L), tip_radius=0.35 * 0.5,
+                                 shaft_radius=0.12 * 0.5, scale=L),
+                        color=TWIST_COLORS[sgn < 0])
+        if ref is None:
+            return "arrows: each body's rotation about its own axis, to one scale (no speed ratios: no rigid-body mode)"
+        return (f"arrows: each body's rotation about its own axis divided by its speed ratio to {ref} (the angle "
+                f"referred to the {ref} shaft),\nlongest = largest; red turns with {ref}, blue against it")
+
     def mode_view(self, focus) -> View:
         """Camera framing the bodies ``focus`` (their undeformed surfaces)."""
         P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
@@ -817,16 +970,20 @@ class AssemblyRenderer:
         return frame_view(P.min(axis=0), P.max(axis=0), first.axes[:, 2], self.window_size, side, across)
 
     def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "",
-                    focus=None) -> Path:
+                    focus=None, twist: bool = False) -> Path:
         """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG),
         framed on the bodies ``focus`` (default: the mode's dominant bodies,
-        :meth:`focus_bodies`); the other bodies are drawn faint, as context. The colour bar
+        :meth:`focus_bodies`); the other bodies are drawn faint, as context. Beam shafts are
+        tubes bent with their nodes (:mod:`assembly.app.render_shafts`). The colour bar
         runs from 0 to the largest displacement stated in the caption line (the same
-        quantity over the same drawn points)."""
+        quantity over the same drawn points). ``twist``: arrows of each body's rotation
+        about its axis referred to the rotor (:mod:`assembly.app.render_twist`)."""
         sign = _sign(result.abs_shapes[:, mode])
         focus = tuple(focus) if focus else self.focus_bodies(result, mode)
         view = self.mode_view(focus)
         scale, dmax = self.mode_scale(result, mode, view.size)
+        if twist:   # drawn rotations would swell the fast discs over their arrows: the arrows show it
+            scale = 0.0
 
         def shape_of(b):
             return sign * result.abs_shapes[self.model.body_slice(b), mode]
@@ -849,13 +1006,22 @@ class AssemblyRenderer:
             pl.add_text("displacement magnitude [m] (modal mass 1 kg)",
                         position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
                         font_size=11, color="black")
+            for tube in self._tubes(shape_of, scale):
+                pl.add_mesh(tube, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=False,
+                            smooth_shading=True)
+            pv = _pyvista()
+            for sg in self.segments:
+                pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
             self._springs(pl, shape_of, scale, view)
             self._marks(pl, shape_of, scale)
             pl.add_text(title, position="upper_left", font_size=15, color="black")
             text = mode_caption(dmax, scale, view.size, focus, len(focus) < len(self.model.bodies))
+            if twist:
+                text += "\n" + self._twist(pl, result, mode, sign, view)
             if subtitle:
                 text = subtitle + "\n" + text
-            pl.add_text(text, position=(12, self.window_size[1] - 100), font_size=10, color="#202020")
+            pl.add_text(text, position=(12, self.window_size[1] - 85 - 24 * text.count("\n")), font_size=10,
+                        color="#202020")
             self._finish(pl, path, view)
         finally:
             pl.close()
@@ -869,10 +1035,12 @@ BAR_FMT = "%.3g"
 def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:
     """Caption line of a mode image: the largest displacement (m; the colour-bar maximum,
     same format), the drawing scale and the framed bodies."""
-    text = (f"largest displacement {BAR_FMT % dmax} m (colour-bar maximum); drawn x {scale:.3g} "
-            f"= {100 * DEFORMATION_FRACTION:.0f} % of the framed size {size:.3g} m")
+    text = f"largest displacement {BAR_FMT % dmax} m (colour-bar maximum); "
+    text += (f"drawn x {scale:.3g} = {100 * DEFORMATION_FRACTION:.0f} % of the framed size {size:.3g} m" if scale > 0
+             else "bodies drawn undeformed, coloured by it")
     if faint:
-        text += "\nframed on " + ", ".join(focus) + " (most kinetic energy); other bodies faint"
+        names = ", ".join(focus[:4]) + (f" and {len(focus) - 4} more" if len(focus) > 4 else "")
+        text += "\nframed on " + names + "; other bodies faint"
     return text
 
 
@@ -885,10 +1053,13 @@ def _sign(v: np.ndarray) -> float:
 
 
 def mode_title(scene_name: str, info) -> str:
-    """Image title: mode number, frequency (Hz), class (elastic: body and nodal diameters)
-    and multiplicity."""
+    """Image title: mode number, frequency (Hz), class (elastic: body and nodal diameters),
+    scope (global, or the stage holding the mode) and multiplicity."""
     mult = f", x{info.multiplicity} repeated" if info.multiplicity > 1 else ""
-    stage = f", stage '{info.stage}'" if info.stage and info.mode_class != "elastic" else ""
+    if getattr(info, "scope", None) == "global":
+        stage = ", global"
+    else:
+        stage = f", stage '{info.stage}'" if info.stage and info.mode_class != "elastic" else ""
     label = getattr(info, "label", info.mode_class)
     return (f"{scene_name}\nmode {info.index + 1}: {info.frequency_hz:.2f} Hz, "
             f"{label}{stage}{mult}")

@@ -6,8 +6,10 @@ import csv
 import numpy as np
 
 from ..classify import classify_modes
+from ..dynamics.damped_modes import damped_modes, has_damping
 from ..energy import kinetic_by_body, strain_by_body, strain_by_element
 from ..flexible import FlexibleBodyModel
+from ..locality import energy_table, group_shares
 from ..modal import mechanisms
 from ..scene import DISPLAY_BAND_FACTOR
 
@@ -19,29 +21,53 @@ def in_band(result) -> np.ndarray:
 
 
 def modes_table(result, title: str = "", all_modes: bool = False) -> str:
-    """Mode table: index, frequency (Hz), multiplicity, class, dominant bodies (% KE): the
+    """Mode table: index, frequency (Hz), multiplicity, class, scope ("global" or the stage
+    holding the mode), energy by stage (kinetic % / strain %), dominant bodies (% KE): the
     modes in the band (:func:`in_band`; every mode with ``all_modes``), then one line on
-    those left out, the flexible bodies' valid ranges and the solve."""
+    those left out, the flexible bodies' valid ranges and the solve. A scene with damping
+    (:func:`assembly.dynamics.damped_modes.has_damping`) adds the columns "damping ratio"
+    and "damped frequency [Hz]" of the paired damped mode."""
     infos = classify_modes(result)
     keep = in_band(result) | all_modes
     lines = []
     if title:
         lines.append(title)
-    lines.append(f"{'mode':>4}  {'frequency [Hz]':>14}  {'mult':>4}  {'class':<13}  dominant bodies (kinetic energy)")
-    for mi in infos:
-        if not keep[mi.index]:
-            continue
+    shown = [mi for mi in infos if keep[mi.index]]
+    w_scope = max([len("scope")] + [len(mi.scope or "") for mi in shown])
+    splits = [stage_split_text(mi) for mi in shown]
+    w_split = max([len(ENERGY_SPLIT_HEADER)] + [len(t) for t in splits])
+    dm = damped_modes(result) if has_damping(result.model.scene) else None
+    damped = (lambda i: f"  {dm.ratios[i]:>13.4f}  {dm.damped_hz[i]:>21.2f}") if dm else (lambda i: "")
+    lines.append(f"{'mode':>4}  {'frequency [Hz]':>14}{'  damping ratio  damped frequency [Hz]' if dm else ''}"
+                 f"  {'mult':>4}  {'class':<13}  {'scope':<{w_scope}}  "
+                 f"{ENERGY_SPLIT_HEADER:<{w_split}}  dominant bodies (kinetic energy)")
+    for mi, split in zip(shown, splits):
         dom = ", ".join(f"{b} {100 * s:.0f}%" for b, s in mi.dominant_bodies)
-        lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}  {mi.multiplicity:>4}  {mi.mode_class:<13}  {dom}")
+        lines.append(f"{mi.index + 1:>4}  {mi.frequency_hz:>14.2f}{damped(mi.index)}  {mi.multiplicity:>4}  "
+                     f"{mi.mode_class:<13}  {mi.scope or '':<{w_scope}}  {split:<{w_split}}  {dom}")
     left_out = band_note(result, int((~keep).sum()))
     if left_out:
         lines.append(left_out)
+    if dm:
+        lines.append(f"damped modes: {dm.method}")
     for k, text in enumerate(mechanisms(result)):
         lines.append(f"rigid-body mode {k + 1} (free motion): {text}")
     lines += flexible_lines(result.model)
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
     return "\n".join(lines)
+
+
+#: Column header of :func:`stage_split_text`.
+ENERGY_SPLIT_HEADER = "energy by stage (kinetic%/strain%)"
+
+
+def stage_split_text(info, floor: float = 0.005) -> str:
+    """``"planetary 88/1, wheel/planetary 0/99"``: a mode's kinetic and strain energy shares
+    (%) per stage (or link between stages), largest total first; stages holding less than
+    ``floor`` of both are left out."""
+    parts = sorted(info.energy, key=lambda e: -(e[1] + e[2]))
+    return ", ".join(f"{g} {100 * k:.0f}/{100 * v:.0f}" for g, k, v in parts if max(k, v) >= floor)
 
 
 def band_note(result, n_left_out: int) -> str:
@@ -113,6 +139,7 @@ def modes_json(result) -> dict:
     outside the band of interest); ``valid_up_to_hz``: the lowest flexible-body cutoff."""
     infos = classify_modes(result)
     m = result.model
+    dm = damped_modes(result) if has_damping(m.scene) else None
     ke = kinetic_by_body(result)
     se = strain_by_element(result)
     sb = strain_by_body(result)
@@ -130,6 +157,8 @@ def modes_json(result) -> dict:
             "in_band": bool(band[i]),
             "class": mi.mode_class,
             "stage": mi.stage,
+            "scope": mi.scope,
+            "energy_by_stage": {g: {"kinetic": k, "strain": v} for g, k, v in mi.energy},
             "dominant_bodies": [b for b, _ in mi.dominant_bodies],
             "kinetic_energy_share": {b: float(ke[i, j]) for j, b in enumerate(bodies) if ke[i, j] > 1e-12},
             "strain_energy_share": {e: float(se[i, j]) for j, e in enumerate(elems) if se[i, j] > 1e-12},
@@ -137,6 +166,9 @@ def modes_json(result) -> dict:
             "shape": {b: {d: float(v) for d, v in zip(("ux", "uy", "uz", "rx", "ry", "rz"),
                                                       result.body_motion(i, b))} for b in bodies},
         })
+        if dm:
+            modes[-1].update(damping_ratio=float(dm.ratios[i]), damped_frequency_hz=float(dm.damped_hz[i]),
+                             damped_eigenvalue=[float(dm.s[i].real), float(dm.s[i].imag)])
     return {
         "scene": m.scene.name,
         "units": {"frequency": "Hz", "translation": "m", "rotation": "rad", "mass_normalised": "kg^-1/2"},
@@ -245,15 +277,43 @@ def dominant_text(info) -> str:
 
 
 def write_modes_csv(infos, path, band=None) -> None:
-    """Mode table as CSV: index, frequency (Hz), multiplicity, class, stage, dominant bodies,
-    ``in_band`` (1, or 0 for a mode outside the band of interest; ``band``: the mask of
-    :func:`in_band`, default all in band). Every mode is written."""
+    """Mode table as CSV: index, frequency (Hz), multiplicity, class, stage, scope, energy by
+    stage (kinetic %/strain %), dominant bodies, ``in_band`` (1, or 0 for a mode outside the
+    band of interest; ``band``: the mask of :func:`in_band`, default all in band). Every mode
+    is written."""
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "dominant_bodies_ke_share", "in_band"])
+        w.writerow(["mode", "frequency_hz", "multiplicity", "class", "stage", "scope", "energy_by_stage_ke_strain_pct",
+                    "dominant_bodies_ke_share", "in_band"])
         for mi in infos:
             w.writerow([mi.index + 1, f"{mi.frequency_hz:.9g}", mi.multiplicity, mi.mode_class,
-                        mi.stage or "", dominant_text(mi), int(True if band is None else band[mi.index])])
+                        mi.stage or "", mi.scope or "", stage_split_text(mi), dominant_text(mi),
+                        int(True if band is None else band[mi.index])])
+
+
+#: Columns of :func:`write_energy_csv`.
+ENERGY_FIELDS = ("mode", "frequency_hz", "scope", "level", "name", "group", "kinetic_share", "strain_share")
+
+
+def write_energy_csv(result, infos, path) -> None:
+    """Every mode's energy breakdown as CSV (one row per mode and stage, body, bearing, mesh
+    or shaft; ``level`` says which): the part's or stage's share of the mode's kinetic and
+    of its strain energy (each sums to 1 per mode and level kind, or 0 for a rigid-body
+    mode's strain), ``group`` the stage it belongs to (:mod:`assembly.locality`). Repeated
+    frequencies share the split of their eigenspace."""
+    table = energy_table(result)
+    ks, ss = group_shares(table, result.groups)
+    kp, sp = group_shares(table, result.groups, parts=True)
+    rows = [("stage", g, g) for g in table.group_names] + list(zip(table.kinds, table.names, table.groups))
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(ENERGY_FIELDS)
+        for mi in infos:
+            i = mi.index
+            k = np.concatenate([ks[i], kp[i]])
+            v = np.concatenate([ss[i], sp[i]])
+            for (level, name, group), a, b in zip(rows, k, v):
+                w.writerow([i + 1, f"{mi.frequency_hz:.9g}", mi.scope or "", level, name, group, f"{a:.6g}", f"{b:.6g}"])
 
 
 def write_comparison_csv(rows, fields, path) -> None:

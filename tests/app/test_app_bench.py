@@ -1,4 +1,5 @@
-"""The FE-component benchmark (``flexgear bench fe``, assembly/app/bench_fe.py) runs end to end."""
+"""The benchmarks (``flexgear bench fe``, assembly/app/bench_fe.py; ``flexgear bench drivetrain``,
+assembly/app/bench_drivetrain.py) run end to end on small inputs: the tables, not the timings."""
 from __future__ import annotations
 
 import pytest
@@ -17,3 +18,67 @@ def test_bench_fe_main_prints_table(capsys):
     assert cells[0] == "carrier" and int(cells[3]) > 0
     freqs = [float(f) for f in cells[-1].split(",")]
     assert len(freqs) == 6 and all(f > 0 for f in freqs) and freqs == sorted(freqs)
+
+
+def _table(lines: list, head: str) -> list:
+    """Rows (lists of cells) of the Markdown table whose header starts with ``head``."""
+    i = next(k for k, line in enumerate(lines) if line.startswith(head))
+    rows = []
+    for line in lines[i + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([c.strip() for c in line.strip("|").split("|")])
+    return rows
+
+
+@pytest.mark.slow
+def test_bench_drivetrain_prints_sizes_times_and_the_in_band_error(tmp_path):
+    # A free steel shaft, flexible (P2, 6 fixed-interface modes) and rigid, on two bearings.
+    import io
+
+    import numpy as np
+
+    from assembly.app.bench_drivetrain import main
+    from assembly.modal import solve_modes
+    from assembly.model import assemble
+    from assembly.schema import load_scene
+    from tests.support.shaft_scene import shaft_scene
+
+    flex, rigid = tmp_path / "flex.toml", tmp_path / "rigid.toml"
+    flex.write_text(shaft_scene("flexible"))
+    rigid.write_text(shaft_scene("rigid"))
+    buf = io.StringIO()
+    assert main(["--scene", str(flex), "--rigid-scene", str(rigid), "--repeat", "2"], out=buf) == 0
+    lines = buf.getvalue().splitlines()
+    assert " cores, load average " in lines[0] and "sparse backend" in lines[0]
+    # rigid: one free body has 6 DOFs and 6 modes; its torsional variant one DOF (the spin)
+    (r, t) = _table(lines, "| scene | fidelity")
+    assert r[1:4] == ["rigid", "6", "6"] and t[1:4] == ["torsional", "1", "1"]
+    assert all(len(row[4].split(",")) == 2 and all(float(x) > 0 for x in row[4].split(",")) for row in (r, t))
+    (row,) = _table(lines, "| scene | flexible bodies")
+    # reduced DOFs: 2 interfaces x 6 master DOFs + 6 fixed-interface modes + one residual
+    # vector per boundary DOF (12) = 30; the model is that one body
+    red = solve_modes(assemble(load_scene(flex)))
+    full = solve_modes(assemble(load_scene(flex), full_fe=True), n_modes=len(red.frequencies_hz))
+    n_fe = full.model.K.shape[0]
+    assert row[1] == f"shaft {n_fe} -> 30" and row[2] == "30" and row[5] == str(n_fe)
+    cold, warm = ([float(x) for x in row[k].split(",")] for k in (3, 4))
+    assert len(cold) == len(warm) == 2 and all(x > 0 for x in cold + warm)
+    # the in-band error, recomputed here from the two models' sorted elastic frequencies (the
+    # shaft's modes pair in order); reduced >= full mode by mode (Rayleigh-Ritz), up to the
+    # relative error to which each solve resolves its frequencies
+    f_red = red.frequencies_hz[red.n_rigid:]
+    f_full = full.frequencies_hz[full.n_rigid:full.n_rigid + len(f_red)]
+    rtol = red.info["frequency_rtol"] + full.info["frequency_rtol"]
+    assert np.all(f_red >= f_full * (1 - rtol))
+    band = f_red < 3000.0
+    # the reference solved beyond the band: at least the in-band count of the reduced model
+    # plus its rigid-body mode and bench_drivetrain.EXTRA_MODES
+    n_full = int(row[7].split()[0])
+    assert n_full >= band.sum() + 1 + 10 and full.frequencies_hz[n_full - 1] > 3000.0
+    assert row[8] == f"{band.sum()} ({band.sum()})"
+    # printed to 2 significant digits: rounding moves it by at most 5 % of itself
+    assert float(row[9]) == pytest.approx(100 * np.max(f_red[band] / f_full[band] - 1), rel=0.05)
+    assert 0.9 < float(row[10]) <= 1.0 + 1e-12                       # MAC of a pair of one mode
+    reduced_mb, full_mb = (float(x) for x in row[11].split("/"))
+    assert 0 < reduced_mb <= full_mb

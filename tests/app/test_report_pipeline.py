@@ -52,6 +52,29 @@ def test_run_writes_everything(run_dir):
     assert not _leftovers(out.parent, out.name)
 
 
+def test_energy_by_mode_csv_and_scope_column(run_dir):
+    out, _ = run_dir
+    rows = list(csv.DictReader(open(out / "energy_by_mode.csv")))
+    # lin_parker_n4: one stage, 21 modes; one row per mode for the stage and for each body
+    # and spring: shares of a whole sum to 1 per mode (stage rows; part rows), to the 6
+    # significant digits the CSV keeps (about 30 rows of <= 5e-7 rounding each: 1e-5).
+    sums = {}
+    for r in rows:
+        key = (r["mode"], "stage" if r["level"] == "stage" else "part")
+        k, s = sums.get(key, (0.0, 0.0))
+        sums[key] = (k + float(r["kinetic_share"]), s + float(r["strain_share"]))
+    assert {m for m, _ in sums} == {str(i) for i in range(1, 22)}
+    for (mode, _), (k, s) in sums.items():
+        assert k == pytest.approx(1.0, rel=1e-5)
+        assert s == pytest.approx(0.0 if mode == "1" else 1.0, abs=1e-5)   # mode 1: rigid-body
+    assert {r["level"] for r in rows} == {"stage", "body", "bearing", "mesh"}
+    assert {r["scope"] for r in rows} == {"stage"}   # a single stage holds every mode
+    modes = list(csv.DictReader(open(out / "modes.csv")))
+    assert all(r["scope"] == "stage" for r in modes)
+    html = (out / "index.html").read_text()
+    assert "<th class=\"l\">scope</th>" in html and "stage 100/100" in html
+
+
 def test_fidelity_comparison_csv(run_dir):
     out, _ = run_dir
     rows = list(csv.DictReader(open(out / "fidelity_comparison.csv")))
@@ -73,7 +96,7 @@ def test_index_references_exist(run_dir):
     assert "images/overview.png" in refs and "fidelity_comparison.csv" in refs
     assert missing_references(out / "index.html") == []
     assert all(not os.path.isabs(r) and ".." not in r for r in refs)
-    assert len(re.findall(r"<img ", text)) == N_IMAGES + 2  # modes, overview, fidelity plot
+    assert len(re.findall(r"<img ", text)) == N_IMAGES + 3  # modes, overview, stage-local mode, fidelity plot
     assert "Fidelity comparison" in text and "Hz" in text
     # In-page links from the mode table land on figures that exist.
     anchors = re.findall(r'href="#([^"]+)"', text)
@@ -124,7 +147,7 @@ def test_index_loads_in_headless_chromium(run_dir, tmp_path):
     dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
     m = re.search(r'data-decoded="(\d+)/(\d+)"', dom)
     assert m, dom[-2000:]
-    assert int(m.group(2)) == N_IMAGES + 2
+    assert int(m.group(2)) == N_IMAGES + 3  # modes, overview, stage-local mode, fidelity plot
     assert m.group(1) == m.group(2), f"only {m.group(1)} of {m.group(2)} images decoded"
 
 

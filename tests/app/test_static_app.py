@@ -71,3 +71,23 @@ def test_run_writes_static_files_and_section(pair_file, tmp_path):
     html = (out / "index.html").read_text()
     assert "Static load case &#x27;rated&#x27;" in html and "bearing reactions" in html
     assert math.isfinite(ctx.static_reports[0].output_torque_Nm)
+
+
+def test_static_point_loads_and_supports_in_json_text_and_csv(tmp_path, capsys):
+    # The two-bearing shaft of tests/assembly/test_static_loads.py (bearings at z = -0.1 and
+    # +0.2 m, 1000 N along x at z = 0.05 m, 5 N m about the body's y, the axis held by a
+    # support): lever rule plus the couple of the moment, R_A = -1000 (0.2 - 0.05) / 0.3
+    # + 5 / 0.3; nothing turns the shaft about its axis, so the support takes no torque.
+    from tests.assembly.test_static_loads import TOML
+    p = tmp_path / "shaft.toml"
+    p.write_text(TOML)
+    assert main(["static", str(p), "--json"]) == 0
+    (case,) = json.loads(capsys.readouterr().out)["load_cases"]
+    assert case["input"] is None and case["torque_balance"] == {} and case["ratio_check"] == {}
+    assert case["bearings"][0]["Fx_N"] == pytest.approx(-1000.0 * 0.15 / 0.3 + 5.0 / 0.3, rel=1e-12)
+    assert case["supports"][0]["dofs"] == ["rz"] and case["supports"][0]["Mz_Nm"] == pytest.approx(0.0, abs=1e-9)
+    assert case["equilibrium"]["relative_error"] < 1e-12 and len(case["applied_loads"]) == 2
+    assert main(["static", str(p)]) == 0
+    out = capsys.readouterr().out
+    for words in ("2 point load(s); 1 support(s)", "applied loads", "support reactions", "equilibrium"):
+        assert words in out

@@ -34,6 +34,7 @@ from fe_components.meshing import MeshOptions, ensure_mesh, mesh_path
 from fe_components.params import CylinderParams
 
 from tests.support.corruption import corrupt, sweep
+from tests.support.shaft_scene import shaft_scene
 
 pytestmark = pytest.mark.gmsh
 
@@ -237,28 +238,6 @@ def test_gmsh_failure_after_a_corrupt_entry_is_a_meshing_error(clean, cache, mon
     assert any(str(target) in r.getMessage() for r in caplog.records)
 
 
-SCENE = """
-name = "coarse shaft on two bearings (cache test)"
-[[bodies]]
-name = "shaft"
-fidelity = "flexible"
-flex = { mesh_size = 0.02, n_modes = 6 }
-component = { kind = "cylinder", length = 0.2, diameter = 0.04 }
-[[bearings]]
-body = "shaft"
-interface = "end_a"
-k_radial = 1.0e8
-k_axial = 1.0e8
-k_tilt = 0.0
-[[bearings]]
-body = "shaft"
-interface = "end_b"
-k_radial = 1.0e8
-k_axial = 1.0e8
-k_tilt = 0.0
-"""
-
-
 def _cli_modes(scene: Path, cache: Path) -> subprocess.CompletedProcess:
     env = {**os.environ, "FLEXGEAR_CACHE_DIR": str(cache), "PYTHONPATH": str(REPO)}
     return subprocess.run([sys.executable, "-m", "assembly.app.cli", "modes", str(scene), "--json"],
@@ -274,7 +253,7 @@ def _elastic(stdout: str):
 
 def test_cli_heals_a_corrupt_cache_and_prints_the_same_modes(tmp_path):
     scene = tmp_path / "shaft.toml"
-    scene.write_text(SCENE)
+    scene.write_text(shaft_scene("flexible"))
     cache = tmp_path / "cache"
     first = _cli_modes(scene, cache)
     assert first.returncode == 0, first.stderr

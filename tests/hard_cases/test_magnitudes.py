@@ -29,7 +29,7 @@ from assembly import assemble, solve_modes
 from assembly.errors import SceneError
 from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene import DEFAULT_BAND_HZ, DOF_NAMES, Bearing, derive
+from assembly.scene import DEFAULT_BAND_HZ, DOF_NAMES, derive
 
 from tests.support.fuzz import examples
 
@@ -139,7 +139,7 @@ def all_elastic_eigenvalues(scene) -> tuple:
     add = {}
     for i, f in ac.candidates(sc):
         br = sc.bearings[i]
-        for d, g in zip(DOF_NAMES, Bearing.FIELDS):
+        for d, g in zip(DOF_NAMES, br.diagonal_fields()):
             if g == f and f"{br.body}.{d}" in index:
                 j = index[f"{br.body}.{d}"]
                 add[j] = add.get(j, 0.0) + getattr(br, f)
@@ -269,6 +269,19 @@ def test_absurd_value_is_named(name, path, value):
     with pytest.raises(SceneError) as exc:
         solve_modes(assemble(scene_from_dict(tree)))
     assert (exc.value.path, exc.value.value) == (path, value)
+
+
+def test_unchecked_solve_records_the_refusal_instead_of_raising():
+    # check=False (a benchmark's reference solve): the same verdict, as text in info, and
+    # the modes are returned; the check is not skipped silently.
+    tree = copy.deepcopy(TREES["kahraman_beta0.toml"])
+    tree["meshes"][0]["stiffness"] = 1e20
+    model = assemble(scene_from_dict(tree))
+    with pytest.raises(SceneError) as exc:
+        solve_modes(model)
+    r = solve_modes(model, check=False)
+    assert r.info["resolution"] == str(exc.value) and math.isnan(r.info["frequency_rtol"])
+    assert len(r.frequencies_hz) == model.K.shape[0]
 
 
 def test_sparse_path_counts_and_checks_alike(monkeypatch):

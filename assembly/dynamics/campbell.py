@@ -1,0 +1,199 @@
+"""Campbell diagram: natural frequencies and excitation orders over a speed range, and
+where they cross.
+
+Speeds are those of a reference body (rpm; default the body of role ``"rotor"``), every
+other body turning at its ratio from the kinematic chain (:func:`assembly.drivetrain.speed_ratios`).
+
+* Natural frequencies: without gyroscopic coupling they do not depend on speed and are
+  solved once (:func:`assembly.modal.solve_modes`); with it they are solved at every speed
+  (:mod:`assembly.dynamics.gyroscopic`), line j being the j-th lowest elastic frequency.
+* Orders: mesh harmonics and rotor orders (:mod:`assembly.dynamics.orders`).
+* Crossings: where an order line f = a n meets natural-frequency line j: f_j(n) = a n.
+  A speed-independent line f_0 crosses at n = f_0 / a exactly; a gyroscopic line is
+  interpolated linearly between neighbouring speeds.
+* Each crossing gets the crossed mode's class, scope and energy shares (:func:`classify_modes`
+  of the non-spinning model, mode numbers as in ``flexgear modes``) and whether the order
+  can excite that class: mesh orders of a planetary stage by Parker's phasing rule
+  (:mod:`assembly.dynamics.phasing`) for modes of that stage (scope the stage, or global)
+  in the classes the rule names; ``None`` where the rule says nothing (other classes,
+  modes local to another part); parallel meshes and rotor orders: every class.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..classify import classify_modes
+from ..drivetrain import speed_ratios
+from ..errors import MechanismError, SceneError
+from ..modal import solve_modes
+from ..model import assemble
+from .gyroscopic import gyroscopic_matrix, whirl_frequencies
+from .orders import Order, mesh_orders, rotor_orders
+from .phasing import RULE_CLASSES, excited_class
+
+log = logging.getLogger(__name__)
+
+RPM = 2 * math.pi / 60.0   # rad/s per rpm
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """An order line meeting a natural-frequency line: ``speed_rpm`` (reference body),
+    ``frequency_hz``, ``mode`` (1-based, as in the mode table), its ``mode_class``,
+    ``scope`` and ``energy`` ((group, kinetic share, strain share), largest first);
+    ``excitable``: True / False by the phasing rule, None where the rule does not decide;
+    ``rule``: why."""
+
+    order: str
+    harmonic: int
+    speed_rpm: float
+    frequency_hz: float
+    mode: int
+    mode_class: str
+    scope: str | None
+    energy: tuple
+    excitable: bool | None
+    rule: str
+
+
+@dataclass(frozen=True)
+class Campbell:
+    """A Campbell diagram. ``frequencies_hz``: (len(speeds_rpm), n_lines) elastic natural
+    frequencies (Hz) per speed, line j = mode ``modes[j].index + 1``; ``ratios``: body ->
+    speed over the reference's; ``notes``: what was left out or assumed."""
+
+    scene: str
+    reference: str
+    speeds_rpm: np.ndarray
+    frequencies_hz: np.ndarray
+    modes: tuple
+    orders: tuple
+    crossings: tuple
+    ratios: dict
+    gyroscopic: bool
+    notes: tuple
+
+
+def reference_body(scene, reference: str | None) -> str:
+    """The reference body: ``reference`` if given (SceneError ``--reference`` naming it when
+    no body has that name), else the one body of role ``"rotor"``."""
+    names = [b.name for b in scene.expanded().bodies]
+    if reference is not None:
+        if reference not in names:
+            raise SceneError("--reference", reference, f"no body of that name; have {names}")
+        return reference
+    rotors = [b.name for b in scene.bodies if b.role == "rotor"]
+    if len(rotors) != 1:
+        raise SceneError("--reference", None, f"{len(rotors)} bodies have role = 'rotor': name the reference "
+                                              f"body (one of {names})")
+    return rotors[0]
+
+
+def check_speed_range(speed_range) -> tuple[float, float]:
+    """(min, max) reference speeds (rpm): finite, >= 0, min < max; SceneError ``--speed-range`` else."""
+    lo, hi = (float(v) for v in speed_range)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise SceneError("--speed-range", [lo, hi], "speeds must be finite numbers (rpm)")
+    if lo < 0 or hi < 0:
+        raise SceneError("--speed-range", [lo, hi], "speeds must be >= 0 rpm (the reference body's speed; "
+                                                    "the sense of rotation does not change the diagram)")
+    if lo >= hi:
+        raise SceneError("--speed-range", [lo, hi], "the minimum must be below the maximum")
+    return lo, hi
+
+
+def chain_ratios(model, reference: str) -> dict:
+    """Speed ratios of the model's bodies to ``reference`` (SceneError naming ``SCENE`` when the
+    model has no single rigid-body mode, ``--reference`` when that body stands still in it)."""
+    try:
+        return speed_ratios(model, reference)
+    except MechanismError as exc:
+        if "stands still" in str(exc):
+            raise SceneError("--reference", reference, f"{exc}: pick a body that turns with the chain") from None
+        raise SceneError("SCENE", model.scene.name, f"no free chain to spin: {exc}") from None
+
+
+def line_crossings(speeds, f_line, slope: float) -> list[tuple[float, float]]:
+    """(speed, frequency) where the line ``f_line`` (Hz at ``speeds``, ascending rpm) meets the
+    order line f = ``slope`` n. A speed-independent line f_0 crosses at n = f_0 / slope
+    exactly (when in range); otherwise g = f_line - slope n is interpolated linearly between
+    neighbouring speeds where it changes sign (a zero at a sample counts once)."""
+    n = np.asarray(speeds, float)
+    f = np.asarray(f_line, float)
+    if slope <= 0:
+        return []
+    if np.all(f == f[0]):
+        x = f[0] / slope
+        return [(x, f[0])] if n[0] <= x <= n[-1] else []
+    g = f - slope * n
+    out = []
+    for k in range(len(n)):
+        if g[k] == 0:
+            out.append((n[k], f[k]))
+        elif k + 1 < len(n) and g[k] * g[k + 1] < 0:
+            x = n[k] - g[k] * (n[k + 1] - n[k]) / (g[k + 1] - g[k])
+            out.append((x, slope * x))
+    return out
+
+
+def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
+    """Whether ``order`` can excite ``mode`` (a :class:`assembly.classify.ModeInfo`) and why."""
+    if order.kind != "mesh" or order.n_planets is None:
+        return True, "every class" if order.kind == "mesh" else "rotor order"
+    cls = excited_class(order.harmonic, order.sun_teeth, order.n_planets)
+    rule = (f"Parker: h Z_s / N = {order.harmonic} x {order.sun_teeth} / {order.n_planets} -> {cls} only")
+    if not order.equally_spaced:
+        rule += " (planets not equally spaced: the rule does not hold)"
+        return None, rule
+    if mode.scope not in (order.stage, "global"):
+        return None, rule + f"; mode local to {mode.scope}"
+    if mode.mode_class not in RULE_CLASSES:
+        return None, rule + f"; rule silent on {mode.mode_class} modes"
+    return mode.mode_class == cls, rule
+
+
+def campbell(scene, speed_range, reference: str | None = None, points: int = 41, gyroscopic: bool = False,
+             harmonics: int = 3, model=None) -> Campbell:
+    """The Campbell diagram of ``scene`` over ``speed_range`` (rpm of the reference body).
+    ``points``: speeds sampled (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1);
+    ``model``: the assembled scene (assembled here when None)."""
+    lo, hi = check_speed_range(speed_range)
+    for flag, v, low in (("--points", points, 2), ("--harmonics", harmonics, 1)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
+            raise SceneError(flag, v, f"must be an integer >= {low}")
+    ref = reference_body(scene, reference)
+    model = assemble(scene) if model is None else model
+    ratios = chain_ratios(model, ref)
+    res = solve_modes(model)
+    info = classify_modes(res)[res.n_rigid:]
+    speeds = np.linspace(lo, hi, int(points))
+    notes = []
+    if gyroscopic:
+        F = np.array([whirl_frequencies(model.K, model.M, gyroscopic_matrix(
+            model, {b: r * n * RPM for b, r in ratios.items()}), res.n_rigid) for n in speeds])
+        notes.append("gyroscopic: each body's own spin (rigid-equivalent for flexible bodies: no gyroscopic or "
+                     "spin-softening terms of their elastic motion); carrier-frame Coriolis terms neglected")
+    else:
+        F = np.tile(res.frequencies_hz[res.n_rigid:], (len(speeds), 1))
+        notes.append("no gyroscopic coupling: natural frequencies do not depend on speed (solved once)")
+    orders, skipped = mesh_orders(scene, ratios, int(harmonics))
+    orders += rotor_orders(ref)
+    notes += skipped
+    notes += [f"{o.stage}: planets not equally spaced, Parker's phasing rule does not hold"
+              for o in orders if o.equally_spaced is False and o.harmonic == 1]
+    rows = []
+    for o in orders:
+        for j, mi in enumerate(info):
+            for n, f in line_crossings(speeds, F[:, j], o.hz_per_rpm):
+                ok, why = phasing_verdict(o, mi)
+                energy = tuple(sorted(mi.energy, key=lambda e: -(e[1] + e[2]))[:3])
+                rows.append(Crossing(o.name, o.harmonic, float(n), float(f), mi.index + 1, mi.mode_class,
+                                     mi.scope, energy, ok, why))
+    rows.sort(key=lambda c: (c.speed_rpm, c.frequency_hz))
+    log.info("campbell %s: %d orders, %d lines, %d crossings", scene.name, len(orders), F.shape[1], len(rows))
+    return Campbell(scene.name, ref, speeds, F, tuple(info), tuple(orders), tuple(rows), ratios, gyroscopic,
+                    tuple(notes))

@@ -1,0 +1,195 @@
+"""Inputs and outputs of a frequency response, parsed once into rows on the independent
+coordinates ``q`` of an assembled model (``z = T q``).
+
+Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
+:func:`assembly.loads.load_vector` does, ``P`` the body's motion at the load point):
+
+* ``torque:BODY[:INTERFACE]``: a couple of 1 N m about the body's own axis;
+* ``force:BODY[:INTERFACE]:x|y|z``: 1 N along a global axis;
+* ``moment:BODY[:INTERFACE]:x|y|z``: 1 N m about a global axis.
+
+The load point is the interface master when one is named, else the body's axis point (a
+flexible body: its position), :func:`assembly.loads.load_point`.
+
+Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
+
+* ``motion:BODY[:INTERFACE]:x|y|z|rx|ry|rz|spin``: the motion (m, rad; global axes; ``spin``
+  about the body's own axis) at the same point an input of that body would act on -- the
+  work-conjugate of that input, so ``H`` between such pairs is reciprocal;
+* ``torque:SHAFT``: the section torque of a shaft element, ``(k + i omega c) e`` of its
+  strain rows, taken about body1's axis (positive when body1 is twisted ahead of body2, as
+  the static report, :mod:`assembly.reactions`); a beam shaft of several elements: its
+  first element (at body1), or name an element ``SHAFT:A-B``;
+* ``force:MESH``: the mesh force along the line of action, ``(k + i omega c) delta``
+  (positive: the ``drive_sign`` flank in compression);
+* ``force:BEARING[:x|y|z|rx|ry|rz]``: the force (N) or moment (N m) the bearing exerts on
+  its body, in the bearing's axes, ``-(k + i omega c) e`` of that direction; without a
+  direction, every direction that has a spring or damper. A rigid direction is a constraint,
+  whose reaction no spring carries: asking for it is an error.
+
+Internal loads come from the element springs and dampers, never from accelerations. Unknown
+names raise :class:`assembly.errors.SceneError` naming the argument and listing what exists.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from ..errors import SceneError
+from ..loads import load_point
+from ..scene import DOF_NAMES
+
+AXES = ("x", "y", "z")
+MOTIONS = DOF_NAMES + ("spin",)
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One input or output: ``name``, ``unit`` (SI) and its rows on q -- an input's load
+    vector ``k_row`` (per unit load), an output's ``(k_row + i omega c_row) q`` (``c_row``
+    None: no frequency-dependent part)."""
+
+    name: str
+    unit: str
+    k_row: np.ndarray
+    c_row: Optional[np.ndarray] = None
+
+
+def _body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[str]]:
+    """(body, interface) of ``BODY`` or ``BODY:INTERFACE``."""
+    if where in model.bodies:
+        if model.bodies[where].flexible:
+            raise SceneError(arg, name, f"{where!r} is flexible: name one of its interfaces "
+                                        f"{_interfaces(model, where)} as {where}:INTERFACE")
+        return where, None
+    body, _, iface = where.rpartition(":")
+    if body in model.bodies:
+        have = _interfaces(model, body)
+        if iface in have:
+            return body, iface
+        raise SceneError(arg, name, f"body {body!r} has no interface {iface!r}; it has {have}")
+    raise SceneError(arg, name, f"no body {where!r}; bodies: {sorted(model.bodies)}")
+
+
+def _interfaces(model, body: str) -> list:
+    bm = model.bodies[body]
+    if bm.flexible:
+        return sorted(bm.masters)
+    from ..components import global_masters
+    b = next(b for b in model.scene.bodies if b.name == body)
+    return sorted(global_masters(b)) if b.component is not None else []
+
+
+def _point_vector(model, body: str, iface: Optional[str], wrench: np.ndarray) -> np.ndarray:
+    """``T' P' w``: the virtual work of the wrench ``w`` (global, at the load point) on q."""
+    bm = model.bodies[body]
+    P = bm.motion_at(load_point(model, body, iface), iface)
+    F = np.zeros(model.n_abs)
+    F[model.body_slice(body)] = np.asarray(P.T @ wrench).ravel()
+    return np.asarray(model.T.T @ F).ravel()
+
+
+def _unit_wrench(model, body: str, what: str) -> np.ndarray:
+    """Unit wrench (global axes) of a direction ``x..rz`` or ``spin`` (about the axis)."""
+    w = np.zeros(6)
+    if what == "spin":
+        w[3:] = model.bodies[body].axes[:, 2]
+    else:
+        w[DOF_NAMES.index(what)] = 1.0
+    return w
+
+
+def input_channel(model, name: str, arg: str = "--input") -> Channel:
+    """The unit load vector on q of input ``name`` (module notes)."""
+    kind, _, rest = name.partition(":")
+    if kind == "torque" and rest:
+        body, iface = _body_point(model, rest, arg, name)
+        return Channel(name, "N m", _point_vector(model, body, iface, _unit_wrench(model, body, "spin")))
+    if kind in ("force", "moment") and rest:
+        where, _, axis = rest.rpartition(":")
+        if axis not in AXES or not where:
+            raise SceneError(arg, name, f"{kind} input: {kind}:BODY[:INTERFACE]:x|y|z (global axes)")
+        body, iface = _body_point(model, where, arg, name)
+        what = axis if kind == "force" else "r" + axis
+        return Channel(name, "N" if kind == "force" else "N m", _point_vector(model, body, iface,
+                                                                               _unit_wrench(model, body, what)))
+    raise SceneError(arg, name, "inputs are torque:BODY[:INTERFACE], force:BODY[:INTERFACE]:x|y|z, "
+                                f"moment:BODY[:INTERFACE]:x|y|z; bodies: {sorted(model.bodies)}")
+
+
+def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
+    """The output rows of ``name`` (one channel; a bearing without a direction: one per
+    direction, named ``force:BEARING:d``)."""
+    kind, _, rest = name.partition(":")
+    if kind == "motion" and rest:
+        where, _, what = rest.rpartition(":")
+        if what not in MOTIONS or not where:
+            raise SceneError(arg, name, f"motion output: motion:BODY[:INTERFACE]:{'|'.join(MOTIONS)}")
+        body, iface = _body_point(model, where, arg, name)
+        unit = "m" if what in AXES else "rad"
+        return [Channel(name, unit, _point_vector(model, body, iface, _unit_wrench(model, body, what)))]
+    elements = {el.name: el for el in model.elements}
+    if kind == "torque" and rest:
+        el = elements.get(rest) or next((e for e in model.elements if e.kind == "shaft"
+                                          and e.name.startswith(rest + ":")), None)
+        if el is None or el.kind != "shaft":
+            raise SceneError(arg, name, f"no shaft {rest!r}; shafts: {_names(model, 'shaft')}")
+        a1 = model.bodies[el.bodies[0]].axes[:, 2]
+        return [_element_channel(model, el, el.B[:, 3:6] @ a1, name, "N m")]
+    if kind == "force" and rest:
+        el = elements.get(rest)
+        if el is not None and el.kind == "mesh":
+            return [_element_channel(model, el, np.ones(1), name, "N")]
+        return _bearing_channels(model, rest, elements, arg, name)
+    raise SceneError(arg, name, "outputs are motion:BODY[:INTERFACE]:DOF, torque:SHAFT, force:MESH, "
+                                "force:BEARING[:x|y|z|rx|ry|rz]")
+
+
+def _names(model, kind: str) -> list:
+    return [el.name for el in model.elements if el.kind == kind]
+
+
+def _bearing_channels(model, rest: str, elements: dict, arg: str, name: str) -> list[Channel]:
+    el, direction = elements.get(rest), None
+    if el is None:
+        head, _, direction = rest.rpartition(":")
+        el = elements.get(head)
+    if el is None or el.kind != "bearing":
+        raise SceneError(arg, name, f"no mesh or bearing {rest!r}; meshes: {_names(model, 'mesh')}; "
+                                    f"bearings: {_names(model, 'bearing')}")
+    dirs = bearing_directions(model, el)
+    if not dirs:
+        raise SceneError(arg, name, f"bearing {el.name!r} has no spring or damper (every direction rigid or "
+                                    "free): no spring carries its load")
+    if direction is not None and direction not in DOF_NAMES:
+        raise SceneError(arg, name, f"bearing direction must be one of {list(DOF_NAMES)}")
+    if direction is not None and direction not in dirs:
+        raise SceneError(arg, name, f"bearing {el.name!r} has no spring or damper in {direction} (a rigid "
+                                    f"direction is a constraint; no spring carries its reaction); it has {dirs}")
+    want = dirs if direction is None else [direction]
+    out = []
+    for d in want:
+        weights = -(np.array(dirs) == d).astype(float)
+        label = name if direction is not None else f"{name}:{d}"
+        out.append(_element_channel(model, el, weights, label, "N m" if d.startswith("r") else "N"))
+    return out
+
+
+def bearing_directions(model, el) -> list:
+    """Directions (local names) of the rows of a bearing element: those with a spring or a
+    damper, as :func:`assembly.elements.relative_spring` keeps them."""
+    br = model.scene.bearings[el.item[1]]
+    k = br.diagonal()
+    keep = ((k > 0) & ~np.isinf(k)) | (br.damping_diagonal() > 0)
+    return [d for d, on in zip(DOF_NAMES, keep) if on]
+
+
+def _element_channel(model, el, weights: np.ndarray, name: str, unit: str) -> Channel:
+    """``sum_j weights_j (k_j + i omega c_j) e_j`` with ``e = B A T q`` the element's
+    strains (``A`` its attachment operator)."""
+    E = el.B @ (model.attachment_operator(el) @ model.T).toarray()
+    k_row = (weights * el.k) @ E
+    c_row = None if el.c is None else (weights * el.c) @ E
+    return Channel(name, unit, k_row, c_row)

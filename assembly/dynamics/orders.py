@@ -1,0 +1,100 @@
+"""Excitation orders of a drivetrain: gear-mesh frequencies and rotor orders against speed.
+
+Every order is a straight line through the origin, f = ``hz_per_rpm`` x n, with n the speed
+of the reference body (rpm) and f in Hz. Body speeds come from the kinematic chain (the
+model's rigid-body mode, :func:`assembly.drivetrain.speed_ratios`: n_i = ratio_i n).
+
+* A gear mesh of gear teeth z_1 and z_2 whose gears ride in the frame F (the housing, or a
+  planet carrier) engages teeth at f = z_1 |n_1 - n_F| / 60 = z_2 |n_2 - n_F| / 60 (Hz,
+  speeds in rpm); harmonic h at h times that.
+* A planetary stage: one order per harmonic for all its meshes, f = z_sun |n_sun - n_c| / 60
+  (Willis: teeth times the speed relative to the carrier); with the ring fixed this is
+  z_ring |n_c| / 60, and the planet-ring meshes have the same frequency.
+* Rotor orders 1P, 3P, 6P: f = k n / 60 of the reference body (k = 1, 3, 6).
+
+A mesh without tooth counts (base radii only) has no mesh frequency: it is left out and
+named in the notes.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from ..gear_data import body_teeth
+from ..scene import HOUSING
+from .phasing import equally_spaced
+
+log = logging.getLogger(__name__)
+
+#: Rotor orders drawn by default (blade passing of a three-bladed rotor: 3P, 6P).
+ROTOR_ORDERS = (1, 3, 6)
+
+
+@dataclass(frozen=True)
+class Order:
+    """One excitation line f = ``hz_per_rpm`` x n (Hz, n in rpm of the reference body).
+
+    ``kind``: ``"mesh"`` or ``"rotor"``; ``source``: the mesh or stage name (mesh) or the
+    reference body (rotor); ``harmonic``: h of a mesh order, k of a rotor order kP.
+    ``teeth``: the tooth count the frequency counts; planetary stages also give
+    ``sun_teeth``, ``n_planets`` and ``equally_spaced`` (Parker's phasing rule)."""
+
+    name: str
+    kind: str
+    source: str
+    harmonic: int
+    hz_per_rpm: float
+    teeth: int | None = None
+    stage: str | None = None
+    sun_teeth: int | None = None
+    n_planets: int | None = None
+    equally_spaced: bool | None = None
+
+    def frequency_hz(self, rpm):
+        """Frequency (Hz) of the order at reference speed ``rpm``."""
+        return self.hz_per_rpm * rpm
+
+
+def _frame_ratio(ratios: dict, *bodies) -> float:
+    """Speed ratio of the frame the gears ride in (0: the housing)."""
+    frames = {b.frame for b in bodies if b.frame != HOUSING}
+    return ratios[frames.pop()] if frames else 0.0
+
+
+def mesh_orders(scene, ratios: dict, harmonics: int) -> tuple[list[Order], list[str]]:
+    """Mesh orders (harmonics 1..``harmonics``) of every planetary stage and every
+    ``[[meshes]]`` gear pair of ``scene`` with tooth counts, and notes on those without.
+    ``ratios``: body name -> speed over the reference body's (signed)."""
+    orders, notes = [], []
+    for st in scene.stages:
+        zs = st.sun.teeth
+        if zs is None:
+            notes.append(f"stage {st.name}: no sun teeth, no mesh order")
+            continue
+        rel = abs(ratios[f"{st.name}.sun"] - ratios[f"{st.name}.carrier"])
+        spaced = equally_spaced(st.planet_angles())
+        for h in range(1, harmonics + 1):
+            orders.append(Order(f"{st.name} mesh x{h}", "mesh", st.name, h, h * zs * rel / 60.0, zs, st.name,
+                                zs, st.planets.count, spaced))
+    index = {b.name: i for i, b in enumerate(scene.bodies)}
+    for i, m in enumerate(scene.meshes):
+        name = m.name or f"{m.gear1}-{m.gear2}"
+        g1, g2 = scene.body(m.gear1), scene.body(m.gear2)
+        teeth = [(g, t[1].n_teeth) for g in (g1, g2)
+                 if (t := body_teeth(g, f"bodies[{index.get(g.name, '?')}]")) is not None]
+        if not teeth:
+            notes.append(f"meshes[{i}] ({name}): no tooth counts, no mesh order")
+            continue
+        g, z = teeth[0]
+        rel = abs(ratios[g.name] - _frame_ratio(ratios, g1, g2))
+        stage = g1.stage if g1.stage == g2.stage else None
+        for h in range(1, harmonics + 1):
+            orders.append(Order(f"{name} mesh x{h}", "mesh", name, h, h * z * rel / 60.0, z, stage))
+    for o in orders:
+        log.info("order %s: %.6g Hz/rpm", o.name, o.hz_per_rpm)
+    return orders, notes
+
+
+def rotor_orders(reference: str, multiples=ROTOR_ORDERS) -> list[Order]:
+    """Rotor orders kP of the reference body: f = k n / 60 (Hz, n in rpm)."""
+    return [Order(f"{k}P", "rotor", reference, k, k / 60.0) for k in multiples]

@@ -1,0 +1,165 @@
+"""Beam shafts (``[[shafts]]`` with ``diameter``): where they run, their stations as
+bodies, and their chain of Timoshenko elements.
+
+A beam shaft runs from body1's attachment point ``p1`` (its position, or ``interface1``'s
+master node on a component body) to body2's ``p2``; length ``L = |p2 - p1|`` (m), axis
+``(p2 - p1) / L``, which must be parallel to body1's axis. Each station sits ``at`` metres
+from ``p1`` and becomes a rigid body ``<shaft name>.<station name>`` (the scene's default
+fidelity, never flexible) carrying the lumped half masses of its two elements
+(:func:`assembly.beam.node_mass`); the half masses at the end bodies stay with the first and
+last elements (``Element.mass``), since an end body may be a meshed component.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .attach import interface_point
+from .beam import node_mass, section, timoshenko_element
+from .components import global_masters
+from .errors import SceneError
+from .kinematics import unit
+from .scene import HOUSING, Body, Shaft
+
+#: Largest angle (rad) between a beam shaft's axis and body1's axis that counts as parallel.
+AXIS_TOLERANCE = 1e-6
+#: Shortest element of a beam shaft, relative to its length: stations closer than this to
+#: each other or to an end are refused (an element of zero length has no stiffness matrix).
+MIN_SPACING = 1e-9
+
+
+def station_body(s: Shaft, station) -> str:
+    """Name of the body a station becomes: ``<shaft name>.<station name>``."""
+    return f"{s.name}.{station.name}"
+
+
+def shafts_expanded(scene) -> bool:
+    """Whether every station of every beam shaft of ``scene`` is a body already."""
+    names = {b.name for b in scene.bodies}
+    return all(station_body(s, st) in names for s in scene.shafts for st in s.stations)
+
+
+def _ends(s: Shaft, i: int, by_name: dict, masters: dict):
+    """(body1, body2, p1, p2, interface1, interface2) of shaft ``i``."""
+    path = f"shafts[{i}]"
+    bodies = []
+    for key in ("body1", "body2"):
+        name = getattr(s, key)
+        if name not in by_name:
+            raise SceneError(f"{path}.{key}", name, "no body of that name")
+        bodies.append(by_name[name])
+    b1, b2 = bodies
+    p1, i1 = _end_point(s, 1, b1, masters, path)
+    p2, i2 = _end_point(s, 2, b2, masters, path)
+    return b1, b2, p1, p2, i1, i2
+
+
+def _end_point(s: Shaft, k: int, body, masters: dict, path: str):
+    """(global point, interface) where end ``k`` (1 or 2) of beam shaft ``s`` attaches: its
+    ``position<k>`` on a body without a component (a rigid arm to the body), else the body's
+    attachment point (:func:`assembly.attach.interface_point`)."""
+    given = getattr(s, f"position{k}")
+    if given is not None and body.component is not None:
+        raise SceneError(f"{path}.position{k}", list(given), f"body {body.name!r} is a component: "
+                                                            f"name its interface (interface{k}) instead")
+    p, iface = interface_point(body, getattr(s, f"interface{k}"), masters, f"{path}.interface{k}")
+    return (np.asarray(given, float) if given is not None else p), iface
+
+
+def shaft_line(s: Shaft, i: int, by_name: dict, masters: dict):
+    """(p1, p2, length in m, unit axis) of beam shaft ``i``; SceneError for a shaft of zero
+    length or not along body1's axis."""
+    b1, _, p1, p2, _, _ = _ends(s, i, by_name, masters)
+    d = p2 - p1
+    length = float(np.linalg.norm(d))
+    if length == 0.0:
+        raise SceneError(f"shafts[{i}].body2", s.body2, f"attaches at the same point as body1 {s.body1!r} "
+                                                        f"({p1.tolist()} m): a shaft of zero length")
+    e = d / length
+    a1 = unit(b1.axis)
+    angle = float(np.arcsin(min(1.0, np.linalg.norm(np.cross(a1, e)))))
+    if angle > AXIS_TOLERANCE:
+        raise SceneError(f"shafts[{i}].body2", s.body2,
+                         f"the shaft from {s.body1!r} at {p1.tolist()} m to {s.body2!r} at {p2.tolist()} m runs "
+                         f"{angle:.3g} rad off body1's axis {list(b1.axis)}; a beam shaft runs along it "
+                         f"(tolerance {AXIS_TOLERANCE:g} rad)")
+    return p1, p2, length, e
+
+
+def ordered_stations(s: Shaft, i: int, length: float) -> list:
+    """(index as written, station) sorted by ``at``; SceneError for a station not strictly
+    inside (0, ``length``) or two at the same place (closer than MIN_SPACING x length)."""
+    gap = MIN_SPACING * length
+    for j, st in enumerate(s.stations):
+        if not gap <= st.at <= length - gap:
+            raise SceneError(f"shafts[{i}].stations[{j}].at", st.at,
+                             f"must lie strictly inside the shaft, between 0 and its length L = {length:.9g} m "
+                             f"(the distance between its attachment points): a shaft shorter than its "
+                             f"bearing span?")
+    order = sorted(enumerate(s.stations), key=lambda js: js[1].at)
+    for (k, a), (j, b) in zip(order, order[1:]):
+        if b.at - a.at < gap:
+            raise SceneError(f"shafts[{i}].stations[{max(j, k)}].at", s.stations[max(j, k)].at,
+                             f"same place as stations[{min(j, k)}].at = {s.stations[min(j, k)].at!r} m")
+    return order
+
+
+def _masters_of(*bodies) -> dict:
+    return {b.name: global_masters(b) for b in bodies if b.component is not None}
+
+
+def expand_shafts(scene) -> tuple:
+    """The station bodies of every beam shaft of ``scene`` (stages expanded), in shaft
+    order and in each shaft by ``at``."""
+    by_name = {b.name: b for b in scene.bodies}
+    fidelity = scene.fidelity if scene.fidelity in ("rigid", "torsional") else "rigid"
+    out = []
+    for i, s in enumerate(scene.shafts):
+        if not s.stations:
+            continue
+        masters = _masters_of(*(by_name[n] for n in (s.body1, s.body2) if n in by_name))
+        p1, _, length, e = shaft_line(s, i, by_name, masters)
+        order = ordered_stations(s, i, length)
+        ats = [0.0] + [st.at for _, st in order] + [length]
+        sec = section(s.diameter, s.bore_diameter, s.material.nu)
+        rho = s.material.rho
+        for n, (_, st) in enumerate(order, start=1):
+            # its two halves: node_mass of an element as long as both together (local axes)
+            M = node_mass(ats[n + 1] - ats[n - 1], sec, rho, np.eye(3))
+            out.append(Body(name=station_body(s, st), mass=float(M[0, 0]), polar_inertia=float(M[5, 5]),
+                            transverse_inertia=float(M[3, 3]), position=tuple((p1 + st.at * e).tolist()),
+                            axis=tuple(e.tolist()), frame=HOUSING, fidelity=fidelity, stage=s.stage,
+                            role="station"))
+    return tuple(out)
+
+
+def beam_nodes(s: Shaft, i: int, by_name: dict, masters: dict) -> list:
+    """Nodes of beam shaft ``i`` in order along it: (body, global point in m, interface or
+    None, label) for body1's point, the stations by ``at``, body2's point. Consecutive
+    nodes bound one element, named ``<shaft>:<label a>-<label b>`` (:func:`beam_elements`)."""
+    _, _, p1, p2, i1, i2 = _ends(s, i, by_name, masters)
+    _, _, length, e = shaft_line(s, i, by_name, masters)
+    order = ordered_stations(s, i, length)
+    nodes = [(s.body1, p1, i1, s.body1)]
+    nodes += [(station_body(s, st), p1 + st.at * e, None, st.name) for _, st in order]
+    nodes += [(s.body2, p2, i2, s.body2)]
+    return nodes
+
+
+def beam_elements(s: Shaft, i: int, by_name: dict, masters: dict, name: str) -> list:
+    """Timoshenko elements of beam shaft ``i`` (``name``: the shaft's element name) between
+    consecutive nodes: body1's point, the stations by ``at``, body2's point. Item
+    ``("shafts", i)``; the end bodies' half masses on the first and last element; with
+    ``beta`` (s) > 0 each element's dampers are ``beta k`` on its strain rows
+    (``C_e = beta K_e``)."""
+    nodes = beam_nodes(s, i, by_name, masters)
+    sec = section(s.diameter, s.bore_diameter, s.material.nu)
+    last = len(nodes) - 2
+    out = []
+    for j, (a, b) in enumerate(zip(nodes, nodes[1:])):
+        label = name if len(nodes) == 2 else f"{name}:{a[3]}-{b[3]}"
+        el = timoshenko_element(label, a[0], b[0], a[1], b[1], sec, s.material,
+                                lumped=(j == 0, j == last), interfaces=(a[2], b[2]), item=("shafts", i))
+        out.append(dataclasses.replace(el, c=s.beta * el.k) if s.beta > 0 else el)
+    return out

@@ -1,0 +1,60 @@
+"""One planetary stage of a drivetrain as a scene of its own.
+
+Lin & Parker (1999), "Analytical characterization of the unique properties of planetary gear
+free vibration", J. Vib. Acoust. 121: the stage's sun, ring and carrier sit on bearings to the
+housing (the ring usually held against rotation), the planets on bearings to the carrier. In a
+whole drivetrain a member may instead float, or hang on shafts to the next stage; alone, such a
+member needs a bearing the caller gives (e.g. the shaft's stiffness with its far end held).
+The stage's classes (rotational, translational, planet) can then be checked inside a whole
+drivetrain by comparing with the stage alone.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from .errors import SceneError
+from .scene import SPLIT_STIFFNESSES, BearingSpec, Scene
+
+ROLES = ("sun", "ring", "carrier")
+
+
+def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, planar: bool = False) -> Scene:
+    """The planetary stage ``stage_name`` of ``scene`` as a scene on its own: its sun, ring,
+    carrier and planets with their bearings and meshes, nothing else of the scene (no other
+    bodies, shafts or load cases). Members supported by a bearing or fixed keep their support;
+    ``bearings`` ({"sun" | "ring" | "carrier": BearingSpec}, N/m and N m/rad) puts the named
+    members on the given bearing to the housing instead, and must hold one for every floating
+    member. ``planar``: every bearing of the stage (members' and planets') rigid axially and
+    in tilt (``inf``), Lin & Parker's planar model. SceneError naming the field otherwise."""
+    stages = scene.as_given("stages")
+    names = [st.name for st in stages]
+    if stage_name not in names:
+        raise SceneError("stages", stage_name, f"no planetary stage of that name; have {names}")
+    i = names.index(stage_name)
+    given = dict(bearings or {})
+    for role, b in given.items():
+        if role not in ROLES:
+            raise SceneError("bearings", role, f"a stage member is one of {list(ROLES)}")
+        if not isinstance(b, BearingSpec):
+            raise SceneError(f"bearings.{role}", b, "must be a BearingSpec (k_radial, k_axial, k_tilt, k_torsion)")
+    st = stages[i]
+    held = _planar if planar else (lambda b: b)
+    changes = {"planets": dataclasses.replace(st.planets, bearing=held(st.planets.bearing))}
+    for role in ROLES:
+        m = getattr(st, role)
+        if role in given:
+            m = dataclasses.replace(m, support="bearing", bearing=given[role])
+        elif m.support == "floating":
+            raise SceneError(f"stages[{i}].{role}.support", m.support,
+                             f"the stage alone has no shaft or other stage to hold its {role}: "
+                             f"give bearings={{'{role}': BearingSpec(...)}}")
+        changes[role] = dataclasses.replace(m, bearing=held(m.bearing)) if m.support == "bearing" else m
+    return Scene(name=f"stage {stage_name} alone", description=f"stage {stage_name} of {scene.name}", stages=(dataclasses.replace(st, **changes),),
+                 band_hz=scene.band_hz, fidelity=scene.fidelity)
+
+
+def _planar(b: BearingSpec) -> BearingSpec:
+    """``b`` rigid axially and in tilt (both tilt directions, given as one or per direction)."""
+    tilt = {f: math.inf for f in SPLIT_STIFFNESSES["k_tilt"]} if b.k_tilt is None else {"k_tilt": math.inf}
+    return dataclasses.replace(b, k_axial=math.inf, **tilt)
