@@ -114,6 +114,20 @@ class FlexibleBodyModel:
             self.info["_stress_projector"] = StressProjector(fe.basis)
         return self.info["_stress_projector"]
 
+    def stress_rows(self, point) -> tuple[np.ndarray, np.ndarray, float]:
+        """The projected stress (Pa; body axes, Voigt order xx, yy, zz, yz, xz, xy) at the FE
+        stress node nearest to ``point`` (global, m) as rows on the body DOFs ``zb``: ``(rows
+        (6, ndof), the node's global position (m), its distance from point (m))``. The same
+        stress as :meth:`stress` gives at that node (:meth:`cms.stress.StressProjector.node_functional`)."""
+        m = self.options.material
+        proj = self.stress_projector()
+        node, dist = proj.nearest_node(self.axes.T @ (np.asarray(point, float) - self.origin))
+        _, cm = self.coupled()
+        g = np.asarray((cm.T.T @ proj.node_functional(node, m.E, m.nu).T).T)   # rows on q_c
+        if self.reduced:
+            g = g @ self.superelement.reconstruct(np.eye(self.ndof))
+        return g, self.origin + self.axes @ proj.sbasis.doflocs[:, node], dist
+
     def nodes_global(self) -> np.ndarray:
         fe, _ = self.coupled()
         return self.origin + fe.nodes @ self.axes.T

@@ -132,6 +132,33 @@ class StressProjector:
                            points=self.sbasis.doflocs.T.copy())
 
 
+    def nearest_node(self, point) -> tuple[int, float]:
+        """(index, distance in m) of the stress node nearest to ``point`` (basis coordinates)."""
+        d = np.linalg.norm(self.sbasis.doflocs.T - np.asarray(point, float)[None, :], axis=1)
+        i = int(np.argmin(d))
+        return i, float(d[i])
+
+    def node_functional(self, node: int, E: float, nu: float) -> np.ndarray:
+        """(6, N) rows ``g`` with ``g @ u`` the projected stress at ``node`` (Pa; Voigt order
+        :data:`VOIGT`) of any displacement ``u`` (m) on the basis: the node's value of
+        ``M_s^-1 b(u)`` is ``z' b(u) = int sigma(u) z_h dx`` with ``z = M_s^-1 e_node`` (one
+        solve), so each component is one linear form ``int sigma_c(v) z_h dx`` in ``v``."""
+        lam, mu = lame(E, nu)
+        e = np.zeros(self.sbasis.N)
+        e[node] = 1.0
+        z = self.sbasis.interpolate(self._solver.solve(e[:, None])[:, 0])
+        rows = []
+        for i, j in VOIGT:
+            @LinearForm
+            def form(v, w, i=i, j=j):
+                G = v.grad
+                eps_ij = 0.5 * (G[i, j] + G[j, i])
+                tr = G[0, 0] + G[1, 1] + G[2, 2]
+                return (2 * mu * eps_ij + (lam * tr if i == j else 0.0)) * w["z"]
+            rows.append(asm(form, self.basis, z=z))
+        return np.array(rows)
+
+
 def recover_stress(basis, u: np.ndarray, E: float, nu: float,
                    backend: str | None = None) -> NodalStress:
     """L2-projected nodal stresses (Pa) of the displacement ``u`` (m; DOF vector of ``basis``).

@@ -245,9 +245,12 @@ def cmd_frf(args) -> int:
         f = frequencies(args.fmin, args.fmax, args.points, args.log)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    if args.modes_hz is not None and not args.modes_hz > 0:
+        raise UsageError(f"--modes-hz = {args.modes_hz}: must be a frequency > 0 Hz (inf: every mode)")
     path = scene_file(args)
     scene = load_scene(path)
-    r = frequency_response(assemble(scene), args.input, args.output, f)
+    r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
+                           modes_hz=args.modes_hz)
     if args.out is not None:
         frf_to_dir(r, args.out, scene.name, path, args.log)
     if args.json:
@@ -261,8 +264,9 @@ def cmd_frf(args) -> int:
 
 
 def _add_frf(sub) -> None:
-    p = sub.add_parser("frf", help="frequency response (damped, every mode): shaft torques, mesh and bearing "
-                                   "forces, motions per unit torque or force")
+    p = sub.add_parser("frf", help="frequency response (damped modes with a residual correction, or a direct "
+                                   "solve): shaft torques, mesh and bearing forces, motions, von Mises stress "
+                                   "per unit torque or force")
     p.add_argument("scene", help=SCENE_HELP)
     p.add_argument("--input", required=True, metavar="IN",
                    help="torque:BODY[:INTERFACE] (about its axis), force:BODY[:INTERFACE]:x|y|z or "
@@ -274,6 +278,12 @@ def _add_frf(sub) -> None:
     p.add_argument("--fmax", type=float, default=1000.0, help="highest frequency, Hz (default 1000)")
     p.add_argument("--points", type=int, default=2000, help="frequencies (default 2000)")
     p.add_argument("--log", action="store_true", help="logarithmic frequency spacing (and axis)")
+    p.add_argument("--method", choices=("modal", "direct"), default="modal",
+                   help="modal: damped-mode superposition (default); direct: one dense solve per frequency "
+                        "(the reference)")
+    p.add_argument("--modes-hz", type=float, default=None, metavar="HZ",
+                   help="modal cutoff, Hz: modes above it enter by their residual flexibility "
+                        "(default 30 x --fmax; inf: every mode)")
     p.add_argument("--out", default=None, metavar="DIR", help=OUT_HELP + " (frf.csv, frf.json, bode_NN.png, "
                                                                          "index.html)")
     p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
@@ -376,8 +386,17 @@ def _add_sweep(sub) -> None:
     p.set_defaults(func=cmd_sweep, check=lambda a: a.max_modes is None or _at_least(a.max_modes, "--max-modes", 1))
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors (unknown choice, missing argument) in one line, exit 2, like
+    every other user error of the command line (no usage block: ``--help`` has it)."""
+
+    def error(self, message):
+        self.exit(2, f"flexgear: error: {self.prog.removeprefix('flexgear').strip() or 'flexgear'}: {message} "
+                     f"(see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
+    p = _Parser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
     p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug)")
     p.add_argument("--cache-dir", metavar="DIR", default=None,
                    help="folder of generated meshes and reductions (flexible bodies; default $FLEXGEAR_CACHE_DIR, "
@@ -417,7 +436,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:                  # --help (0) or a usage error (2), already printed
+        return int(exc.code or 0)
     level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     from .output import signal_handler

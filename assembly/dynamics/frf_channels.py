@@ -25,7 +25,13 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 * ``force:BEARING[:x|y|z|rx|ry|rz]``: the force (N) or moment (N m) the bearing exerts on
   its body, in the bearing's axes, ``-(k + i omega c) e`` of that direction; without a
   direction, every direction that has a spring or damper. A rigid direction is a constraint,
-  whose reaction no spring carries: asking for it is an error.
+  whose reaction no spring carries: asking for it is an error;
+* ``stress:BODY:X,Y,Z``: von Mises stress (Pa) of a flexible body at the FE stress node
+  nearest to the global point (X, Y, Z) in m (refused farther than :data:`STRESS_SNAP` of the
+  body's size from every node): the six stress components, each linear in q by
+  back-expansion (:meth:`assembly.flexible.FlexibleBodyModel.stress_rows`), are combined
+  after the solve into the peak von Mises stress over one cycle
+  (:func:`von_mises_peak`); a real amplitude, its phase reported as 0.
 
 Internal loads come from the element springs and dampers, never from accelerations. Unknown
 names raise :class:`assembly.errors.SceneError` naming the argument and listing what exists.
@@ -43,6 +49,10 @@ from ..scene import DOF_NAMES
 
 AXES = ("x", "y", "z")
 MOTIONS = DOF_NAMES + ("spin",)
+VOIGT_NAMES = ("xx", "yy", "zz", "yz", "xz", "xy")
+#: A stress point farther than this fraction of the body's bounding-box diagonal from every
+#: FE stress node is refused (it lies off the body).
+STRESS_SNAP = 0.02
 
 
 @dataclass(frozen=True)
@@ -55,6 +65,7 @@ class Channel:
     unit: str
     k_row: np.ndarray
     c_row: Optional[np.ndarray] = None
+    group: Optional[str] = None     # a stress component: the von Mises output it feeds
 
 
 def _body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[str]]:
@@ -130,6 +141,8 @@ def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
         body, iface = _body_point(model, where, arg, name)
         unit = "m" if what in AXES else "rad"
         return [Channel(name, unit, _point_vector(model, body, iface, _unit_wrench(model, body, what)))]
+    if kind == "stress" and rest:
+        return _stress_channels(model, rest, arg, name)
     elements = {el.name: el for el in model.elements}
     if kind == "torque" and rest:
         el = elements.get(rest) or next((e for e in model.elements if e.kind == "shaft"
@@ -144,7 +157,47 @@ def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
             return [_element_channel(model, el, np.ones(1), name, "N")]
         return _bearing_channels(model, rest, elements, arg, name)
     raise SceneError(arg, name, "outputs are motion:BODY[:INTERFACE]:DOF, torque:SHAFT, force:MESH, "
-                                "force:BEARING[:x|y|z|rx|ry|rz]")
+                                "force:BEARING[:x|y|z|rx|ry|rz], stress:BODY:X,Y,Z")
+
+
+def _stress_channels(model, rest: str, arg: str, name: str) -> list[Channel]:
+    """Six stress-component rows (Pa, body axes) of ``stress:BODY:X,Y,Z``, grouped under ``name``."""
+    body, _, xyz = rest.rpartition(":")
+    try:
+        point = np.array([float(v) for v in xyz.split(",")])
+    except ValueError:
+        point = np.zeros(0)
+    if point.shape != (3,) or not np.all(np.isfinite(point)):
+        raise SceneError(arg, name, "stress output: stress:BODY:X,Y,Z (a global point in m, e.g. "
+                                    "stress:stage1.carrier:0.1,0.45,0.2)")
+    flexible = sorted(b for b, bm in model.bodies.items() if bm.flexible)
+    if body not in model.bodies or not model.bodies[body].flexible:
+        raise SceneError(arg, name, f"{body!r} is not a flexible body (stress needs its FE mesh); "
+                                    f"flexible bodies: {flexible}")
+    bm = model.bodies[body]
+    rows, node, dist = bm.stress_rows(point)
+    nodes = bm.nodes_global()
+    size = float(np.linalg.norm(nodes.max(axis=0) - nodes.min(axis=0)))
+    if dist > STRESS_SNAP * size:
+        raise SceneError(arg, name, f"the point lies {dist:.4g} m from the nearest FE node of {body!r} "
+                                    f"({', '.join(f'{v:.4g}' for v in node)}): off the body")
+    T = model.T[model.body_slice(body), :].toarray()
+    return [Channel(f"{name}:s_{c}", "Pa", r @ T, None, group=name) for c, r in zip(VOIGT_NAMES, rows)]
+
+
+def von_mises_peak(S: np.ndarray) -> np.ndarray:
+    """Largest von Mises stress over one cycle of the harmonic stress ``Re(S e^{i w t})``
+    (``S`` (..., 6) complex, Voigt order xx, yy, zz, yz, xz, xy): with ``a, b`` the real and
+    imaginary parts and ``Q`` the von Mises quadratic form, ``Q(t) = Q(a) cos^2 + Q(b) sin^2
+    - 2 Q(a, b) sin cos`` peaks at ``(A + B)/2 + sqrt(((A - B)/2)^2 + Q(a, b)^2)``."""
+    def q(x, y):
+        n = (x[..., 0] * y[..., 0] + x[..., 1] * y[..., 1] + x[..., 2] * y[..., 2]
+             - 0.5 * (x[..., 0] * y[..., 1] + x[..., 1] * y[..., 0] + x[..., 1] * y[..., 2]
+                      + x[..., 2] * y[..., 1] + x[..., 2] * y[..., 0] + x[..., 0] * y[..., 2]))
+        return n + 3.0 * (x[..., 3] * y[..., 3] + x[..., 4] * y[..., 4] + x[..., 5] * y[..., 5])
+    a, b = S.real, S.imag
+    A, B, Cab = q(a, a), q(b, b), q(a, b)
+    return np.sqrt(np.maximum(0.5 * (A + B) + np.sqrt(0.25 * (A - B) ** 2 + Cab ** 2), 0.0))
 
 
 def _names(model, kind: str) -> list:

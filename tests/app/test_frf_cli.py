@@ -104,6 +104,10 @@ def test_out_writes_csv_json_plots_index(scene, tmp_path, capsys):
     (["--input", "torque:a", "--output", "torque:s", "--points", "1"], "--points"),
     (["--input", "torque:a", "--output", "torque:s", "--fmin", "0", "--log"], "--fmin"),
     (["--input", "torque:a", "--output", "torque:s", "--fmin", "0"], "frequency_hz"),
+    (["--input", "torque:a", "--output", "torque:s", "--modes-hz", "0"], "--modes-hz"),
+    (["--input", "torque:a", "--output", "torque:s", "--modes-hz", "-5"], "--modes-hz"),
+    (["--input", "torque:a", "--output", "stress:a:0,0,0"], "--output"),
+    (["--input", "torque:a", "--output", "torque:s", "--method", "exact"], "--method"),
 ])
 def test_bad_input_is_one_line_exit_2(scene, tmp_path, capsys, args, named):
     out = tmp_path / "never"
