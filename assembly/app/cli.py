@@ -269,10 +269,12 @@ def _add_frf(sub) -> None:
                                    "per unit torque or force")
     p.add_argument("scene", help=SCENE_HELP)
     p.add_argument("--input", required=True, metavar="IN",
-                   help="torque:BODY[:INTERFACE] (about its axis), force:BODY[:INTERFACE]:x|y|z or "
-                        "moment:BODY[:INTERFACE]:x|y|z (global axes)")
+                   help="torque:BODY[:INTERFACE] (about its axis), force:BODY[:INTERFACE]:x|y|z, "
+                        "moment:BODY[:INTERFACE]:x|y|z (global axes) or mesh:MESH (a transmission-error force "
+                        "pair along the line of action)")
     p.add_argument("--output", required=True, action="append", metavar="OUT",
-                   help="torque:SHAFT, force:MESH, force:BEARING[:x..rz], motion:BODY[:INTERFACE]:x..rz|spin "
+                   help="torque:SHAFT, force:MESH, force:BEARING[:x..rz], motion:BODY[:INTERFACE]:x..rz|spin, "
+                        "stress:BODY:X,Y,Z (von Mises at a point of a flexible body, m) "
                         "(repeat for more)")
     p.add_argument("--fmin", type=float, default=0.1, help="lowest frequency, Hz (default 0.1)")
     p.add_argument("--fmax", type=float, default=1000.0, help="highest frequency, Hz (default 1000)")

@@ -6,7 +6,10 @@ Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
 
 * ``torque:BODY[:INTERFACE]``: a couple of 1 N m about the body's own axis;
 * ``force:BODY[:INTERFACE]:x|y|z``: 1 N along a global axis;
-* ``moment:BODY[:INTERFACE]:x|y|z``: 1 N m about a global axis.
+* ``moment:BODY[:INTERFACE]:x|y|z``: 1 N m about a global axis;
+* ``mesh:MESH``: a pair of opposite 1 N forces along the line of action on the two gears
+  (its load vector is the mesh deflection row: the forcing ``k e`` of a transmission error
+  ``e``, positive as the mesh force of ``force:MESH``).
 
 The load point is the interface master when one is named, else the body's axis point (a
 flexible body: its position), :func:`assembly.loads.load_point`.
@@ -126,8 +129,13 @@ def input_channel(model, name: str, arg: str = "--input") -> Channel:
         what = axis if kind == "force" else "r" + axis
         return Channel(name, "N" if kind == "force" else "N m", _point_vector(model, body, iface,
                                                                                _unit_wrench(model, body, what)))
+    if kind == "mesh" and rest:
+        el = next((e for e in model.elements if e.kind == "mesh" and e.name == rest), None)
+        if el is None:
+            raise SceneError(arg, name, f"no mesh {rest!r}; meshes: {_names(model, 'mesh')}")
+        return Channel(name, "N", _strain_rows(model, el)[0])
     raise SceneError(arg, name, "inputs are torque:BODY[:INTERFACE], force:BODY[:INTERFACE]:x|y|z, "
-                                f"moment:BODY[:INTERFACE]:x|y|z; bodies: {sorted(model.bodies)}")
+                                f"moment:BODY[:INTERFACE]:x|y|z, mesh:MESH; bodies: {sorted(model.bodies)}")
 
 
 def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
@@ -242,7 +250,13 @@ def bearing_directions(model, el) -> list:
 def _element_channel(model, el, weights: np.ndarray, name: str, unit: str) -> Channel:
     """``sum_j weights_j (k_j + i omega c_j) e_j`` with ``e = B A T q`` the element's
     strains (``A`` its attachment operator)."""
-    E = el.B @ (model.attachment_operator(el) @ model.T).toarray()
+    E = _strain_rows(model, el)
     k_row = (weights * el.k) @ E
     c_row = None if el.c is None else (weights * el.c) @ E
     return Channel(name, unit, k_row, c_row)
+
+
+def _strain_rows(model, el) -> np.ndarray:
+    """The element's strains on q, ``B A T`` (one row per spring direction; a mesh: its
+    deflection along the line of action)."""
+    return el.B @ (model.attachment_operator(el) @ model.T).toarray()

@@ -107,6 +107,7 @@ def test_out_writes_csv_json_plots_index(scene, tmp_path, capsys):
     (["--input", "torque:a", "--output", "torque:s", "--modes-hz", "0"], "--modes-hz"),
     (["--input", "torque:a", "--output", "torque:s", "--modes-hz", "-5"], "--modes-hz"),
     (["--input", "torque:a", "--output", "stress:a:0,0,0"], "--output"),
+    (["--input", "mesh:nomesh", "--output", "torque:s"], "--input"),
     (["--input", "torque:a", "--output", "torque:s", "--method", "exact"], "--method"),
 ])
 def test_bad_input_is_one_line_exit_2(scene, tmp_path, capsys, args, named):
