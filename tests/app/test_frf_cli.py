@@ -116,3 +116,21 @@ def test_bad_input_is_one_line_exit_2(scene, tmp_path, capsys, args, named):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("flexgear: error:") and named in err[0]
     assert not out.exists()
+
+
+def test_documented_command_runs(tmp_path, capsys):
+    # the first command of docs/frf.md (rigid 5 MW scene), as written, into a temporary folder
+    import re
+    import shlex
+    from pathlib import Path
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "frf.md").read_text(encoding="utf-8")
+    block = re.search(r"```sh\n(.*?)```", doc, re.DOTALL).group(1)
+    first = block.replace("\\\n", " ").splitlines()[0]
+    argv = shlex.split(first)[1:]                                     # drop .venv/bin/flexgear
+    assert argv[:2] == ["frf", "nrel5mw"]
+    argv[argv.index("--out") + 1] = str(tmp_path / "frf")
+    assert main(argv) == 0
+    data = json.loads((tmp_path / "frf" / "frf.json").read_text())
+    assert set(data["outputs"]) == {"torque:ls_shaft", "force:stage1.sun-planet0"}
+    assert len(data["frequency_hz"]) == 4000 and data["units"]["torque:ls_shaft"] == "N m/(N m)"
