@@ -286,11 +286,15 @@ def _add_frf(sub) -> None:
     p.add_argument("--modes-hz", type=float, default=None, metavar="HZ",
                    help="modal cutoff, Hz: modes above it enter by their residual flexibility "
                         "(default 30 x --fmax; inf: every mode)")
-    p.add_argument("--out", default=None, metavar="DIR", help=OUT_HELP + " (frf.csv, frf.json, bode_NN.png, "
-                                                                         "index.html)")
+    _add_out_json(p, "frf.csv, frf.json, bode_NN.png, index.html")
+    p.set_defaults(func=cmd_frf)
+
+
+def _add_out_json(p, files: str) -> None:
+    """``--out DIR`` (writing ``files``), ``--json`` and ``--quiet`` of an analysis command."""
+    p.add_argument("--out", default=None, metavar="DIR", help=f"{OUT_HELP} ({files})")
     p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     p.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
-    p.set_defaults(func=cmd_frf)
 
 
 def _add_campbell(sub) -> None:
@@ -306,10 +310,7 @@ def _add_campbell(sub) -> None:
                    help="add each spinning body's gyroscopic coupling (frequencies then depend on speed)")
     p.add_argument("--harmonics", type=int, default=3, metavar="H", help="mesh harmonics 1..H (default 3)")
     p.add_argument("--rated-rpm", type=float, default=None, metavar="RPM", help="mark the rated speed")
-    p.add_argument("--out", default=None, metavar="DIR", help=OUT_HELP + " (campbell.png, crossings.csv, "
-                                                                         "campbell.json)")
-    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
-    p.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    _add_out_json(p, "campbell.png, crossings.csv, campbell.json")
     p.set_defaults(func=cmd_campbell)
 
 

@@ -42,6 +42,7 @@ part ``alpha (M - M Phi_r Phi_r' M) + beta K`` and the modal ratios
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -138,11 +139,13 @@ def low_accurate(result):
     FRF at that lightly damped resonance is off by ~1e-6 / zeta. The inverted pencil resolves
     them to ~eps x (lambda + sigma) / sigma: the low modes, which an FRF needs exactly, to a
     few eps; a mode at f to eps (f / f_1)^2 (4e-8 at 2.4e4 Hz beside 1.8 Hz). Rigid-body
-    modes keep their count (the structural one of ``result``) and eigenvalue 0."""
-    import dataclasses
+    modes keep their count (the structural one of ``result``) and eigenvalue 0. Solved once
+    per result (kept in ``result.info``), as a study calls the FRF many times on one model."""
     model, r = result.model, result.n_rigid
     if len(result.eigenvalues) <= r or result.shapes.shape[1] < model.K.shape[0]:
         return result
+    if result.info.get("_frf_modes") is not None:
+        return result.info["_frf_modes"]
     u = 1.0 / np.sqrt(model.M.diagonal())
     K = u[:, None] * model.K.toarray() * u
     M = u[:, None] * model.M.toarray() * u
@@ -155,8 +158,10 @@ def low_accurate(result):
     lam[:r] = 0.0
     Phi = u[:, None] * (V / np.sqrt(mu)[None, :])                     # mass-normalised on q
     f = np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi)
-    return dataclasses.replace(result, eigenvalues=lam, frequencies_hz=f, shapes=Phi,
-                               abs_shapes=np.asarray(model.T @ Phi))
+    refined = dataclasses.replace(result, eigenvalues=lam, frequencies_hz=f, shapes=Phi,
+                                  abs_shapes=np.asarray(model.T @ Phi), info=dict(result.info))
+    result.info["_frf_modes"] = refined
+    return refined
 
 
 def _needs_modes(model) -> bool:
@@ -204,7 +209,7 @@ def _modal(result, src: Channel, outs: list, omega: np.ndarray, modes_hz: float 
     _zero_check(omega, r)
     n = max(result.n_rigid, int(np.searchsorted(result.frequencies_hz, modes_hz, side="right")))
     if not residual:
-        Phi, lam, C, p, Ok, Oc = Phi[:, :n], lam[:n], C[:n, :n], p[:n], Ok[:, :n], Oc[:, :n]
+        lam, C, p, Ok, Oc = lam[:n], C[:n, :n], p[:n], Ok[:, :n], Oc[:, :n]
     k, t = slice(0, n), slice(n, None)
     Lt = 1.0 / lam[t]
     # inputs p_a and outputs O_b on y_k, each multiplying (i w)^a, (i w)^b
