@@ -83,7 +83,7 @@ def damped_modes(result) -> DampedModes:
     scale = np.abs(C).max(initial=0.0)
     r = result.n_rigid
     free = r if r and np.abs(C[:r]).max() <= RIGID_RTOL * scale else 0
-    s_all, Y = _state_roots(lam[free:], C[free:, free:])
+    s_all, Y = state_form(np.diag(lam[free:]), C[free:, free:])
     s = np.zeros(m, complex)
     mac = np.ones(m)
     s[free:keep], mac[free:keep] = _pair(s_all, Y)
@@ -95,13 +95,18 @@ def damped_modes(result) -> DampedModes:
     return _modes(s, mac, method)
 
 
-def _state_roots(lam: np.ndarray, C: np.ndarray):
-    """Eigenvalues and the position parts of the eigenvectors of the state matrix of
-    ``(diag(lam) + s C + s^2 I) y = 0``."""
-    k = len(lam)
-    A = np.block([[np.zeros((k, k)), np.eye(k)], [-np.diag(lam), -C]])
-    w, V = sla.eig(A)
-    return w, V[:k]
+def state_form(K: np.ndarray, C: np.ndarray):
+    """Eigenvalues ``s`` (2m,) and coordinates ``Y`` (m x 2m) of the complex modes of
+    ``(K + s C + s^2 I) y = 0`` (``K`` the diagonal of modal eigenvalues, or near it), from
+    the first-order form in the scaled state ``u = [D y; y']`` (``D = sqrt(diag K)``, 1 for a
+    rigid-body mode): entries of the size of omega, not omega^2, so high and low modes share
+    one scale. Shared by the damped modes and the FRF (:mod:`assembly.dynamics.frf`)."""
+    m = len(K)
+    lam = np.diag(K)
+    d = np.where(lam > 0, np.sqrt(np.maximum(lam, 0.0)), 1.0)
+    A = np.block([[np.zeros((m, m)), np.diag(d)], [-K / d[None, :], -C]])
+    s, V = sla.eig(A, check_finite=False)
+    return s, V[:m] / d[:, None]
 
 
 def _pair(s_all: np.ndarray, Y: np.ndarray):

@@ -6,7 +6,7 @@ scene's Rayleigh and modal ratios, :mod:`assembly.dynamics.damping`) answers wit
 :mod:`assembly.dynamics.frf_channels` (outputs ``(r_k + i omega r_c) q``: internal loads
 from the springs and dampers).
 
-``method="modal"`` (default): superposition over every mode of the model. In the
+``method="modal"`` (default): superposition over the modes of the model. In the
 undamped modal coordinates ``q = Phi y`` (``Phi' M Phi = I``, ``Phi' K Phi = Lambda``) the
 problem is ``(Lambda - omega^2 I + i omega C_m) y = Phi' f``:
 
@@ -14,8 +14,10 @@ problem is ``(Lambda - omega^2 I + i omega C_m) y = Phi' f``:
   ``y_r = phi_r' f / (lambda_r - omega^2 + i omega c_r)``;
 * otherwise the complex modes of the first-order (state) form, its state scaled as
   ``u = [Omega y; y']`` (entries of the size omega, not omega^2):
-  ``A = [[0, Omega], [-Omega, -C_m]]``, ``A = V diag(s) V^-1`` once, and
-  ``H(omega) = sum_r (out_r in_r') / (i omega - s_r)``, vectorised over frequencies.
+  ``A = [[0, Omega], [-Omega, -C_m]]`` (:func:`assembly.dynamics.damped_modes.state_form`),
+  and by the partial fractions of the symmetric quadratic pencil ``H(omega) = sum_r (out y_r)
+  (y_r' in) / (a_r (i omega - s_r))``, ``a_r = y_r' (C_m + 2 s_r I) y_r``, vectorised over
+  frequencies.
 
 Rigid-body modes (s = 0) that no damper acts on (``C_m`` rows at round-off, as
 :mod:`assembly.dynamics.damped_modes` decides) stay out of the state form: their term is
@@ -53,7 +55,7 @@ from threadpoolctl import threadpool_limits
 
 from ..errors import SceneError, SolverError
 from ..modal import SMALL_DENSE
-from .damped_modes import RIGID_RTOL
+from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_matrix
 from .frf_channels import Channel, input_channel, output_channels, von_mises_peak
 from .modal_ratios import mode_ratios
@@ -278,12 +280,7 @@ def _state_modes(K, C):
     ``s`` (2m,), coordinates ``Y`` (m x 2m) and the normalisation ``a_r = y_r' (C + 2 s_r I)
     y_r``, so that ``(K + s C + s^2 I)^-1 = sum_r y_r y_r' / (a_r (s - s_r))`` (plain
     transpose: symmetric matrices, Lancaster's partial fractions of a quadratic pencil)."""
-    m = len(K)
-    lam = np.diag(K)
-    d = np.where(lam > 0, np.sqrt(np.maximum(lam, 0.0)), 1.0)
-    A = np.block([[np.zeros((m, m)), np.diag(d)], [-K / d[None, :], -C]])
-    s, V = sla.eig(A, check_finite=False)
-    Y = V[:m] / d[:, None]
+    s, Y = state_form(K, C)
     a = np.einsum("ir,ir->r", Y, C @ Y) + 2.0 * s * np.einsum("ir,ir->r", Y, Y)
     if np.any(np.abs(a) <= 1e-10 * np.abs(s) * np.einsum("ir,ir->r", np.abs(Y), np.abs(Y))):
         raise SolverError("state eigenvectors", "defective", "defective damped modes (a critically damped "
