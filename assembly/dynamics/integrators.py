@@ -117,20 +117,13 @@ def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: 
     v = np.array(v0, float)
     n = len(q)
     C = sp.csr_matrix((n, n)) if C is None else C
-    am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
     a = _Solver(M).solve(np.asarray(force(0.0), float) - C @ v - K @ q)
-    A = (1 - am) * M + (1 - af) * (g * dt * C + b * dt * dt * K)
-    lu = _Solver(A)
+    lu = _Solver(_effective(M, C, K, dt, s))
     t = np.arange(n_steps + 1) * dt
     Q, V, Acc = (np.empty((n_steps + 1, n)) for _ in range(3))
     Q[0], V[0], Acc[0] = q, v, a
     for i in range(n_steps):
-        qp = q + dt * v + dt * dt * (0.5 - b) * a                        # predictors (a+ = 0)
-        vp = v + dt * (1 - g) * a
-        rhs = (np.asarray(force(t[i] + (1 - af) * dt), float) - am * (M @ a)
-               - C @ ((1 - af) * vp + af * v) - K @ ((1 - af) * qp + af * q))
-        a_new = lu.solve(rhs)
-        q, v, a = qp + b * dt * dt * a_new, vp + g * dt * a_new, a_new
+        q, v, a = _step(M, C, K, np.asarray(force(t[i] + (1 - s.alpha_f) * dt), float), q, v, a, dt, s, lu.solve)
         if not np.all(np.isfinite(q)):
             raise FloatingPointError(f"integration diverged at t = {t[i + 1]:.6g} s (coordinate "
                                      f"{int(np.argmax(~np.isfinite(q)))})")
@@ -139,18 +132,31 @@ def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: 
     return TimeHistory(t, Q, V, Acc, s)
 
 
+def _effective(M, C, K, dt: float, s: Scheme):
+    """The matrix that takes ``a+`` to the step's balance: ``(1 - alpha_m) M + (1 - alpha_f)
+    (gamma dt C + beta dt^2 K)``."""
+    return (1 - s.alpha_m) * M + (1 - s.alpha_f) * (s.gamma * dt * C + s.beta * dt * dt * K)
+
+
+def _step(M, C, K, f, q, v, a, dt: float, s: Scheme, solve):
+    """One step from ``(q, v, a)`` under the load ``f`` at ``t_{n+1-alpha_f}`` (module notes);
+    ``solve`` applies the inverse of the effective matrix. Returns ``(q+, v+, a+)``."""
+    am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
+    qp = q + dt * v + dt * dt * (0.5 - b) * a                            # predictors (a+ = 0)
+    vp = v + dt * (1 - g) * a
+    a_new = solve(f - am * (M @ a) - C @ ((1 - af) * vp + af * v) - K @ ((1 - af) * qp + af * q))
+    return qp + b * dt * dt * a_new, vp + g * dt * a_new, a_new
+
+
 def amplification(omega: float, dt: float, scheme: Scheme, zeta: float = 0.0) -> np.ndarray:
     """The 3x3 matrix taking ``(q, dt v, dt^2 a)`` of a single mode (natural frequency
     ``omega`` rad/s, damping ratio ``zeta``) over one step: its eigenvalues give the
     scheme's spectral radius and numerical frequency (``angle / dt``)."""
-    X = np.eye(3)
+    M, C, K = np.eye(1), np.array([[2 * zeta * omega]]), np.array([[omega ** 2]])
+    A = _effective(M, C, K, dt, scheme)
     out = np.empty((3, 3))
-    for j in range(3):
-        q, v, a = X[0, j], X[1, j] / dt, X[2, j] / dt ** 2
-        M, C, K = np.eye(1), np.array([[2 * zeta * omega]]), np.array([[omega ** 2]])
-        am, af, b, g = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-        A = (1 - am) * M + (1 - af) * (g * dt * C + b * dt * dt * K)
-        qp, vp = q + dt * v + dt * dt * (0.5 - b) * a, v + dt * (1 - g) * a
-        a_new = np.linalg.solve(A, -am * a - C[0] * ((1 - af) * vp + af * v) - K[0] * ((1 - af) * qp + af * q))[0]
-        out[:, j] = [qp + b * dt * dt * a_new, dt * (vp + g * dt * a_new), dt * dt * a_new]
+    for j, (q, v, a) in enumerate(np.eye(3) / np.array([1.0, dt, dt * dt])[None, :]):
+        q1, v1, a1 = _step(M, C, K, np.zeros(1), np.array([q]), np.array([v]), np.array([a]), dt, scheme,
+                           lambda rhs: np.linalg.solve(A, rhs))
+        out[:, j] = [q1[0], dt * v1[0], dt * dt * a1[0]]
     return out
