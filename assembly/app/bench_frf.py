@@ -73,7 +73,7 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
 
     from ..dynamics.damping import damping_matrix
     from ..dynamics.frf import FRF
-    from ..dynamics.frf_channels import input_channel, output_channels
+    from ..dynamics.frf_channels import input_channel, output_channels, output_rows
     from ..model import assemble
     t0 = time.perf_counter()
     model = assemble(scene, full_fe=True)
@@ -85,8 +85,7 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
         C = C + scene.damping.rayleigh_beta * K
     src = input_channel(model, source)
     outs = [c for name in outputs for c in output_channels(model, name)]
-    Ok = np.array([c.k_row for c in outs])
-    Oc = np.array([np.zeros_like(c.k_row) if c.c_row is None else c.c_row for c in outs])
+    Ok, Oc = output_rows(outs)
     build = time.perf_counter() - t0
     H = np.empty((len(f), len(outs)), complex)
     t1 = time.perf_counter()

@@ -57,7 +57,7 @@ from ..errors import SceneError, SolverError
 from ..modal import SMALL_DENSE
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_matrix
-from .frf_channels import Channel, input_channel, output_channels, von_mises_peak
+from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
 from .modal_ratios import mode_ratios
 
 log = logging.getLogger(__name__)
@@ -205,8 +205,7 @@ def _modal(result, src: Channel, outs: list, omega: np.ndarray, modes_hz: float 
     lam = np.asarray(result.eigenvalues, float).copy()
     lam[:result.n_rigid] = 0.0
     p = Phi.T @ src.k_row                                            # modal input
-    Ok = np.array([c.k_row for c in outs]) @ Phi                     # modal outputs: stiffness part
-    Oc = np.array([np.zeros_like(c.k_row) if c.c_row is None else c.c_row for c in outs]) @ Phi
+    Ok, Oc = (O @ Phi for O in output_rows(outs))                     # modal outputs: spring, damper parts
     r = _rigid_free(C, result.n_rigid)
     _zero_check(omega, r)
     n = max(result.n_rigid, int(np.searchsorted(result.frequencies_hz, modes_hz, side="right")))
@@ -353,8 +352,7 @@ def _direct(model, result, src: Channel, outs: list, omega: np.ndarray) -> np.nd
     K = u[:, None] * model.K.toarray() * u
     M = u[:, None] * model.M.toarray() * u
     C = u[:, None] * damping_on_q(model, result) * u
-    Ok = np.array([c.k_row for c in outs]) * u
-    Oc = np.array([np.zeros_like(c.k_row) if c.c_row is None else c.c_row for c in outs]) * u
+    Ok, Oc = (O * u for O in output_rows(outs))
     F = src.k_row * u
     H = np.empty((len(omega), len(outs)), complex)
     for j, w in enumerate(omega):

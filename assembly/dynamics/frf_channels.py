@@ -260,3 +260,11 @@ def _strain_rows(model, el) -> np.ndarray:
     """The element's strains on q, ``B A T`` (one row per spring direction; a mesh: its
     deflection along the line of action)."""
     return el.B @ (model.attachment_operator(el) @ model.T).toarray()
+
+
+def output_rows(outs: list) -> tuple[np.ndarray, np.ndarray]:
+    """``(Ok, Oc)``: the outputs' stiffness and damper rows stacked (n_out x n_q; zero damper
+    rows where an output has none), the output being ``(Ok + i omega Oc) q``."""
+    Ok = np.array([c.k_row for c in outs])
+    Oc = np.array([np.zeros_like(c.k_row) if c.c_row is None else c.c_row for c in outs])
+    return Ok, Oc
