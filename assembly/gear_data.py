@@ -47,6 +47,7 @@ from fe_components.mesh_stiffness import mesh_stiffness
 from fe_components.params import PinionParams, WheelParams
 
 from .errors import SceneError
+from .mesh_excitation import mesh_variation
 from .schema import as_written, keep_degrees
 
 #: Relative agreement required between a typed gear number and the one its teeth give:
@@ -190,7 +191,7 @@ def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict, tips: dict | None =
     int1, int2 = bool(b1 and b1.internal), bool(b2 and b2.internal)
     if int1 and int2:
         raise SceneError(f"{path}.gear2", m.gear2, "two internal gears cannot mesh")
-    derived = {}
+    derived, geometry = {}, None
     if g1 is not None and g2 is not None:
         (p1, t1), (p2, t2) = g1, g2
         ext, inn, pe, pi = (t2, t1, p2, p1) if int1 else (t1, t2, p1, p2)
@@ -205,6 +206,7 @@ def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict, tips: dict | None =
             g = pair_geometry(ext, inn, int1 or int2, (tips.get(n_ext, 0.0), tips.get(n_inn, 0.0)))
         except ValueError as exc:
             raise SceneError(f"{pi}.profile_shift", inn.profile_shift, str(exc)) from None
+        geometry = g
         r_ext, r_inn = g.base_radius1, g.base_radius2
         derived = {"base_radius1": r_inn if int1 else r_ext, "base_radius2": r_ext if int1 else r_inn,
                    "pressure_angle": g.working_pressure_angle, "helix_angle": mesh_helix(t1, int1)}
@@ -239,6 +241,8 @@ def mesh_from_teeth(m, path: str, teeth: dict, bodies: dict, tips: dict | None =
         typed = getattr(m, f)
         if typed is not None and f in sources and _differs(typed, value, absolute=f == "helix_angle"):
             _refuse_typed(m, f, path, value, sources[f])
+    if m.variation is not None:
+        derived["variation"] = mesh_variation(m, path, teeth, geometry)
     return keep_degrees(m, dataclasses.replace(m, **derived)) if derived else m
 
 

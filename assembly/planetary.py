@@ -21,6 +21,7 @@ from fe_components.params import CarrierParams
 
 from .errors import SceneError
 from .kinematics import axis_frame
+from .mesh_excitation import stage_variations
 from .planet_spacing import planets_field
 from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
 
@@ -77,6 +78,7 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
     carrier = central("carrier", st.carrier)
     pl = st.planets
     for i, psi in enumerate(st.planet_angles()):
+        var_sun, var_ring = stage_variations(st, path, psi)
         pos = c + Rc * (math.cos(psi) * E[:, 0] + math.sin(psi) * E[:, 1])
         pname = f"{n}.planet{i}"
         bodies.append(Body(name=pname, mass=pl.mass, polar_inertia=pl.polar_inertia,
@@ -93,11 +95,14 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
                                base_radius1=st.sun.base_radius, base_radius2=pl.base_radius,
                                pressure_angle=st.pressure_angle_sun, helix_angle=st.mesh_helix_angle(),
                                drive_sign=st.drive_sign, name=f"{n}.sun-planet{i}",
-                               contact_point=st.contact_point, damping=st.c_mesh_sun))
+                               contact_point=st.contact_point, damping=st.c_mesh_sun,
+                               backlash=st.backlash, variation=var_sun))
         meshes.append(GearMesh(gear1=pname, gear2=ring, stiffness=st.k_mesh_ring,
                                base_radius1=pl.base_radius, base_radius2=-st.ring.base_radius,
                                pressure_angle=st.pressure_angle_ring, helix_angle=-st.mesh_helix_angle(),
                                drive_sign=-st.drive_sign, name=f"{n}.planet{i}-ring",
-                               contact_point=st.contact_point, damping=st.c_mesh_ring))
+                               contact_point=st.contact_point, damping=st.c_mesh_ring,
+                               backlash=st.backlash, variation=var_ring and dataclasses.replace(
+                                   var_ring, counting_gear="gear2")))
     return {"bodies": tuple(bodies), "bearings": tuple(bearings), "meshes": tuple(meshes),
             "fixed": tuple(fixed)}

@@ -33,6 +33,7 @@ from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
 
 from .errors import SceneError
+from .scene_time import MeshVariation, Simulation
 
 HOUSING = "housing"
 #: Band of interest (Hz) when a scene does not give ``band_hz``.
@@ -287,6 +288,12 @@ class GearMesh:
 
     ``damping`` (N s/m, default 0): a viscous damper beside the mesh spring, along the same
     line of action (:func:`assembly.elements.gear_mesh`).
+
+    Time-domain runs only (``flexgear simulate``; other analyses use the linear spring):
+    ``backlash`` (m, normal backlash along the line of action): the teeth touch on the
+    driving flank at compression delta > 0 and on the coast flank at delta < -backlash, and
+    carry nothing in between (None: a linear spring in both senses); ``variation``: the
+    stiffness as a function of the gear angle (:class:`assembly.scene_time.MeshVariation`).
     """
 
     gear1: str
@@ -306,6 +313,8 @@ class GearMesh:
     place: Optional[Literal["gear1", "gear2"]] = None
     centre_line_angle: float = angle(0.0, abs_lt=4 * math.pi)
     damping: float = damper("N s/m")
+    backlash: Optional[float] = quantity("m", None, ge=0.0)
+    variation: Optional[MeshVariation] = None
 
 
 @dataclass(frozen=True)
@@ -500,6 +509,12 @@ class PlanetaryStage:
 
     ``c_mesh_sun`` / ``c_mesh_ring`` (N s/m, default 0): viscous dampers along the line of
     action of every sun-planet / planet-ring mesh (:attr:`GearMesh.damping`).
+
+    Time-domain runs: ``backlash`` (m) of every mesh of the stage, and ``variation_sun`` /
+    ``variation_ring`` (:class:`assembly.scene_time.MeshVariation`) of its sun-planet and
+    planet-ring meshes, counted on the sun's and the ring's teeth relative to the carrier;
+    each planet's meshes are phased by its angle psi_n (``phase`` + z psi_n), and with teeth
+    the contact ratios default to the pairs' own.
     """
 
     name: str = name_field()
@@ -521,6 +536,9 @@ class PlanetaryStage:
     contact_point: Literal["pitch", "tangent"] = "pitch"
     c_mesh_sun: float = damper("N s/m")
     c_mesh_ring: float = damper("N s/m")
+    backlash: Optional[float] = quantity("m", None, ge=0.0)
+    variation_sun: Optional[MeshVariation] = None
+    variation_ring: Optional[MeshVariation] = None
 
     def carrier_radius(self) -> float:
         """Planet-centre radius (m) from the sun-planet mesh geometry."""
@@ -650,7 +668,8 @@ class Scene:
     Craig-Bampton cutoff of flexible bodies. ``fidelity``: the default fidelity of every
     body, stage member and planets table that does not give its own (default "rigid").
     ``damping``: scene-level damping (:class:`Damping`); element dampers are the ``c_*``
-    fields of bearings, meshes, shafts and stages.
+    fields of bearings, meshes, shafts and stages. ``simulation``: the settings of time-domain
+    runs (:class:`assembly.scene_time.Simulation`).
     Construction first derives the gear numbers from teeth and places the bodies meshes
     place (:func:`assembly.gear_data.resolve`), then validates everything (``SceneError``
     on bad input); the scene then holds the derived numbers.
@@ -669,6 +688,7 @@ class Scene:
     loads: tuple[LoadCase, ...] = ()
     fidelity: Optional[Fidelity] = None
     damping: Optional[Damping] = None
+    simulation: Optional[Simulation] = None
 
     def __post_init__(self):
         for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages", "loads"):

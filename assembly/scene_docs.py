@@ -44,6 +44,7 @@ FIELDS: dict[str, dict[str, str]] = {
                     "(default rigid).",
         "damping": "Scene-level damping: modal ratios or Rayleigh (`[damping]`); element dampers are "
                    "the `c_*` fields.",
+        "simulation": "Settings of `flexgear simulate` (`[simulation]`, a `Simulation` table).",
     },
     "Damping": {
         "modal_ratio": "Damping ratio zeta of every elastic mode, in [0, 1).",
@@ -198,6 +199,72 @@ FIELDS: dict[str, dict[str, str]] = {
         "centre_line_angle": "Direction of the line of centres for `place`, about the other gear's "
                              "axis from its local x.",
         "damping": "Viscous damper along the line of action, beside the mesh spring (default 0).",
+        "backlash": "Time domain: normal backlash along the line of action (m); the teeth touch on the "
+                    "driving flank at compression > 0, on the coast flank below -backlash, carry nothing "
+                    "in between. Left out: a linear spring in both senses.",
+        "variation": "Time domain: the stiffness as a function of the gear angle (a `MeshVariation` table).",
+    },
+    "MeshVariation": {
+        "amplitudes": "a_h relative to the mean stiffness, harmonics h = 1, 2, ...: "
+                      "k = k0 (1 + sum a_h cos(h phi + phi_h)).",
+        "phases": "phi_h of each amplitude (rad, or `phases_deg`; default 0).",
+        "step": "Instead of amplitudes: the relative stiffness step dk/k0 between double and single tooth "
+                "contact; the rectangular wave's series 2 step sin(h pi (c-1)) / (h pi).",
+        "contact_ratio": "Profile contact ratio c in (1, 2) of the `step` wave (default from the teeth).",
+        "face_contact_ratio": "Overlap ratio eps_beta: harmonic h times sinc(h eps_beta) (default from the "
+                              "teeth; 0 for spur gears).",
+        "harmonics": "Harmonics of the `step` wave kept (default 8).",
+        "phase": "Angle offset: phi = z (theta - theta_frame) - phase (rad, or `phase_deg`); planets add z psi_n.",
+        "teeth": "Teeth the angle counts (default the counting gear's).",
+        "counting_gear": "'gear1' (default) or 'gear2': the gear whose angle and teeth count.",
+    },
+    "Simulation": {
+        "speed": "Starting speed of `reference` about its own axis (rad/s); every body starts at its "
+                 "kinematic share.",
+        "reference": "Body whose speed `speed` is (default the body of role 'rotor').",
+        "loads": "Time-dependent loads (`[[simulation.loads]]`, `TimeLoad` tables).",
+        "generator": "Generator torque law (a `Generator` table).",
+        "brake": "Shaft brake (a `Brake` table).",
+        "gearbox_efficiency": "ElastoDyn's GBoxEff in (0, 1]: friction torque (1/eta^s - 1) x the "
+                              "generator-side torque on the generator (default 1: none).",
+        "lss_shaft": "Shaft whose torque sign s sets the friction (default the shaft on the rotor).",
+        "scheme": "'newmark' (average acceleration, default), 'hht' or 'generalized-alpha'.",
+        "alpha": "HHT alpha in [0, 1/3] (default 0.05).",
+        "rho_inf": "Generalized-alpha spectral radius at infinite frequency, [0, 1] (default 0.9).",
+        "consistent": "Add the energy-consistent mesh term -1/2 dk/dtheta delta^2 (default true).",
+        "static_start": "Start in static equilibrium under the loads at t = 0 (default true).",
+    },
+    "TimeLoad": {
+        "body": "Body loaded (a body or stage member name).",
+        "kind": "'torque' (about the body's axis, N m, default), 'force' (N) or 'moment' (N m) along `direction`.",
+        "direction": "Global direction of a force or moment (default (0, 0, 1)).",
+        "interface": "Interface master node of a flexible body where the load acts.",
+        "value": "Constant value, or a ramp's start value (N or N m).",
+        "end_value": "A ramp's end value (with `t_end`).",
+        "t_start": "Ramp start (s, default 0).",
+        "t_end": "Ramp end (s); a step is a ramp of one time step.",
+        "table": "CSV file (relative to the scene file) with a header row.",
+        "openfast": "OpenFAST text output (.out); converted to SI by its units row.",
+        "column": "The column or channel to read (e.g. `RotTorq`).",
+        "time_column": "Time column of the CSV file (default `time`).",
+        "scale": "Factor on a table's or file's values (default 1).",
+    },
+    "Generator": {
+        "body": "Body the generator acts on (default the body of role 'generator').",
+        "law": "'constant' (default) or 'pi' (rated torque with a PI speed controller).",
+        "torque": "Constant torque, or the PI's torque at rated speed (N m).",
+        "rated_speed": "PI set point: the generator body's speed (rad/s).",
+        "kp": "PI proportional gain (N m s/rad).",
+        "ki": "PI integral gain (N m/rad).",
+        "max_torque": "PI torque limit (N m, default 1.1 x torque).",
+    },
+    "Brake": {
+        "torque": "Full brake torque (N m; ElastoDyn HSSBrTqF).",
+        "deploy_time": "Time the brake starts to act (s).",
+        "ramp_time": "Time to full torque (s; ElastoDyn HSSBrDT; 0: at once).",
+        "body": "Body braked (default the body of role 'generator').",
+        "stick_speed": "Below this speed (rad/s) the torque is proportional to speed, so it never "
+                       "drives the shaft backwards (default 1e-3).",
     },
     "Shaft": {
         "body1": "First body; the spring's axes are this body's axes.",
@@ -266,6 +333,10 @@ FIELDS: dict[str, dict[str, str]] = {
         "contact_point": "'pitch' or 'tangent', for every mesh of the stage (as `[[meshes]]`).",
         "c_mesh_sun": "Viscous damper along the line of action of every sun-planet mesh (default 0).",
         "c_mesh_ring": "Viscous damper along the line of action of every planet-ring mesh (default 0).",
+        "backlash": "Time domain: normal backlash (m) of every mesh of the stage.",
+        "variation_sun": "Time domain: stiffness variation of the sun-planet meshes (counted on the sun's "
+                         "teeth relative to the carrier; planets phased by angle).",
+        "variation_ring": "Time domain: stiffness variation of the planet-ring meshes (counted on the ring's teeth).",
     },
     "Member": {
         "mass": "Mass (not with a `component`); sun and ring with `teeth` may leave it out with "

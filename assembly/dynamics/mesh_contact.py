@@ -1,0 +1,148 @@
+"""Gear meshes of a time-domain run: stiffness driven by the gear angle, backlash, contact loss.
+
+Each mesh with a ``variation`` or a ``backlash`` becomes two directions of the run's
+nonlinear forces (:mod:`assembly.dynamics.transient`) on the independent coordinates q:
+
+* its line of action ``g`` (the compression delta = g q, the mesh row of the linear model);
+* its angle ``r = z (r_gear - r_frame)``, phi = r q - phase, with r_body the row of a body's
+  rotation about its own axis (:func:`assembly.loads.axial_rotation`).
+
+The linear model already holds the mean spring and damper ``k0 g g'``, ``c g g'``, so the
+forces along the two directions are the corrections (:mod:`assembly.dynamics.mesh_variation`):
+``nu_g = k(phi) e + c s delta' - k0 delta - c delta'`` (the damper acts in contact only)
+and ``nu_r = 1/2 k0 f'(phi) e^2`` (the energy-consistent term, when asked for). A
+contact-loss event is a step at whose end a mesh that was in contact is not.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..scene import HOUSING
+from ..validate import body_origins, element_paths
+from .frf_channels import _strain_rows
+from .mesh_variation import check_positive, dead_zone, factor, series
+from .transient import Nonlinear
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class MeshInfo:
+    """One mesh of the run: ``name``, scene ``path``, counting ``teeth`` and bodies
+    (``gear``, ``frame``: None = the housing), harmonics kept, backlash (m; NaN none)."""
+
+    name: str
+    path: str
+    teeth: int | None
+    gear: str
+    frame: str | None
+    harmonics: int
+    backlash: float
+
+
+def spin_row(model, body: str) -> np.ndarray:
+    """Row on q of ``body``'s rotation (rad) about its own axis."""
+    bm = model.bodies[body]
+    row = np.zeros(model.n_abs)
+    row[model.body_slice(body)] = bm.axes[:, 2] @ bm.rigid_projection()[3:]
+    return np.asarray(model.T.T @ row).ravel()
+
+
+def _frame(scene, gear1: str, gear2: str) -> str | None:
+    frames = {scene.body(g).frame for g in (gear1, gear2)} - {HOUSING}
+    return frames.pop() if frames else None
+
+
+class Meshes(Nonlinear):
+    """The nonlinear meshes of an assembled model (module notes)."""
+
+    def __init__(self, model, consistent: bool = True):
+        scene, src = model.scene, model.source or model.scene
+        paths = dict((id(m), p) for p, m in element_paths(src, scene, "meshes", body_origins(src, scene), "gear1"))
+        rows_g, rows_r, k0, c, b, A, P, phase, self.info = [], [], [], [], [], [], [], [], []
+        for el in model.elements:
+            if el.kind != "mesh":
+                continue
+            m = scene.meshes[el.item[1]]
+            if m.variation is None and m.backlash is None:
+                continue
+            path = paths.get(id(m), f"meshes[{el.item[1]}]")
+            rows_g.append(_strain_rows(model, el)[0])
+            frame = _frame(scene, m.gear1, m.gear2)
+            v = m.variation
+            if v is not None:
+                gear = m.gear1 if v.counting_gear == "gear1" else m.gear2
+                a, p = series(v)
+                where = (f"{path}.variation_sun" if "sun-planet" in m.name else f"{path}.variation_ring") \
+                    if path.startswith("stages") else f"{path}.variation"
+                check_positive(a, p, where + (".amplitudes" if v.amplitudes is not None else ".step"))
+                r = v.teeth * (spin_row(model, gear) - (spin_row(model, frame) if frame else 0.0))
+                z, ph = v.teeth, v.phase
+            else:
+                gear, a, p, r, z, ph = m.gear1, np.zeros(0), np.zeros(0), np.zeros(model.K.shape[0]), None, 0.0
+            rows_r.append(r)
+            k0.append(float(el.k[0]))
+            c.append(0.0 if el.c is None else float(el.c[0]))
+            b.append(math.nan if m.backlash is None else m.backlash)
+            A.append(a)
+            P.append(p)
+            phase.append(ph)
+            self.info.append(MeshInfo(m.name or f"{m.gear1}-{m.gear2}", path, z, gear, frame, len(a), b[-1]))
+        H = max([len(a) for a in A], default=0)
+        self.m = len(k0)
+        self.A = np.array([np.pad(a, (0, H - len(a))) for a in A]).reshape(self.m, H)
+        self.P = np.array([np.pad(p, (0, H - len(p))) for p in P]).reshape(self.m, H)
+        self.k0, self.c, self.backlash = np.array(k0), np.array(c), np.array(b)
+        self.phase = np.array(phase)
+        self.consistent = consistent
+        n = model.K.shape[0]
+        self.U = np.vstack(rows_g + rows_r).T if self.m else np.zeros((n, 0))
+        self.contact = np.ones(self.m, dtype=bool)
+        self.losses = np.zeros(self.m, dtype=np.int64)
+        self.last_force = np.zeros(self.m)
+        self._last = None                   # the last forces() evaluation: commit reads it
+
+    def state(self, x: np.ndarray, xd: np.ndarray, second: bool = False):
+        """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``."""
+        m = self.m
+        delta, ddot = x[:m], xd[:m]
+        f, df, *d2 = factor(x[m:] - self.phase, self.A, self.P, second)
+        e, s = dead_zone(delta, self.backlash)
+        k = self.k0 * f
+        return k * e + self.c * s * ddot, k, s, e, df, (d2[0] if d2 else None)
+
+    def forces(self, t, x, xd):
+        """Forces along (g, r) and their tangents: the Hessian of the mesh potential on (delta,
+        angle) less the linear model's k0 (module notes), and the contact damper's slope."""
+        m = self.m
+        force, k, s, e, df, d2f = self._last = self.state(x, xd, second=True)
+        delta, ddot = x[:m], xd[:m]
+        kdf = self.k0 * df
+        con = 1.0 if self.consistent else 0.0
+        nu = np.concatenate([force - self.k0 * delta - self.c * ddot, con * 0.5 * kdf * e * e])
+        Kt = np.zeros((2 * m, 2 * m))
+        i, j = np.arange(m), np.arange(m, 2 * m)
+        Kt[i, i] = k * s - self.k0
+        Kt[i, j] = kdf * e                               # d nu_g / d angle
+        Kt[j, i] = con * kdf * e * s                     # d nu_r / d delta (symmetric: a potential's Hessian)
+        Kt[j, j] = con * 0.5 * self.k0 * d2f * e * e
+        dc = np.concatenate([self.c * (s - 1.0), np.zeros(m)])
+        return nu, Kt, dc
+
+    def commit(self, t, x, xd):
+        force, _, s, _, _, _ = self._last if self._last is not None else self.state(x, xd)
+        touching = s > 0
+        self.losses += self.contact & ~touching
+        self.contact = touching
+        self.last_force = force
+
+    def energy(self, x: np.ndarray) -> float:
+        """Strain energy 1/2 k(phi) e^2 summed over the meshes (J), minus the linear
+        model's share 1/2 k0 delta^2 (which ``1/2 q' K q`` counts)."""
+        m = self.m
+        _, k, _, e, _, _ = self.state(x, np.zeros_like(x))
+        return float(0.5 * np.sum(k * e * e - self.k0 * x[:m] ** 2))

@@ -1,0 +1,85 @@
+"""Mesh stiffness as a Fourier series in the gear angle, and backlash as a dead zone.
+
+Per mesh, ``k(phi) = k0 f(phi)`` with ``f(phi) = 1 + sum_h a_h cos(h phi + phi_h)`` and
+``phi = z (theta - theta_frame) - phase`` (module :mod:`assembly.scene_time`). The
+rectangular wave of alternating single and double tooth contact, contact ratio c in
+(1, 2), step dk and double contact centred on phi = 0, has the cosine series
+``a_h = 2 (dk/k0) sin(h pi (c - 1)) / (h pi)`` (a pulse of width 2 pi (c - 1) per mesh
+period); a helical contact line sweeping eps_beta mesh periods across the face averages it
+over that window, multiplying harmonic h by ``sinc(h eps_beta) = sin(h pi eps_beta) /
+(h pi eps_beta)``.
+
+Backlash b >= 0 (normal, along the line of action) makes the contact a dead zone in the
+compression delta: the driving flank carries ``delta`` for delta > 0, the coast flank
+``delta + b`` for delta < -b, nothing in between: ``e(delta) = max(delta, 0) + min(delta +
+b, 0)``, slope ``s = 1`` in contact and 0 in the gap. The mesh potential is ``V = 1/2
+k(phi) e^2`` and its generalized forces are ``k e`` along the line of action and ``1/2
+k0 f'(phi) e^2`` on the angle -- the term that keeps the equations energy-consistent
+(Oh, Grosh & Barber 2005, J. Vib. Acoust. 127, doi 10.1115/1.1891815).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import SceneError
+
+#: Points per period of the highest harmonic at which the series is checked for k < 0.
+CHECK_POINTS = 64
+
+
+def rectangular_wave(step: float, contact_ratio: float, harmonics: int, overlap: float = 0.0) -> np.ndarray:
+    """Relative amplitudes a_1..a_H of the rectangular wave (module notes): ``2 step
+    sin(h pi (c - 1)) / (h pi)`` times ``sinc(h overlap)``."""
+    h = np.arange(1, harmonics + 1, dtype=float)
+    return 2.0 * step * np.sin(h * math.pi * (contact_ratio - 1.0)) / (h * math.pi) * np.sinc(h * overlap)
+
+
+def series(v) -> tuple[np.ndarray, np.ndarray]:
+    """(amplitudes, phases) of a filled :class:`assembly.scene_time.MeshVariation`."""
+    if v.amplitudes is not None:
+        a = np.asarray(v.amplitudes, float)
+        return a, np.zeros_like(a) if v.phases is None else np.asarray(v.phases, float)
+    a = rectangular_wave(v.step, v.contact_ratio, v.harmonics, v.face_contact_ratio or 0.0)
+    return a, np.zeros_like(a)
+
+
+def factor(phi, A: np.ndarray, P: np.ndarray, second: bool = False):
+    """``f(phi)``, ``f'(phi)`` (and ``f''(phi)`` if ``second``) for meshes' angles ``phi``
+    (m,), amplitudes and phases (m, H) each."""
+    h = np.arange(1, A.shape[-1] + 1)
+    arg = np.multiply.outer(phi, h) + P
+    c, hs = A * np.cos(arg), h * A * np.sin(arg)
+    out = (1.0 + c.sum(axis=-1), -hs.sum(axis=-1))
+    return out + (-(h * h * c).sum(axis=-1),) if second else out
+
+
+def lowest_factor(a: np.ndarray, p: np.ndarray) -> tuple[float, float]:
+    """(min f, angle where) of one mesh's series, sampled at CHECK_POINTS per period of its
+    highest harmonic over one mesh period."""
+    if len(a) == 0:
+        return 1.0, 0.0
+    phi = np.linspace(0.0, 2 * math.pi, CHECK_POINTS * len(a), endpoint=False)
+    f, _ = factor(phi, np.broadcast_to(a, (len(phi), len(a))), np.broadcast_to(p, (len(phi), len(a))))
+    i = int(np.argmin(f))
+    return float(f[i]), float(phi[i])
+
+
+def check_positive(a: np.ndarray, p: np.ndarray, path: str) -> None:
+    """SceneError at ``path`` when the series makes the stiffness negative somewhere."""
+    f, phi = lowest_factor(a, p)
+    if f < 0.0:
+        raise SceneError(path, [round(float(x), 6) for x in a],
+                         f"the stiffness 1 + sum a_h cos(h phi + phi_h) falls to {f:.4g} k0 at phi = "
+                         f"{phi:.4g} rad: a mesh stiffness cannot be negative")
+
+
+def dead_zone(delta: np.ndarray, backlash: np.ndarray):
+    """(e, s): the flank compression ``e`` and contact slope ``s`` (1 in contact, 0 in the
+    gap) of compressions ``delta`` (m); ``backlash`` NaN: no dead zone (e = delta)."""
+    linear = np.isnan(backlash)
+    b = np.where(linear, 0.0, backlash)
+    e = np.where(linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + b, 0.0))
+    s = linear | (delta >= 0.0) | (delta < -b)
+    return e, s.astype(float)

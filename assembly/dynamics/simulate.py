@@ -1,0 +1,388 @@
+"""A time-domain run of a scene: ``flexgear simulate``'s model, loads, start and outputs.
+
+The assembled model (any fidelity; flexible bodies by their Craig-Bampton reduction, or
+unreduced with ``full_fe``) with its damping (:func:`assembly.dynamics.frf.damping_on_q`),
+the nonlinear meshes (:mod:`assembly.dynamics.mesh_contact`), the generator, brake and
+gearbox friction (:mod:`assembly.dynamics.drive_torques`) and the ``[simulation]`` loads
+(:mod:`assembly.dynamics.load_series`) are integrated by
+:func:`assembly.dynamics.transient.integrate`.
+
+Start (``static_start``): every body turns at its share of ``speed`` in the model's rigid-body
+mode phi, and q0 is the static equilibrium under the loads at t = 0 with the rigid-body
+acceleration they give taken out (inertia relief: ``K q + U nu = f - M phi alpha``, alpha =
+phi' f / phi' M phi, phi' M q = 0), solved by Newton's method on the meshes' contact.
+
+The linear model turns its rotations as coordinates, so planets stay where they are and
+centrifugal and gyroscopic terms are left out (the usual lumped-parameter drivetrain model;
+Park et al., Lin & Parker). Outputs are :mod:`assembly.dynamics.frf_channels`' names, plus
+``speed:BODY`` (rad/s about the body's own axis); a nonlinear mesh's ``force:MESH`` is its
+contact force, ``stress:BODY:X,Y,Z`` the von Mises stress (Pa) of the six back-expanded
+components at each instant.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+from threadpoolctl import threadpool_limits
+
+from ..drivetrain import chain_ends
+from ..errors import SceneError
+from ..loads import single_rigid_mode
+from ..modal import SMALL_DENSE
+from ..scene_time import Simulation
+from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
+from .integrators import generalized_alpha, hht, newmark
+from .load_series import constant, ramp, read_csv, read_openfast_out
+from .mesh_contact import Meshes, spin_row
+from .drive_torques import ShaftTorques
+from .transient import DENSE_INVERSE_MAX, Diverged, Stack, integrate, tangent
+
+log = logging.getLogger(__name__)
+
+#: Fewer steps than this per period of the highest mesh harmonic or of the band draw a
+#: warning (average acceleration's period error W^2/12 is 3.3 % at 10 steps a period).
+STEPS_PER_PERIOD = 10
+
+
+@dataclass
+class SimulationResult:
+    """``time_s`` (s) and ``outputs`` {name: (n_t,) array in ``units``}; ``meshes``: per
+    nonlinear mesh its name, mesh frequency at the start (Hz) and contact-loss events;
+    ``mesh_frequencies_hz`` {mesh: Hz at the starting speed}; ``warnings``; ``info`` (run
+    statistics); ``complete`` False for the partial result of a run that stopped."""
+
+    time_s: np.ndarray
+    outputs: dict
+    units: dict
+    meshes: list = field(default_factory=list)
+    mesh_frequencies_hz: dict = field(default_factory=dict)
+    shaft_speeds_hz: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+    info: dict = field(default_factory=dict)
+    complete: bool = True
+
+    def as_json(self) -> dict:
+        """``{"time_s": [...], "outputs": {NAME: [...]}, "units": {...}}`` plus run facts."""
+        return {"time_s": self.time_s.tolist(), "outputs": {k: v.tolist() for k, v in self.outputs.items()},
+                "units": dict(self.units), "complete": self.complete, "meshes": self.meshes,
+                "warnings": self.warnings, "info": {k: v for k, v in self.info.items() if not k.startswith("_")}}
+
+
+def scheme_of(sim: Simulation):
+    """The integration scheme the ``[simulation]`` table names."""
+    if sim.scheme == "hht":
+        return hht(sim.alpha)
+    if sim.scheme == "generalized-alpha":
+        return generalized_alpha(sim.rho_inf)
+    return newmark()
+
+
+def load_history(ld, path: str, base_dir: Path):
+    """The :class:`assembly.dynamics.load_series.Series` of a ``[[simulation.loads]]`` entry."""
+    unit = "N m" if ld.kind != "force" else "N"
+    sources = [k for k in ("table", "openfast") if getattr(ld, k) is not None]
+    if len(sources) > 1:
+        raise SceneError(f"{path}.openfast", ld.openfast, "give either table or openfast, not both")
+    if sources:
+        if ld.column is None:
+            raise SceneError(f"{path}.column", None, f"missing: the column of the {sources[0]} file to read")
+        if ld.end_value is not None:
+            raise SceneError(f"{path}.end_value", ld.end_value, f"a {sources[0]} file gives the history itself")
+        file = base_dir / getattr(ld, sources[0])
+        if ld.table is not None:
+            return read_csv(file, ld.column, ld.time_column, ld.scale, field=f"{path}.table")
+        s = read_openfast_out(file, ld.column, field=f"{path}.openfast")
+        return type(s)(s.time_s, ld.scale * s.values, s.name, s.unit)
+    if ld.end_value is not None or ld.t_end is not None:
+        if ld.end_value is None or ld.t_end is None:
+            missing = "end_value" if ld.end_value is None else "t_end"
+            raise SceneError(f"{path}.{missing}", None, "missing: a ramp needs end_value and t_end")
+        return ramp(ld.value, ld.end_value, ld.t_start, ld.t_end, f"{path}", unit, field=path)
+    return constant(ld.value, path, unit)
+
+
+def load_vector(model, ld, path: str) -> np.ndarray:
+    """Load vector on q of a unit load of ``ld``'s kind, body and direction."""
+    where = ld.body if ld.interface is None else f"{ld.body}:{ld.interface}"
+    body, iface = _body_point(model, where, f"{path}.body", where)
+    if ld.kind == "torque":
+        w = _unit_wrench(model, body, "spin")
+    else:
+        d = np.asarray(ld.direction, float)
+        if not np.linalg.norm(d) > 0:
+            raise SceneError(f"{path}.direction", ld.direction, "must be a nonzero vector")
+        w = np.zeros(6)
+        w[(0 if ld.kind == "force" else 3):][:3] = d / np.linalg.norm(d)
+    return _point_vector(model, body, iface, w)
+
+
+def _rigid_mode(model, reference: str, path: str):
+    phi, why = single_rigid_mode(model)
+    if phi is None:
+        return None, why
+    phi = phi[:, 0]
+    w = spin_row(model, reference) @ phi
+    if abs(w) <= 1e-12 * np.abs(phi).max():
+        raise SceneError(path, reference, "this body stands still in the rigid-body mode: it cannot set the speed")
+    return phi / w, ""
+
+
+def _damping(model):
+    """Damping on q: dense for a reduced model; the unreduced model's element dampers and
+    Rayleigh beta (sparse)."""
+    from .damping import damping_matrix
+    from .frf import _all_modes, damping_on_q
+    d = model.scene.damping
+    n = model.K.shape[0]
+    if n <= DENSE_INVERSE_MAX:
+        needs = d is not None and (d.rayleigh_alpha or d.modal)
+        return damping_on_q(model, _all_modes(model) if needs else None)
+    if d is not None and (d.rayleigh_alpha or d.modal):
+        raise SceneError("damping", d, f"modal ratios and Rayleigh alpha need every mode: the model has {n} "
+                                       "DOFs; use element dampers or rayleigh_beta")
+    C = damping_matrix(model)
+    return C + d.rayleigh_beta * model.K if d is not None and d.rayleigh_beta else C
+
+
+def static_start(M, K, U, nl, f0, phi, xd0):
+    """q0 of the module notes: Newton on ``K q + U nu(U'q, xd0) + M phi lam = f0``,
+    ``phi' M q = 0`` (no rigid-body mode: phi None, plain ``K q + U nu = f0``)."""
+    n = K.shape[0]
+    dense = not sp.issparse(K)
+    if phi is not None:
+        Mphi = M @ phi
+        B = (np.block([[K, Mphi[:, None]], [Mphi[None, :], np.zeros((1, 1))]]) if dense else
+             sp.bmat([[K, sp.csr_matrix(Mphi[:, None])], [sp.csr_matrix(Mphi[None, :]), None]]).tocsc())
+        Ub = np.vstack([U, np.zeros((1, U.shape[1]))])
+        rhs = np.concatenate([f0, [0.0]])
+    else:
+        B, Ub, rhs = K, U, f0
+    lu = sla.lu_factor(B) if dense else sp.linalg.splu(sp.csc_matrix(B))
+    solve = (lambda b: sla.lu_solve(lu, b)) if dense else lu.solve
+    W = solve(Ub) if U.shape[1] else np.zeros((len(rhs), 0))
+    S = Ub.T @ W
+    z = solve(rhs)
+    for _ in range(60):
+        nu, dk, _ = nl.forces(0.0, Ub.T @ z, xd0)
+        r = (B @ z if dense else B @ z) + Ub @ nu - rhs
+        if not len(nu):
+            break
+        # Newton step with the tangent B + Ub diag(dk) Ub' by Woodbury
+        y = solve(r)
+        Kt = tangent(dk)
+        corr = np.linalg.solve(np.eye(len(nu)) + Kt @ S, Kt @ (Ub.T @ y))
+        dz = y - W @ corr
+        z = z - dz
+        if np.linalg.norm(dz) <= 1e-12 * max(np.linalg.norm(z), 1e-300):
+            break
+    else:
+        raise SceneError("simulation.static_start", True, "the static equilibrium at t = 0 did not converge "
+                                                          "(meshes opening and closing); set static_start = false")
+    return z[:n]
+
+
+def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=None, speed: float | None = None,
+             progress=None, full_fe: bool = False) -> SimulationResult:
+    """Integrate ``scene`` (its ``[simulation]`` table, or defaults) to ``t_end`` with step
+    ``dt`` (s), recording ``outputs`` (names; module notes). ``speed`` (rad/s) overrides
+    ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
+    A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
+    is the :class:`SimulationResult` so far (``complete`` False)."""
+    from ..model import assemble
+    sim = scene.simulation or Simulation()
+    model = model if model is not None else assemble(scene, full_fe=full_fe)
+    base_dir = Path(base_dir or ".")
+    n = model.K.shape[0]
+    sparse = n > DENSE_INVERSE_MAX
+    M = model.M if sparse else model.M.toarray()
+    K = model.K if sparse else model.K.toarray()
+    C = _damping(model)
+    speed = sim.speed if speed is None else speed
+    reference = sim.reference
+    if reference is None:
+        have = [b for b in scene.expanded().bodies if b.role == "rotor"]
+        reference = have[0].name if have else None
+    phi, why = (None, "") if reference is None else _rigid_mode(model, reference, "simulation.reference")
+    if speed and phi is None:
+        raise SceneError("simulation.speed", speed, "a starting speed needs a rotor (simulation.reference or a "
+                                                    "body of role 'rotor') and one rigid-body mode" +
+                         (f": {why}" if why else ""))
+    v0 = speed * phi if phi is not None else np.zeros(n)
+    # loads
+    vecs, hist = [], []
+    for i, ld in enumerate(sim.loads):
+        path = f"simulation.loads[{i}]"
+        hist.append(load_history(ld, path, base_dir))
+        vecs.append(load_vector(model, ld, path))
+    V = np.array(vecs).T if vecs else np.zeros((n, 0))
+
+    def force(t):
+        return V @ np.array([h(t) for h in hist]) if hist else np.zeros(n)
+
+    meshes = Meshes(model, sim.consistent)
+    torques = _shaft_torques(model, scene, sim, dt, v0)
+    if torques is not None and torques.constant_load is not None:     # a constant generator torque: a load
+        V = np.column_stack([V, torques.constant_load])
+        hist.append(constant(1.0, "generator", "N m"))
+        torques = None
+    nl = Stack([meshes, torques], n)
+    U = nl.U
+    q0 = np.zeros(n)
+    if sim.static_start and (hist or U.shape[1]):
+        q0 = static_start(M, K, U, nl, force(0.0), phi, U.T @ v0)
+    # outputs
+    names = list(dict.fromkeys(outputs))
+    chans, speed_rows = [], {}
+    for name in names:
+        if name.startswith("speed:"):
+            body, _ = _body_point(model, name[6:], "--output", name)
+            speed_rows[name] = spin_row(model, body)
+        else:
+            chans.extend(output_channels(model, name))
+    Ok, Oc = output_rows(chans) if chans else (np.zeros((0, n)), np.zeros((0, n)))
+    mesh_idx = {f"force:{mi.name}": j for j, mi in enumerate(meshes.info)}
+    swap = [(i, mesh_idx[c.name]) for i, c in enumerate(chans) if c.name in mesh_idx]
+    Sv = np.array(list(speed_rows.values())).reshape(len(speed_rows), n)
+
+    def observe(q, v, a, nu):
+        y = Ok @ q + Oc @ v
+        for i, j in swap:
+            y[i] = meshes.last_force[j]
+        return np.concatenate([y, Sv @ v])
+
+    freqs, shaft_hz = _mesh_frequencies(model, scene, v0)
+    warnings = step_warnings(dt, freqs, meshes, scene.band)
+    for w in warnings:
+        log.warning(w)
+    try:
+        # one BLAS thread for small models: threads cost more than products of this size
+        with threadpool_limits(1 if n <= SMALL_DENSE else None):
+            run = integrate(M, C, K, force, q0, v0, dt, t_end, scheme_of(sim), nl, observe, progress,
+                            model.dof_names)
+        complete = True
+    except Diverged as exc:
+        run, complete = exc.partial, False
+        stopped = exc
+    values, units = _collect(run.y, chans, list(speed_rows))
+    info = dict(run.info)
+    info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "losses_total": int(meshes.losses.sum())})
+    result = SimulationResult(run.time_s, values, units,
+                              [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
+                                math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,
+                                "contact_losses": int(meshes.losses[j])} for j, mi in enumerate(meshes.info)],
+                              freqs, shaft_hz, warnings, info, complete)
+    if not complete:
+        raise Diverged(str(stopped), result)
+    return result
+
+
+def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
+    """The generator / brake / friction part, or None when the scene asks for none."""
+    gen, brake, eta = sim.generator, sim.brake, sim.gearbox_efficiency
+    if gen is None and brake is None and eta >= 1.0:
+        return None
+    if gen is not None and gen.law == "pi" and gen.rated_speed is None:
+        raise SceneError("simulation.generator.rated_speed", None, "missing: the PI law needs the generator's "
+                                                                   "rated speed (rad/s)")
+
+    def body_of(table, path):
+        if table is not None and table.body is not None:
+            return _body_point(model, table.body, f"{path}.body", table.body)[0]
+        return chain_ends(scene)[1]
+
+    g_body = body_of(gen, "simulation.generator")
+    r_gen = spin_row(model, g_body)
+    sense = float(np.sign(r_gen @ v0)) or 1.0
+    r_brake = spin_row(model, body_of(brake, "simulation.brake")) if brake is not None else None
+    lss = None
+    if eta < 1.0:
+        rotor = chain_ends(scene)[0]
+        name = sim.lss_shaft or next((el.name.split(":")[0] for el in model.elements if el.kind == "shaft"
+                                      and rotor in el.bodies), None)
+        if name is None:
+            raise SceneError("simulation.lss_shaft", None, "missing: no shaft joins the rotor; name the "
+                                                           "low-speed shaft whose torque sign sets the friction")
+        ch = output_channels(model, f"torque:{name}", "simulation.lss_shaft")[0]
+        s_rot = float(np.sign(spin_row(model, rotor) @ v0)) or 1.0
+        lss = [s_rot * ch.k_row, s_rot * (ch.c_row if ch.c_row is not None else np.zeros_like(ch.k_row))]
+    J = _polar_inertia(model, g_body)
+    part = ShaftTorques(model.K.shape[0], dt, gen, r_gen, sense, brake, r_brake, eta, lss, J)
+    if gen is not None and gen.law == "constant" and brake is None and eta >= 1.0:
+        part.constant_load = -sense * gen.torque * r_gen
+    return part
+
+
+def _polar_inertia(model, body: str) -> float:
+    """The body's inertia about its own axis (kg m^2): its rigid-body rotation's kinetic
+    energy per unit speed squared, x 2."""
+    bm = model.bodies[body]
+    sl = model.body_slice(body)
+    Mb = model.M_abs[sl][:, sl]
+    P = bm.rigid_projection()
+    w = np.zeros(6)
+    w[3:] = bm.axes[:, 2]
+    try:
+        u = np.linalg.lstsq(P, w, rcond=None)[0]           # the body's motion of a unit spin
+    except np.linalg.LinAlgError:
+        return 0.0
+    return float(u @ (Mb @ u))
+
+
+def _mesh_frequencies(model, scene, v0: np.ndarray):
+    """{mesh or stage: mesh frequency Hz} and {body: shaft speed Hz} at the starting speeds."""
+    from .orders import mesh_orders
+    speeds = {b: float(spin_row(model, b) @ v0) for b in model.bodies}
+    ref = max(speeds, key=lambda b: abs(speeds[b])) if speeds else None
+    if ref is None or speeds[ref] == 0.0:
+        return {}, {}
+    ratios = {b: w / speeds[ref] for b, w in speeds.items()}
+    rpm = speeds[ref] * 60 / (2 * math.pi)
+    orders, _ = mesh_orders(scene, ratios, 1)
+    return ({o.source: abs(o.frequency_hz(rpm)) for o in orders},
+            {b: abs(w) / (2 * math.pi) for b, w in speeds.items()})
+
+
+def step_warnings(dt: float, freqs: dict, meshes, band_hz: float) -> list:
+    """Warnings when ``dt`` gives fewer than :data:`STEPS_PER_PERIOD` steps per period of a
+    mesh's highest harmonic kept or of the band (Hz)."""
+    out = []
+    harmonics = {}
+    for mi in meshes.info:
+        key = mi.name.split(".")[0] if mi.name.split(".")[0] in freqs else mi.name
+        harmonics[key] = max(harmonics.get(key, 1), mi.harmonics or 1)
+    for src, f in freqs.items():
+        top = f * harmonics.get(src, 1)
+        if top > 0 and 1.0 / (dt * top) < STEPS_PER_PERIOD:
+            out.append(f"dt = {dt:g} s gives {1 / (dt * top):.1f} steps per period of {src}'s mesh harmonic "
+                       f"{harmonics.get(src, 1)} ({top:.4g} Hz): below {STEPS_PER_PERIOD}, the period error "
+                       f"exceeds {100 * (2 * math.pi / STEPS_PER_PERIOD) ** 2 / 12:.1f} %")
+    if 1.0 / (dt * band_hz) < STEPS_PER_PERIOD:
+        out.append(f"dt = {dt:g} s gives {1 / (dt * band_hz):.1f} steps per period at the band's top "
+                   f"({band_hz:g} Hz): modes there are not resolved")
+    return out
+
+
+def _collect(Y: np.ndarray, chans: list, speed_names: list):
+    """{name: history} and units from the recorded rows (stress components -> von Mises)."""
+    values, units = {}, {}
+    for j, c in enumerate(chans):
+        if c.group is None:
+            values[c.name], units[c.name] = Y[:, j], c.unit
+        elif c.group not in values:
+            cols = [i for i, o in enumerate(chans) if o.group == c.group]
+            values[c.group], units[c.group] = von_mises(Y[:, cols]), c.unit
+    for k, name in enumerate(speed_names):
+        values[name], units[name] = Y[:, len(chans) + k], "rad/s"
+    return values, units
+
+
+def von_mises(S: np.ndarray) -> np.ndarray:
+    """von Mises stress of Voigt rows (xx, yy, zz, yz, xz, xy), one per instant."""
+    xx, yy, zz, yz, xz, xy = S.T
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3 * (yz ** 2 + xz ** 2 + xy ** 2))

@@ -1,0 +1,240 @@
+"""Implicit integration of ``M q'' + C q' + K q + U nu(U' q, U' q', t) = f(t)``: a linear
+model plus nonlinear forces that act along a few fixed directions (the columns of ``U``).
+
+Gear meshes (stiffness varying with the gear angle, backlash), the generator torque law and
+the brake are such forces: each acts along one row of the model (a mesh's line of action, a
+shaft's rotation), so the Jacobian of a step differs from the constant effective matrix
+``A0`` of :mod:`assembly.dynamics.integrators` by a matrix ``U D U'`` of rank m = U's
+columns. The step is solved without refactorising:
+
+* the step's balance (generalized-alpha, forces averaged: ``(1 - alpha_m) M a+ + alpha_m M
+  a + (1 - alpha_f) F+ + alpha_f F = f(t_{n+1-alpha_f})``, ``F = K q + C v + U nu``) with
+  ``q+``, ``v+`` Newmark's updates of ``a+``, reads ``A0 a+ + b0 + (1 - alpha_f) U nu+ = 0``
+  (``b0`` known from the last step);
+* with ``x0 = A0^-1 b0`` (one solve with the constant factorisation) and ``W = A0^-1 U``
+  (m solves, once per run), ``a+ = -x0 + W xi`` where ``xi`` solves the m-dimensional
+  ``xi + (1 - alpha_f) nu(x(xi), x'(xi)) = 0``, ``x = U' q+ = U' qp + beta dt^2 U' a+``;
+* Newton's iterations on ``xi`` use the diagonal tangents of ``nu`` and ``S = U' W``: the
+  Woodbury form of the full Newton step, O(m^3) each, no solve with A0.
+
+So a step costs one solve with the constant factorisation, two products with the model's
+matrices and O(n m) work. ``F+`` follows from the balance itself. Units: the model's (SI).
+"""
+from __future__ import annotations
+
+import logging
+import time as _time
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .integrators import Scheme, _effective, check_step, newmark
+
+log = logging.getLogger(__name__)
+
+#: Newton iterations of one step before it is declared not converging.
+MAX_ITERATIONS = 40
+#: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
+NEWTON_RTOL = 1e-10
+#: Dense models up to this size keep the inverse of the effective matrix (one product a solve).
+DENSE_INVERSE_MAX = 4000
+
+
+class Nonlinear:
+    """Forces along the columns of ``U`` (n x m): :meth:`forces` gives ``nu`` (m,) and its
+    tangents ``d nu / d x`` and ``d nu / d x'`` (m x m, or (m,) for a diagonal one) at ``x =
+    U' q``, ``x' = U' q'`` and time t; :meth:`commit` is told each accepted step (state,
+    event counts)."""
+
+    U: np.ndarray
+
+    def forces(self, t: float, x: np.ndarray, xd: np.ndarray):
+        raise NotImplementedError
+
+    def commit(self, t: float, x: np.ndarray, xd: np.ndarray) -> None:
+        pass
+
+
+class Stack(Nonlinear):
+    """Several :class:`Nonlinear` parts as one (their columns side by side)."""
+
+    def __init__(self, parts: list, n: int):
+        self.parts = [p for p in parts if p is not None and p.U.shape[1]]
+        self.U = np.hstack([p.U for p in self.parts]) if self.parts else np.zeros((n, 0))
+        self._cuts = np.cumsum([0] + [p.U.shape[1] for p in self.parts])
+
+    def _split(self, x):
+        return [x[a:b] for a, b in zip(self._cuts[:-1], self._cuts[1:])]
+
+    def forces(self, t, x, xd):
+        if not self.parts:
+            z = np.zeros(0)
+            return z, z, z
+        out = [p.forces(t, a, b) for p, a, b in zip(self.parts, self._split(x), self._split(xd))]
+        if len(out) == 1:
+            return out[0]
+        m = self.U.shape[1]
+        Kt, Ct = np.zeros((m, m)), np.zeros((m, m))
+        for (a, b), (_, k, c) in zip(zip(self._cuts[:-1], self._cuts[1:]), out):
+            for T, blk in ((Kt, k), (Ct, c)):
+                if blk.ndim == 1:
+                    np.fill_diagonal(T[a:b, a:b], blk)
+                else:
+                    T[a:b, a:b] = blk
+        return np.concatenate([o[0] for o in out]), Kt, Ct
+
+    def commit(self, t, x, xd):
+        for p, a, b in zip(self.parts, self._split(x), self._split(xd)):
+            p.commit(t, a, b)
+
+
+def tangent(T: np.ndarray) -> np.ndarray:
+    """A tangent as a matrix (a 1-D one is its diagonal)."""
+    return np.diag(T) if T.ndim == 1 else T
+
+
+@dataclass
+class Transient:
+    """A run: ``time_s`` (n_t,), the observed rows ``y`` (n_t, n_obs), Newton iterations
+    per step ``iterations`` and run statistics ``info`` (solve times, steps per second).
+    ``complete``: False for the partial result of a run that stopped (``info['stopped']``)."""
+
+    time_s: np.ndarray
+    y: np.ndarray
+    iterations: np.ndarray
+    scheme: Scheme
+    info: dict = field(default_factory=dict)
+    complete: bool = True
+
+
+class Diverged(FloatingPointError):
+    """A run stopped: not finite, or Newton did not converge. ``partial`` holds what was
+    computed (a :class:`Transient` with ``complete = False``)."""
+
+    def __init__(self, message: str, partial: Transient):
+        super().__init__(message)
+        self.partial = partial
+
+
+class _Solver:
+    """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU or a sparse LU."""
+
+    def __init__(self, A):
+        if sp.issparse(A) and A.shape[0] > DENSE_INVERSE_MAX:
+            self._lu, self.kind = spla.splu(sp.csc_matrix(A)), "sparse LU"
+        else:
+            A = A.toarray() if sp.issparse(A) else np.asarray(A, float)
+            if A.shape[0] <= DENSE_INVERSE_MAX:
+                self._inv, self.kind = sla.inv(A), "dense inverse"
+            else:
+                self._lu, self.kind = sla.lu_factor(A), "dense LU"
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        if self.kind == "dense inverse":
+            return self._inv @ b
+        if self.kind == "sparse LU":
+            return self._lu.solve(b)
+        return sla.lu_solve(self._lu, b)
+
+
+def _matrix(A, n: int):
+    if A is None:
+        return sp.csr_matrix((n, n))
+    if sp.issparse(A):
+        return A.tocsr() if n > DENSE_INVERSE_MAX else A.toarray()
+    return np.asarray(A, float)
+
+
+def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, t_end: float,
+              scheme: Optional[Scheme] = None, nonlinear: Optional[Nonlinear] = None,
+              observe: Optional[Callable] = None, progress: Optional[Callable] = None,
+              dof_names: Optional[list] = None) -> Transient:
+    """Integrate the model of the module notes from ``q0``, ``v0`` at t = 0 to ``t_end`` (s)
+    with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,).
+    ``observe(q, v, a, nu)`` -> 1-D array recorded at every step (default ``q``);
+    ``progress(step, n_steps, t)`` is called about 200 times a run. :class:`Diverged` (with
+    the partial result) when a state is not finite or a step's Newton iterations do not
+    converge; its message names the time and the coordinate (``dof_names``)."""
+    s = scheme or newmark()
+    n_steps = check_step(dt, t_end)
+    q, v = np.array(q0, float), np.array(v0, float)
+    n = len(q)
+    M, C, K = (_matrix(X, n) for X in (M, C, K))
+    nl = nonlinear or Stack([], n)
+    U = np.asarray(nl.U, float)
+    observe = observe or (lambda q, v, a, nu: q)
+    am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
+    t0 = _time.perf_counter()
+    lu = _Solver(_effective(M, C, K, dt, s))
+    W = lu.solve(U) if U.shape[1] else np.zeros((n, 0))
+    S = U.T @ W
+    t_factor = _time.perf_counter() - t0
+    x, xd = U.T @ q, U.T @ v
+    nu, _, _ = nl.forces(0.0, x, xd)
+    nl.commit(0.0, x, xd)
+    F = K @ q + C @ v + U @ nu
+    a = _Solver(M).solve(np.asarray(force(0.0), float) - F)
+    first = observe(q, v, a, nu)
+    Y = np.empty((n_steps + 1, len(first)))
+    Y[0] = first
+    its = np.zeros(n_steps + 1, dtype=np.int32)
+    t = np.arange(n_steps + 1) * dt
+    report = max(1, n_steps // 200)
+
+    def stop(i: int, why: str):
+        partial = Transient(t[:i + 1], Y[:i + 1], its[:i + 1], s, {"stopped": why}, complete=False)
+        raise Diverged(why, partial)
+
+    Ma = M @ a
+    xi = xi_prev = np.zeros(U.shape[1])
+    eye, ck, cc = np.eye(U.shape[1]), (1 - af) * b * dt * dt, (1 - af) * g * dt
+    for i in range(n_steps):
+        t_a = t[i] + (1 - af) * dt
+        f_a = np.asarray(force(t_a), float)
+        qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+        vp = v + (dt * (1 - g)) * a
+        x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
+        y0 = U.T @ x0
+        xp, xdp = U.T @ qp, U.T @ vp
+        for it in range(1, MAX_ITERATIONS + 1):
+            ua = S @ xi - y0                              # U' a+
+            x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
+            nu, dk, dc = nl.forces(t[i + 1], x, xd)
+            r = xi + (1 - af) * nu
+            if not len(r):
+                break
+            J = eye + (ck * tangent(dk) + cc * tangent(dc)) @ S
+            dxi = np.linalg.solve(J, r)
+            xi = xi - dxi
+            if np.linalg.norm(dxi) <= NEWTON_RTOL * max(np.linalg.norm(xi), 1e-300) or not np.any(dxi):
+                break                                     # x, nu: the last iterate's, NEWTON_RTOL off
+        else:
+            stop(i, f"step to t = {t[i + 1]:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "
+                    f"(residual {np.linalg.norm(r):.3g}); try a smaller dt")
+        its[i + 1] = it
+        xi, xi_prev = 2 * xi - xi_prev, xi               # next guess: linear extrapolation
+        a_new = W @ xi_prev - x0
+        q = qp + (b * dt * dt) * a_new
+        v = vp + (g * dt) * a_new
+        if not np.all(np.isfinite(q)):
+            bad = int(np.argmax(~np.isfinite(q)))
+            name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
+            stop(i, f"the run diverged at t = {t[i + 1]:.6g} s ({name} is not finite)")
+        Ma_new = M @ a_new
+        F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+        a, Ma = a_new, Ma_new
+        nl.commit(t[i + 1], x, xd)
+        Y[i + 1] = observe(q, v, a, nu)
+        if progress is not None and ((i + 1) % report == 0 or i + 1 == n_steps):
+            progress(i + 1, n_steps, t[i + 1])
+    wall = _time.perf_counter() - t0
+    info = {"steps": n_steps, "dofs": n, "rank": U.shape[1], "solver": lu.kind, "factor_s": t_factor,
+            "wall_s": wall, "steps_per_s": n_steps / max(wall - t_factor, 1e-12),
+            "mean_iterations": float(its[1:].mean()) if n_steps else 0.0}
+    log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step", s.name, n_steps,
+             dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"])
+    return Transient(t, Y, its, s, info)

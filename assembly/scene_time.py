@@ -1,0 +1,151 @@
+"""Scene data of time-domain runs (``flexgear simulate``): mesh stiffness that varies with
+the gear angle, backlash's partner table, and the ``[simulation]`` table (initial speed,
+loads, generator law, brake, gearbox efficiency, integration scheme). Data only; the
+physics is in :mod:`assembly.dynamics.mesh_variation` and :mod:`assembly.dynamics.simulate`.
+SI units: m, N, N m, s, rad, rad/s.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Literal, Optional
+
+from fe_components.fields import quantity
+
+#: Harmonics kept of a rectangular-wave mesh stiffness by default (Park et al.'s Fourier
+#: series to 8th order).
+DEFAULT_HARMONICS = 8
+
+
+def _angle(default=dataclasses.MISSING, **rule):
+    return quantity("rad", default, angle=True, **rule)
+
+
+@dataclass(frozen=True)
+class MeshVariation:
+    """Mesh stiffness as a function of the gear angle (time-domain runs only; modal, FRF
+    and static analyses use the mean ``stiffness`` k0)::
+
+        k(phi) = k0 (1 + sum_h a_h cos(h phi + phi_h)),  phi = z (theta - theta_frame) - phase
+
+    with theta the counting gear's rotation (rad, integrated, so start-up and stops are
+    right), theta_frame its carrier's (0 for gears in the housing) and z its teeth
+    (``teeth``, default the counting gear's).
+
+    Either ``amplitudes`` (a_h, relative to k0, h = 1, 2, ...) with ``phases`` (phi_h, rad,
+    default 0), or the rectangular wave of tooth-pair alternation: ``step`` (dk / k0, the
+    relative stiffness step between double and single tooth contact) with the profile
+    contact ratio ``contact_ratio`` in (1, 2) (default from the teeth) and the overlap
+    ratio ``face_contact_ratio`` (default from the teeth, 0 for spur gears): harmonic h of
+    ``harmonics`` has a_h = 2 step sin(h pi (c - 1)) / (h pi) x sinc(h eps_beta), the
+    rectangular wave's series (double contact centred on phi = 0) averaged over the
+    helical contact line's sweep of eps_beta mesh periods. ``counting_gear``: the gear whose
+    teeth and angle count ("gear1" or "gear2"). Planet meshes of a stage are phased by
+    their planet angle psi_n: ``phase`` += z psi_n (Parker 2000)."""
+
+    amplitudes: Optional[tuple[float, ...]] = quantity("", None, abs_lt=10.0)
+    phases: Optional[tuple[float, ...]] = _angle(None)
+    step: Optional[float] = quantity("", None, ge=0.0, lt=10.0)
+    contact_ratio: Optional[float] = quantity("", None, gt=1.0, lt=2.0)
+    face_contact_ratio: Optional[float] = quantity("", None, ge=0.0, lt=20.0)
+    harmonics: int = quantity("", DEFAULT_HARMONICS, integer=True, ge=1, le=64)
+    phase: float = _angle(0.0)
+    teeth: Optional[int] = quantity("", None, integer=True, ge=3)
+    counting_gear: Literal["gear1", "gear2"] = "gear1"
+
+
+@dataclass(frozen=True)
+class TimeLoad:
+    """A load of a time-domain run on ``body`` (at ``interface`` of a flexible body).
+
+    ``kind``: "torque" (about the body's own axis, N m), "force" (N) or "moment" (N m)
+    along the global ``direction``. Its history, one of:
+
+    * ``value`` alone: constant;
+    * ``value`` -> ``end_value`` ramped linearly from ``t_start`` to ``t_end`` (s; a step is
+      a ramp of one time step);
+    * ``table``: a CSV file (path relative to the scene file) with a header row, the time
+      column ``time_column`` (s) and the value column ``column``;
+    * ``openfast``: an OpenFAST text output file (``.out``), channel ``column`` (e.g.
+      ``RotTorq``), converted to SI by its units row (kN-m -> N m).
+
+    ``scale`` multiplies a table's or file's values (e.g. -1 for the other sense)."""
+
+    body: str
+    kind: Literal["torque", "force", "moment"] = "torque"
+    direction: tuple[float, float, float] = quantity("", (0.0, 0.0, 1.0))
+    interface: Optional[str] = None
+    value: float = quantity("N or N m", 0.0)
+    end_value: Optional[float] = quantity("N or N m", None)
+    t_start: float = quantity("s", 0.0, ge=0.0)
+    t_end: Optional[float] = quantity("s", None, ge=0.0)
+    table: Optional[str] = None
+    openfast: Optional[str] = None
+    column: Optional[str] = None
+    time_column: str = "time"
+    scale: float = quantity("", 1.0)
+
+
+@dataclass(frozen=True)
+class Generator:
+    """The generator's electromagnetic torque on ``body`` (default the body of role
+    "generator"), always opposing its rotation sense at the start. ``law`` "constant":
+    ``torque`` (N m); "pi": ``torque`` + ``kp`` (omega - ``rated_speed``) + ``ki`` x the
+    integral of (omega - ``rated_speed``) dt, clipped to [0, ``max_torque``] (omega: the
+    body's speed, rad/s, in its starting sense; default max: 1.1 x ``torque``)."""
+
+    body: Optional[str] = None
+    law: Literal["constant", "pi"] = "constant"
+    torque: float = quantity("N m", 0.0, ge=0.0)
+    rated_speed: Optional[float] = quantity("rad/s", None, gt=0.0)
+    kp: float = quantity("N m s/rad", 0.0, ge=0.0)
+    ki: float = quantity("N m/rad", 0.0, ge=0.0)
+    max_torque: Optional[float] = quantity("N m", None, gt=0.0)
+
+
+@dataclass(frozen=True)
+class Brake:
+    """A shaft brake on ``body`` (default the body of role "generator"): ElastoDyn's HSS
+    brake, torque rising linearly from 0 at ``deploy_time`` (s) to ``torque`` (N m,
+    HSSBrTqF) over ``ramp_time`` (s, HSSBrDT), acting against the shaft's rotation and never
+    driving it backwards: below ``stick_speed`` (rad/s) it is a stiff viscous stick
+    (torque proportional to speed), so a stopped shaft stays stopped."""
+
+    torque: float = quantity("N m", gt=0.0)
+    deploy_time: float = quantity("s", 0.0, ge=0.0)
+    ramp_time: float = quantity("s", 0.0, ge=0.0)
+    body: Optional[str] = None
+    stick_speed: float = quantity("rad/s", 1e-3, gt=0.0)
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """``[simulation]``: the settings of ``flexgear simulate``.
+
+    ``speed`` (rad/s): the starting speed of ``reference`` (default the body of role
+    "rotor") about its own axis; every body starts at its kinematic share of it, in static
+    equilibrium under the loads at t = 0 (``static_start``; with inertia relief when they do
+    not balance). ``loads``: :class:`TimeLoad` list; ``generator``, ``brake``; and
+    ``gearbox_efficiency`` (ElastoDyn's GBoxEff, in (0, 1]: a friction torque on the
+    generator body of (1/eta^s - 1) x the generator-side torque of the previous step, s the
+    sign of the ``lss_shaft`` torque, default the shaft on the rotor). ``scheme``:
+    "newmark" (average acceleration), "hht" (``alpha``) or "generalized-alpha"
+    (``rho_inf``). ``consistent``: add the energy-consistent mesh term -1/2 dk/dtheta delta^2
+    (Oh, Grosh & Barber 2005)."""
+
+    speed: float = quantity("rad/s", 0.0)
+    reference: Optional[str] = None
+    loads: tuple[TimeLoad, ...] = ()
+    generator: Optional[Generator] = None
+    brake: Optional[Brake] = None
+    gearbox_efficiency: float = quantity("", 1.0, gt=0.0, le=1.0)
+    lss_shaft: Optional[str] = None
+    scheme: Literal["newmark", "hht", "generalized-alpha"] = "newmark"
+    alpha: float = quantity("", 0.05, ge=0.0, le=1.0 / 3.0)
+    rho_inf: float = quantity("", 0.9, ge=0.0, le=1.0)
+    consistent: bool = True
+    static_start: bool = True
+
+    def __post_init__(self):
+        if isinstance(self.loads, list):  # Python callers may pass lists
+            object.__setattr__(self, "loads", tuple(self.loads))

@@ -1,0 +1,321 @@
+"""Load series of the time-domain simulation (assembly.dynamics.load_series) against their
+definitions.
+
+* Series: linear interpolation between table points, first / last value held outside
+  (np.interp); hand values from ``y_i + (y_{i+1} - y_i) (t - t_i) / (t_{i+1} - t_i)``.
+* OpenFAST units to SI by definition: 1 kN m = 1e3 N m, 1 rpm = 2 pi rad / 60 s,
+  1 deg = pi / 180 rad.
+* HSS brake: ElastoDyn HSSBrMode 1 (Jonkman, FAST User's Guide; ElastoDyn source: frac 0 for
+  t < THSSBrDp, (t - THSSBrDp) / HSSBrDT on the ramp, 1 after).
+* Gearbox efficiency: ElastoDyn GBoxEffFac = GBoxEff ** sign(previous LSS torque), friction
+  factor 1 / GBoxEffFac - 1; NREL 5 MW GBoxEff = 94.4 % (Jonkman et al. 2009,
+  NREL/TP-500-38060, Table 6-1).
+Every error test checks the scene path (``field``) appears in the message.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from assembly.dynamics.load_series import (Series, brake_torque, constant, efficiency_factor, make_series,
+                                           ramp, read_csv, read_openfast_out)
+from assembly.errors import SceneError
+
+FIELD = "simulation.loads[0].table"
+
+
+# ---------------------------------------------------------------- Series / make_series
+
+def test_series_interpolates_between_points_and_holds_ends():
+    s = make_series([0.0, 1.0, 3.0], [2.0, 4.0, -2.0], "torque", "N m", FIELD)
+    # between points: y_i + (y_{i+1} - y_i) (t - t_i) / (t_{i+1} - t_i)
+    assert s(0.5) == pytest.approx(2.0 + 2.0 * 0.5)
+    assert s(2.0) == pytest.approx(4.0 - 6.0 * 0.5)
+    assert s(1.0) == 4.0                                                  # on a table point
+    # beyond the table: the first / last value is held
+    assert s(-5.0) == 2.0 and s(10.0) == -2.0
+    assert isinstance(s(0.5), float)
+    np.testing.assert_allclose(s(np.array([-1.0, 0.5, 2.0, 4.0])), [2.0, 3.0, 1.0, -2.0])
+
+
+def test_series_is_frozen_and_read_only():
+    t, y = np.array([0.0, 1.0]), np.array([1.0, 2.0])
+    s = make_series(t, y, "torque", "N m", FIELD)
+    t[0] = -1.0                                                           # the series holds copies
+    assert s.time_s[0] == 0.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.name = "other"
+    with pytest.raises(ValueError):
+        s.values[0] = 5.0
+
+
+def test_single_point_series_is_constant():
+    s = make_series([2.0], [7.0], "torque", "N m", FIELD)
+    assert s(0.0) == s(2.0) == s(9.0) == 7.0
+
+
+@pytest.mark.parametrize("t,y,words", [
+    ([], [], "no data rows"),
+    ([0.0, 1.0], [1.0], "2 times but 1 values"),
+    ([0.0, math.nan], [1.0, 2.0], "not finite"),
+    ([0.0, 1.0], [1.0, math.inf], "not finite"),
+    ([0.0, 0.1, 0.3, 0.2], [0.0] * 4, "time 0.2 s at row 3 does not increase (previous 0.3 s)"),
+    ([0.0, 0.5, 0.5], [0.0] * 3, "time 0.5 s at row 2 does not increase (previous 0.5 s)"),
+])
+def test_make_series_refuses_bad_tables(t, y, words):
+    with pytest.raises(SceneError) as err:
+        make_series(t, y, "torque", "N m", FIELD)
+    assert FIELD in str(err.value) and words in str(err.value)
+
+
+def test_constant():
+    s = constant(1.5e6, "rotor torque", "N m")
+    assert s(-1.0) == s(0.0) == s(1e4) == 1.5e6 and s.unit == "N m"
+    with pytest.raises(SceneError) as err:
+        constant(math.nan, "rotor torque", "N m", field="simulation.loads[1].value")
+    assert "simulation.loads[1].value" in str(err.value)
+
+
+# ---------------------------------------------------------------- ramp
+
+def test_ramp_values():
+    s = ramp(100.0, 300.0, 2.0, 6.0, "torque", "N m", FIELD)
+    assert s(0.0) == 100.0                                                # before t_start
+    assert s(2.0) == 100.0                                                # at t_start
+    assert s(4.0) == pytest.approx(200.0)                                 # mid: (100 + 300) / 2
+    assert s(5.0) == pytest.approx(100.0 + 200.0 * 3.0 / 4.0)
+    assert s(6.0) == 300.0                                                # at t_end
+    assert s(60.0) == 300.0                                               # held after
+
+
+def test_step_is_a_short_ramp():
+    dt = 1e-3
+    s = ramp(0.0, 1.0, 1.0, 1.0 + dt, "torque", "N m", FIELD)
+    assert s(1.0) == 0.0 and s(1.0 + dt) == 1.0 and s(1.0 + dt / 2) == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("t_start,t_end", [(1.0, 1.0), (2.0, 1.0), (0.0, math.nan), (math.inf, 1.0)])
+def test_ramp_refuses_non_increasing_times(t_start, t_end):
+    with pytest.raises(SceneError) as err:
+        ramp(0.0, 1.0, t_start, t_end, "torque", "N m", FIELD)
+    assert FIELD + ".t_end" in str(err.value)
+
+
+# ---------------------------------------------------------------- CSV
+
+GOOD_CSV = """# rotor torque from a site measurement
+# time in s, torque in kN m
+ time , torque_kNm , speed
+0.0, 1.0, 10
+1.0, 3.0, 11
+
+2.0, 2.0, 12
+"""
+
+
+def test_read_csv_interpolates_and_scales(tmp_path):
+    p = tmp_path / "loads.csv"
+    p.write_text(GOOD_CSV)
+    s = read_csv(p, "torque_kNm", scale=1e3, field=FIELD)                 # kN m -> N m
+    np.testing.assert_array_equal(s.time_s, [0.0, 1.0, 2.0])
+    np.testing.assert_allclose(s.values, [1e3, 3e3, 2e3])
+    assert s(0.5) == pytest.approx(2e3) and s(-1.0) == 1e3 and s(5.0) == 2e3
+    assert s.name == "torque_kNm"
+    speed = read_csv(p, "speed", time_column="time", field=FIELD)         # scale 1 by default
+    assert speed(1.5) == pytest.approx(11.5)
+
+
+def test_read_csv_other_time_column(tmp_path):
+    p = tmp_path / "loads.csv"
+    p.write_text("t_s,load\n0,5\n2,9\n")
+    assert read_csv(p, "load", time_column="t_s", field=FIELD)(1.0) == pytest.approx(7.0)
+
+
+BAD_CSV = {
+    "missing column": ("time,torque\n0,1\n1,2\n", "speed", "time", "no column 'speed'; the file has time, torque"),
+    "missing time column": ("t,speed\n0,1\n1,2\n", "speed", "time", "no column 'time'; the file has t, speed"),
+    "text cell": ("time,speed\n0,1\n1,fast\n", "speed", "time", "line 3, column 'speed': 'fast' is not a number"),
+    "text time": ("time,speed\n0,1\nlater,2\n", "speed", "time", "'later' is not a number"),
+    "empty cell": ("time,speed\n0,1\n1,\n", "speed", "time", "'' is not a number"),
+    "decreasing time": ("time,speed\n0,1\n2,2\n1,3\n", "speed", "time",
+                        "time 1.0 s at line 4 does not increase (previous 2.0 s)"),
+    "repeated time": ("# c\ntime,speed\n0,1\n1,2\n1,3\n", "speed", "time",
+                      "time 1.0 s at line 5 does not increase (previous 1.0 s)"),
+    "empty data": ("# only a header\ntime,speed\n", "speed", "time", "no data rows"),
+    "empty file": ("", "speed", "time", "no header row"),
+    "short row": ("time,speed\n0,1\n1\n", "speed", "time", "line 3 has 1 cells, the header 2"),
+    "nan value": ("time,speed\n0,1\n1,nan\n", "speed", "time", "not finite"),
+    "missing file": (None, "speed", "time", "file not found"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_CSV))
+def test_read_csv_refuses_bad_files(tmp_path, case):
+    text, column, time_column, words = BAD_CSV[case]
+    p = tmp_path / "loads.csv"
+    if text is not None:
+        p.write_text(text)
+    with pytest.raises(SceneError) as err:
+        read_csv(p, column, time_column=time_column, field=FIELD)
+    assert str(err.value).startswith(FIELD + " = ") and words in str(err.value)
+
+
+def test_read_csv_refuses_non_finite_scale(tmp_path):
+    p = tmp_path / "loads.csv"
+    p.write_text("time,speed\n0,1\n")
+    with pytest.raises(SceneError) as err:
+        read_csv(p, "speed", scale=math.inf, field=FIELD)
+    assert FIELD + ".scale" in str(err.value)
+
+
+def test_read_csv_refuses_unreadable_file(tmp_path):
+    p = tmp_path / "loads.csv"
+    p.write_bytes(b"time,speed\n\xff\xfe\x00\x81\n")                       # not UTF-8
+    with pytest.raises(SceneError) as err:
+        read_csv(p, "speed", field=FIELD)
+    assert FIELD in str(err.value) and "cannot read" in str(err.value)
+
+
+# ---------------------------------------------------------------- OpenFAST .out
+
+OF_FIELD = "simulation.loads[0].openfast"
+OF_HEAD = ("\n"
+           "Predictions were generated on 04-Mar-2024 at 10:12:31 using OpenFAST, compiled as a 64-bit "
+           "application using double precision at commit v3.5.2\n"
+           " linked with  NWTC Subroutine Library; ElastoDyn; InflowWind; AeroDyn; ServoDyn\n"
+           "\n"
+           "Description from the FAST input file: NREL 5.0 MW Baseline Wind Turbine (Onshore)\n"
+           "\n")
+
+
+def _out(tmp_path, names, units, rows, name="run.out"):
+    body = "\t".join(names) + "\n" + "\t".join(units) + "\n"
+    body += "".join("\t".join(f"{v:10.4E}" if isinstance(v, float) else str(v) for v in r) + "\n" for r in rows)
+    p = tmp_path / name
+    p.write_text(OF_HEAD + body)
+    return p
+
+
+def test_openfast_rottorq_and_rotspeed_in_si(tmp_path):
+    rows = [(0.0, 4000.0, 12.1), (0.05, 4100.0, 12.0), (0.1, 3900.0, 11.9)]
+    p = _out(tmp_path, ["Time", "RotTorq", "RotSpeed"], ["(s)", "(kN-m)", "(rpm)"], rows)
+    tq = read_openfast_out(p, "RotTorq", field=OF_FIELD)
+    np.testing.assert_allclose(tq.time_s, [0.0, 0.05, 0.1])
+    np.testing.assert_allclose(tq.values, [4.0e6, 4.1e6, 3.9e6])          # 1 kN m = 1000 N m
+    assert tq.unit == "N m" and tq.name == "RotTorq"
+    assert tq(0.025) == pytest.approx(4.05e6)
+    w = read_openfast_out(p, "rotspeed", field=OF_FIELD)                  # case-insensitive name
+    np.testing.assert_allclose(w.values, np.array([12.1, 12.0, 11.9]) * 2 * math.pi / 60)   # rpm -> rad/s
+    assert w.unit == "rad/s" and w.name == "RotSpeed"
+
+
+@pytest.mark.parametrize("unit,si,factor", [
+    ("(s)", "s", 1.0), ("(N-m)", "N m", 1.0), ("(kN-m)", "N m", 1e3), ("(MN-m)", "N m", 1e6),
+    ("(N)", "N", 1.0), ("(kN)", "N", 1e3), ("(MN)", "N", 1e6), ("(rpm)", "rad/s", 2 * math.pi / 60),
+    ("(rad/s)", "rad/s", 1.0), ("(deg/s)", "rad/s", math.pi / 180), ("(deg)", "rad", math.pi / 180),
+    ("(rad)", "rad", 1.0), ("(kW)", "W", 1e3), ("(W)", "W", 1.0), ("(-)", "-", 1.0),
+])
+def test_openfast_unit_table(tmp_path, unit, si, factor):
+    # factors by the definitions of the SI prefixes, the revolution (2 pi rad) and the degree
+    p = _out(tmp_path, ["Time", "Chan"], ["(s)", unit], [(0.0, 2.5), (1.0, -4.0)])
+    s = read_openfast_out(p, "Chan", field=OF_FIELD)
+    np.testing.assert_allclose(s.values, np.array([2.5, -4.0]) * factor, rtol=1e-14)
+    assert s.unit == si
+
+
+BAD_OUT = {
+    "unknown unit": (["Time", "GenTq"], ["(s)", "(lbf-ft)"], [(0.0, 1.0), (1.0, 2.0)], "run.out",
+                     "'GenTq' has unit '(lbf-ft)'"),
+    "missing column": (["Time", "RotTorq", "RotSpeed"], ["(s)", "(kN-m)", "(rpm)"], [(0.0, 1.0, 2.0)], "run.out",
+                       "no channel 'GenTq'; the file has Time, RotTorq, RotSpeed"),
+    "non-monotonic": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.2, 2.0), (0.1, 3.0)], "run.out",
+                      "time 0.1 s at line 11 does not increase (previous 0.2 s)"),
+    "repeated time": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.0, 2.0)], "run.out",
+                      "does not increase"),
+    "text cell": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.1, "abc")], "run.out",
+                  "'abc' is not a number"),
+    "short row": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.1,)], "run.out", "1 values, 2 channels"),
+    "unit count": (["Time", "GenTq"], ["(s)"], [(0.0, 1.0)], "run.out", "2 channel names but 1 units"),
+    "no data": (["Time", "GenTq"], ["(s)", "(kN-m)"], [], "run.out", "no data rows"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_OUT))
+def test_openfast_refuses_bad_files(tmp_path, case):
+    names, units, rows, fname, words = BAD_OUT[case]
+    p = _out(tmp_path, names, units, rows, fname)
+    with pytest.raises(SceneError) as err:
+        read_openfast_out(p, "GenTq", field=OF_FIELD)
+    assert str(err.value).startswith(OF_FIELD + " = ") and words in str(err.value)
+
+
+def test_openfast_refuses_binary_missing_and_headerless(tmp_path):
+    b = tmp_path / "run.outb"
+    b.write_bytes(b"\x02\x00\x05\x00\x00\x00" + bytes(range(256)))
+    cases = [(b, "OutFileFmt = 1"), (tmp_path / "absent.out", "file not found")]
+    h = tmp_path / "headerless.out"
+    h.write_text("0.0 1.0\n0.1 2.0\n")
+    cases.append((h, "no channel line starting with 'Time'"))
+    for path, words in cases:
+        with pytest.raises(SceneError) as err:
+            read_openfast_out(path, "RotTorq", field=OF_FIELD)
+        assert OF_FIELD in str(err.value) and words in str(err.value)
+
+
+# ---------------------------------------------------------------- HSS brake
+
+def test_brake_torque_ramp():
+    # ElastoDyn HSSBrMode 1: THSSBrDp = 10 s, HSSBrDT = 0.6 s, HSSBrTqF = 28116.2 N m (the NREL
+    # 5 MW HSSBrTqF, Jonkman et al. 2009 Table 6-1; any positive value would do)
+    dp, dt, full = 10.0, 0.6, 28116.2
+    assert brake_torque(0.0, dp, dt, full) == 0.0                         # before deployment
+    assert brake_torque(dp, dp, dt, full) == 0.0                          # ramp starts at 0
+    assert brake_torque(dp + dt / 2, dp, dt, full) == pytest.approx(full / 2)   # mid-ramp
+    assert brake_torque(dp + dt / 4, dp, dt, full) == pytest.approx(full / 4)
+    assert brake_torque(dp + dt, dp, dt, full) == pytest.approx(full)     # ramp end
+    assert brake_torque(dp + 100.0, dp, dt, full) == full                 # held
+    q = brake_torque(np.array([0.0, dp + dt / 2, dp + 5.0]), dp, dt, full)
+    np.testing.assert_allclose(q, [0.0, full / 2, full])
+    assert isinstance(brake_torque(1.0, dp, dt, full), float)
+
+
+def test_brake_torque_instant():
+    # HSSBrDT = 0: full torque from the deployment time on (THSSBrFl = THSSBrDp)
+    assert brake_torque(4.999, 5.0, 0.0, 1e4) == 0.0
+    assert brake_torque(5.0, 5.0, 0.0, 1e4) == 1e4
+    assert brake_torque(7.0, 5.0, 0.0, 1e4) == 1e4
+
+
+@pytest.mark.parametrize("args,key", [((1.0, -0.1, 1e4), "ramp_time"), ((1.0, 0.5, -1.0), "full_torque"),
+                                      ((math.nan, 0.5, 1.0), "deploy_time"), ((1.0, math.inf, 1.0), "ramp_time"),
+                                      ((1.0, 0.5, math.nan), "full_torque")])
+def test_brake_torque_refuses_bad_settings(args, key):
+    with pytest.raises(SceneError) as err:
+        brake_torque(0.0, *args, field="simulation.brake")
+    assert f"simulation.brake.{key}" in str(err.value)
+
+
+# ---------------------------------------------------------------- gearbox efficiency
+
+def test_efficiency_factor_nrel_5mw():
+    eta = 0.944                                                           # NREL/TP-500-38060 Table 6-1
+    assert efficiency_factor(eta, 1.0) == pytest.approx(1 / 0.944 - 1, rel=1e-14)   # rotor -> generator
+    assert efficiency_factor(eta, 0.0) == pytest.approx(1 / 0.944 - 1, rel=1e-14)   # >= 0 counts as forward
+    assert efficiency_factor(eta, -3.0e6) == pytest.approx(0.944 - 1, rel=1e-14)    # generator -> rotor
+    # forward the gearbox passes the generator-side torque divided by eta
+    assert 1000.0 * (1 + efficiency_factor(eta, 1.0)) == pytest.approx(1000.0 / eta)
+    assert efficiency_factor(1.0, 1.0) == efficiency_factor(1.0, -1.0) == 0.0       # lossless
+
+
+@pytest.mark.parametrize("eta", [0.0, -0.5, 1.0001, 94.4, math.nan, math.inf])
+def test_efficiency_factor_refuses_out_of_range(eta):
+    with pytest.raises(SceneError) as err:
+        efficiency_factor(eta, 1.0)
+    assert "simulation.gearbox_efficiency" in str(err.value)
+
+
+def test_series_is_exported_type():
+    assert isinstance(constant(0.0, "x", "-"), Series)
