@@ -1,4 +1,5 @@
-"""``flexgear`` command line: modes, compare, static, run, sweep, campbell, frf, export, demo, reference, bench.
+"""``flexgear`` command line: modes, compare, static, run, sweep, campbell, frf, simulate, export, demo, reference,
+bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
@@ -19,7 +20,8 @@ log = logging.getLogger("flexgear")
 
 SCENE_HELP = "scene TOML file (or the name of a shipped example)"
 BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex",
-              "drivetrain": "assembly.app.bench_drivetrain", "frf": "assembly.app.bench_frf"}
+              "drivetrain": "assembly.app.bench_drivetrain", "frf": "assembly.app.bench_frf",
+              "transient": "assembly.app.bench_transient"}
 
 
 OUT_HELP = ("output folder, replaced as a whole when the run succeeds (never half-written); files you "
@@ -290,6 +292,68 @@ def _add_frf(sub) -> None:
     p.set_defaults(func=cmd_frf)
 
 
+def cmd_simulate(args) -> int:
+    """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
+    run that stops keeps its partial result (``partial_simulation.h5``) and exits with 1."""
+    from ..dynamics.integrators import check_step
+    from ..dynamics.simulate import simulate
+    from ..dynamics.transient import Diverged
+    from ..errors import SceneError
+    from ..schema import load_scene
+    from .progress import Progress
+    from .simulate import sim_to_dir, summary_text, write_partial
+
+    try:
+        n_steps = check_step(args.dt, args.t_end)
+    except SceneError as exc:
+        raise UsageError(f"--{exc.path.replace('_', '-')} = {exc.value!r}: {exc.reason}") from None
+    path = scene_file(args)
+    scene = load_scene(path)
+    progress = Progress(enabled=False if args.quiet or args.json else None)
+    with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
+        def tick(step, total, t):
+            bar.update(step - bar.n)
+            bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+        try:
+            r = simulate(scene, args.t_end, args.dt, args.output or (), base_dir=Path(path).parent,
+                         speed=args.speed, progress=tick, full_fe=args.unreduced)
+        except Diverged as exc:
+            where = write_partial(exc.partial, args.out if args.out is not None else ".", scene.name)
+            if args.json:
+                json.dump(exc.partial.as_json(), sys.stdout)
+                sys.stdout.write("\n")
+            print(f"flexgear: error: run stopped: {exc}; what was computed (to t = "
+                  f"{exc.partial.time_s[-1]:.6g} s) is in {where}", file=sys.stderr)
+            return 1
+    if args.out is not None:
+        sim_to_dir(r, args.out, scene.name, path)
+    if args.json:
+        json.dump(r.as_json(), sys.stdout)
+        sys.stdout.write("\n")
+    elif args.out is not None:
+        print(f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs -> {Path(args.out) / 'index.html'}")
+    else:
+        print(summary_text(r, scene.name))
+    return 0
+
+
+def _add_simulate(sub) -> None:
+    p = sub.add_parser("simulate", help="time-domain run: implicit integration with angle-driven mesh stiffness, "
+                                        "backlash, generator, brake and turbine loads ([simulation] of the scene)")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--t-end", type=float, required=True, metavar="T", help="end time, s")
+    p.add_argument("--dt", type=float, required=True, metavar="DT", help="time step, s")
+    p.add_argument("--output", action="append", metavar="OUT",
+                   help="as flexgear frf's outputs (torque:SHAFT, force:MESH, force:BEARING[:dir], "
+                        "motion:BODY[:INTERFACE]:dof, stress:BODY:X,Y,Z) and speed:BODY (rad/s) (repeat for more)")
+    p.add_argument("--speed", type=float, default=None, metavar="RAD_S",
+                   help="starting speed of the rotor (rad/s; default simulation.speed)")
+    p.add_argument("--unreduced", action="store_true",
+                   help="integrate every FE DOF of the flexible bodies instead of their reductions (reference)")
+    _add_out_json(p, "simulation.h5, trace_NN.png, spectrum_NN.png, summary.json, index.html")
+    p.set_defaults(func=cmd_simulate)
+
+
 def _add_out_json(p, files: str) -> None:
     """``--out DIR`` (writing ``files``), ``--json`` and ``--quiet`` of an analysis command."""
     p.add_argument("--out", default=None, metavar="DIR", help=f"{OUT_HELP} ({files})")
@@ -409,6 +473,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep(sub)
     _add_campbell(sub)
     _add_frf(sub)
+    _add_simulate(sub)
     _add_export(sub)
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
     m.add_argument("scene", help=SCENE_HELP)

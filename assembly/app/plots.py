@@ -200,3 +200,42 @@ def plot_bode(frequency_hz, H, path, title: str = "", ylabel: str = "", natural_
     finally:
         plt.close(fig)
     return Path(path)
+
+
+def plot_time_trace(time_s, y, path, title: str = "", ylabel: str = "") -> Path:
+    """One time history ``y`` against ``time_s`` (s)."""
+    with _figure(path, (8.0, 3.4)) as (fig, ax):
+        ax.plot(np.asarray(time_s, float), np.asarray(y, float), lw=0.8)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, lw=0.3)
+    return Path(path)
+
+
+def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = "", marks=()) -> Path:
+    """Amplitude spectrum (log scale) with vertical ``marks``: (Hz, label, kind) where kind
+    "mesh" (harmonics, solid) or "sideband" (dotted); marks outside the axis are left out."""
+    f, a = np.asarray(frequency_hz, float), np.asarray(amplitude, float)
+    with _figure(path, (8.0, 3.8)) as (fig, ax):
+        ax.plot(f, np.where(a > 0, a, np.nan), lw=0.8)
+        ax.set_yscale("log")
+        shown = [fm for fm, _, _ in marks if fm > 0]
+        top = min(f.max(), 1.15 * max(shown)) if len(f) and shown else (f.max() if len(f) else 1.0)
+        labelled = set()
+        for fm, label, kind in marks:
+            if 0 < fm <= top:
+                style = dict(color="C3", lw=0.7, ls="-") if kind == "mesh" else dict(color="C2", lw=0.6, ls=":")
+                ax.axvline(fm, label=None if kind in labelled else ("mesh harmonics" if kind == "mesh"
+                                                                    else "sidebands"), **style)
+                labelled.add(kind)
+                if kind == "mesh" and label:
+                    ax.annotate(label, (fm, 1.0), xycoords=("data", "axes fraction"), fontsize=6,
+                                rotation=90, va="top", ha="right")
+        if labelled:
+            ax.legend(fontsize=7, loc="upper right")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel(f"amplitude [{ylabel}]" if ylabel else "amplitude")
+        ax.set_title(title, fontsize=10)
+        ax.set_xlim(0, top)
+    return Path(path)

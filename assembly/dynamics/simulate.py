@@ -54,8 +54,10 @@ STEPS_PER_PERIOD = 10
 class SimulationResult:
     """``time_s`` (s) and ``outputs`` {name: (n_t,) array in ``units``}; ``meshes``: per
     nonlinear mesh its name, mesh frequency at the start (Hz) and contact-loss events;
-    ``mesh_frequencies_hz`` {mesh: Hz at the starting speed}; ``warnings``; ``info`` (run
-    statistics); ``complete`` False for the partial result of a run that stopped."""
+    ``mesh_frequencies_hz`` {stage or mesh: Hz at the starting speed}, ``shaft_speeds_hz``
+    {body: rev/s}, ``sidebands_hz`` {stage or mesh: the modulation's spacing, Hz: a stage's
+    carrier speed, a pair's slower gear}; ``warnings``; ``info`` (run statistics);
+    ``complete`` False for the partial result of a run that stopped."""
 
     time_s: np.ndarray
     outputs: dict
@@ -63,6 +65,7 @@ class SimulationResult:
     meshes: list = field(default_factory=list)
     mesh_frequencies_hz: dict = field(default_factory=dict)
     shaft_speeds_hz: dict = field(default_factory=dict)
+    sidebands_hz: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
     info: dict = field(default_factory=dict)
     complete: bool = True
@@ -256,7 +259,7 @@ def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=No
             y[i] = meshes.last_force[j]
         return np.concatenate([y, Sv @ v])
 
-    freqs, shaft_hz = _mesh_frequencies(model, scene, v0)
+    freqs, shaft_hz, side_hz = _mesh_frequencies(model, scene, v0)
     warnings = step_warnings(dt, freqs, meshes, scene.band)
     for w in warnings:
         log.warning(w)
@@ -276,7 +279,7 @@ def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=No
                               [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
                                 math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,
                                 "contact_losses": int(meshes.losses[j])} for j, mi in enumerate(meshes.info)],
-                              freqs, shaft_hz, warnings, info, complete)
+                              freqs, shaft_hz, side_hz, warnings, info, complete)
     if not complete:
         raise Diverged(str(stopped), result)
     return result
@@ -340,12 +343,19 @@ def _mesh_frequencies(model, scene, v0: np.ndarray):
     speeds = {b: float(spin_row(model, b) @ v0) for b in model.bodies}
     ref = max(speeds, key=lambda b: abs(speeds[b])) if speeds else None
     if ref is None or speeds[ref] == 0.0:
-        return {}, {}
+        return {}, {}, {}
     ratios = {b: w / speeds[ref] for b, w in speeds.items()}
     rpm = speeds[ref] * 60 / (2 * math.pi)
     orders, _ = mesh_orders(scene, ratios, 1)
-    return ({o.source: abs(o.frequency_hz(rpm)) for o in orders},
-            {b: abs(w) / (2 * math.pi) for b, w in speeds.items()})
+    shaft = {b: abs(w) / (2 * math.pi) for b, w in speeds.items()}
+    side = {}
+    for o in orders:                       # modulation: a stage's carrier, a pair's slower gear
+        if o.stage is not None and f"{o.stage}.carrier" in shaft:
+            side[o.source] = shaft[f"{o.stage}.carrier"]
+        else:
+            m = next((m for m in scene.meshes if (m.name or f"{m.gear1}-{m.gear2}") == o.source), None)
+            side[o.source] = min(shaft[m.gear1], shaft[m.gear2]) if m is not None else 0.0
+    return {o.source: abs(o.frequency_hz(rpm)) for o in orders}, shaft, side
 
 
 def step_warnings(dt: float, freqs: dict, meshes, band_hz: float) -> list:
