@@ -8,8 +8,9 @@ definitions.
 * HSS brake: ElastoDyn HSSBrMode 1 (Jonkman, FAST User's Guide; ElastoDyn source: frac 0 for
   t < THSSBrDp, (t - THSSBrDp) / HSSBrDT on the ramp, 1 after).
 * Gearbox efficiency: ElastoDyn GBoxEffFac = GBoxEff ** sign(previous LSS torque), friction
-  factor 1 / GBoxEffFac - 1; NREL 5 MW GBoxEff = 94.4 % (Jonkman et al. 2009,
-  NREL/TP-500-38060, Table 6-1).
+  factor 1 / GBoxEffFac - 1. The value used, 94.4 %, is the NREL 5 MW turbine's generator
+  efficiency (Jonkman et al. 2009, NREL/TP-500-38060), taken as a plausible efficiency: that
+  turbine's own ElastoDyn model has GBoxEff = 100 %.
 Every error test checks the scene path (``field``) appears in the message.
 """
 from __future__ import annotations
@@ -269,7 +270,7 @@ def test_openfast_refuses_binary_missing_and_headerless(tmp_path):
 
 def test_brake_torque_ramp():
     # ElastoDyn HSSBrMode 1: THSSBrDp = 10 s, HSSBrDT = 0.6 s, HSSBrTqF = 28116.2 N m (the NREL
-    # 5 MW HSSBrTqF, Jonkman et al. 2009 Table 6-1; any positive value would do)
+    # 5 MW full HSS brake torque, Jonkman et al. 2009; any positive value would do)
     dp, dt, full = 10.0, 0.6, 28116.2
     assert brake_torque(0.0, dp, dt, full) == 0.0                         # before deployment
     assert brake_torque(dp, dp, dt, full) == 0.0                          # ramp starts at 0
@@ -301,7 +302,7 @@ def test_brake_torque_refuses_bad_settings(args, key):
 # ---------------------------------------------------------------- gearbox efficiency
 
 def test_efficiency_factor_nrel_5mw():
-    eta = 0.944                                                           # NREL/TP-500-38060 Table 6-1
+    eta = 0.944                                   # a plausible efficiency (module notes); factor by definition
     assert efficiency_factor(eta, 1.0) == pytest.approx(1 / 0.944 - 1, rel=1e-14)   # rotor -> generator
     assert efficiency_factor(eta, 0.0) == pytest.approx(1 / 0.944 - 1, rel=1e-14)   # >= 0 counts as forward
     assert efficiency_factor(eta, -3.0e6) == pytest.approx(0.944 - 1, rel=1e-14)    # generator -> rotor
