@@ -253,15 +253,23 @@ def cmd_frf(args) -> int:
     scene = load_scene(path)
     r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
                            modes_hz=args.modes_hz)
+    return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log), lambda: frf_json(r, scene.name),
+                 f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs", lambda: summary_text(r, scene.name))
+
+
+def _emit(args, to_dir, as_json, done: str, summary, indent: int | None = 1) -> int:
+    """An analysis command's output: files in ``--out`` (``to_dir()``), then ``--json``
+    (``as_json()`` on stdout), else a line saying where the files are (``done``), else
+    ``summary()``."""
     if args.out is not None:
-        frf_to_dir(r, args.out, scene.name, path, args.log)
+        to_dir()
     if args.json:
-        json.dump(frf_json(r, scene.name), sys.stdout, indent=1)
+        json.dump(as_json(), sys.stdout, indent=indent)
         sys.stdout.write("\n")
     elif args.out is not None:
-        print(f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs -> {Path(args.out) / 'index.html'}")
+        print(f"{done} -> {Path(args.out) / 'index.html'}")
     else:
-        print(summary_text(r, scene.name))
+        print(summary())
     return 0
 
 
@@ -325,16 +333,9 @@ def cmd_simulate(args) -> int:
             print(f"flexgear: error: run stopped: {exc}; what was computed (to t = "
                   f"{exc.partial.time_s[-1]:.6g} s) is in {where}", file=sys.stderr)
             return 1
-    if args.out is not None:
-        sim_to_dir(r, args.out, scene.name, path)
-    if args.json:
-        json.dump(r.as_json(), sys.stdout)
-        sys.stdout.write("\n")
-    elif args.out is not None:
-        print(f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs -> {Path(args.out) / 'index.html'}")
-    else:
-        print(summary_text(r, scene.name))
-    return 0
+    return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
+                 f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
+                 lambda: summary_text(r, scene.name), indent=None)
 
 
 def _add_simulate(sub) -> None:

@@ -105,6 +105,9 @@ class Meshes(Nonlinear):
         self.losses = np.zeros(self.m, dtype=np.int64)
         self.last_force = np.zeros(self.m)
         self._last = None                   # the last forces() evaluation: commit reads it
+        #: Least contact slope a tangent uses (0: exact). A static solve raises it so that
+        #: Newton's method can step across an open gap (whose exact tangent is singular).
+        self.gap_slope = 0.0
 
     def state(self, x: np.ndarray, xd: np.ndarray, second: bool = False):
         """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``."""
@@ -126,7 +129,7 @@ class Meshes(Nonlinear):
         nu = np.concatenate([force - self.k0 * delta - self.c * ddot, con * 0.5 * kdf * e * e])
         Kt = np.zeros((2 * m, 2 * m))
         i, j = np.arange(m), np.arange(m, 2 * m)
-        Kt[i, i] = k * s - self.k0
+        Kt[i, i] = k * np.maximum(s, self.gap_slope) - self.k0
         Kt[i, j] = kdf * e                               # d nu_g / d angle
         Kt[j, i] = con * kdf * e * s                     # d nu_r / d delta (symmetric: a potential's Hessian)
         Kt[j, j] = con * 0.5 * self.k0 * d2f * e * e
@@ -139,6 +142,16 @@ class Meshes(Nonlinear):
         self.losses += self.contact & ~touching
         self.contact = touching
         self.last_force = force
+
+    def coast_preload(self, x: np.ndarray) -> np.ndarray:
+        """Forces along (g, r) that move every mesh with backlash whose compression in ``x``
+        is negative onto its coast flank: ``k0 b`` on its line of action (the linear spring
+        ``k0 delta`` then carries ``k0 (delta + b)``, the coast flank's force)."""
+        m = self.m
+        out = np.zeros(2 * m)
+        coast = ~np.isnan(self.backlash) & (x[:m] < 0)
+        out[:m][coast] = self.k0[coast] * self.backlash[coast]
+        return out
 
     def energy(self, x: np.ndarray) -> float:
         """Strain energy 1/2 k(phi) e^2 summed over the meshes (J), minus the linear

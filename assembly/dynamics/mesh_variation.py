@@ -67,12 +67,13 @@ def lowest_factor(a: np.ndarray, p: np.ndarray) -> tuple[float, float]:
 
 
 def check_positive(a: np.ndarray, p: np.ndarray, path: str) -> None:
-    """SceneError at ``path`` when the series makes the stiffness negative somewhere."""
+    """SceneError at ``path`` when the series makes the stiffness negative or zero somewhere
+    (teeth out of contact are the backlash's business, not a stiffness of zero)."""
     f, phi = lowest_factor(a, p)
-    if f < 0.0:
+    if f <= 0.0:
         raise SceneError(path, [round(float(x), 6) for x in a],
                          f"the stiffness 1 + sum a_h cos(h phi + phi_h) falls to {f:.4g} k0 at phi = "
-                         f"{phi:.4g} rad: a mesh stiffness cannot be negative")
+                         f"{phi:.4g} rad: a mesh stiffness must stay positive")
 
 
 def dead_zone(delta: np.ndarray, backlash: np.ndarray):

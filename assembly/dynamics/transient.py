@@ -210,8 +210,11 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
             J = eye + (ck * tangent(dk) + cc * tangent(dc)) @ S
             dxi = np.linalg.solve(J, r)
             xi = xi - dxi
-            if np.linalg.norm(dxi) <= NEWTON_RTOL * max(np.linalg.norm(xi), 1e-300) or not np.any(dxi):
-                break                                     # x, nu: the last iterate's, NEWTON_RTOL off
+            # converged: xi (forces along U) or what it changes, U' a+, settled to NEWTON_RTOL
+            # (x, nu: the last iterate's, that close)
+            if (np.linalg.norm(dxi) <= NEWTON_RTOL * np.linalg.norm(xi) or not np.any(dxi)
+                    or np.linalg.norm(S @ dxi) <= NEWTON_RTOL * np.linalg.norm(ua)):
+                break
         else:
             stop(i, f"step to t = {t[i + 1]:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "
                     f"(residual {np.linalg.norm(r):.3g}); try a smaller dt")
