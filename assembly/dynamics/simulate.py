@@ -284,6 +284,15 @@ def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=No
 
     freqs, shaft_hz, side_hz = _mesh_frequencies(model, scene, v0)
     warnings = step_warnings(dt, freqs, meshes, scene.band)
+    if sim.brake is not None and torques is not None and torques.i_brake is not None:
+        # below the stick speed the brake is a damper T/stick on the braked body: the trapezoidal
+        # rule keeps its decay positive only for dt < 2 J stick / T (J: the body's own inertia)
+        J_b = _polar_inertia(model, _brake_body(model, scene, sim))
+        if J_b > 0 and dt > 2 * J_b * sim.brake.stick_speed / sim.brake.torque:
+            warnings.append(f"dt = {dt:g} s > 2 J stick_speed / torque = "
+                            f"{2 * J_b * sim.brake.stick_speed / sim.brake.torque:.3g} s: once stopped, the "
+                            "braked shaft's speed alternates in sign inside the stick band (raise "
+                            "simulation.brake.stick_speed or lower dt)")
     for w in warnings:
         log.warning(w)
     try:
@@ -317,15 +326,10 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
         raise SceneError("simulation.generator.rated_speed", None, "missing: the PI law needs the generator's "
                                                                    "rated speed (rad/s)")
 
-    def body_of(table, path):
-        if table is not None and table.body is not None:
-            return _body_point(model, table.body, f"{path}.body", table.body)[0]
-        return chain_ends(scene)[1]
-
-    g_body = body_of(gen, "simulation.generator")
+    g_body = _table_body(model, scene, gen, "simulation.generator")
     r_gen = spin_row(model, g_body)
     sense = float(np.sign(r_gen @ v0)) or 1.0
-    r_brake = spin_row(model, body_of(brake, "simulation.brake")) if brake is not None else None
+    r_brake = spin_row(model, _brake_body(model, scene, sim)) if brake is not None else None
     lss = None
     if eta < 1.0:
         rotor = chain_ends(scene)[0]
@@ -342,6 +346,17 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
     if gen is not None and gen.law == "constant" and brake is None and eta >= 1.0:
         part.constant_load = -sense * gen.torque * r_gen
     return part
+
+
+def _table_body(model, scene, table, path: str) -> str:
+    """The body a generator or brake table names, default the body of role "generator"."""
+    if table is not None and table.body is not None:
+        return _body_point(model, table.body, f"{path}.body", table.body)[0]
+    return chain_ends(scene)[1]
+
+
+def _brake_body(model, scene, sim) -> str:
+    return _table_body(model, scene, sim.brake, "simulation.brake")
 
 
 def _polar_inertia(model, body: str) -> float:

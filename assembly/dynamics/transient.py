@@ -14,8 +14,9 @@ columns. The step is solved without refactorising:
 * with ``x0 = A0^-1 b0`` (one solve with the constant factorisation) and ``W = A0^-1 U``
   (m solves, once per run), ``a+ = -x0 + W xi`` where ``xi`` solves the m-dimensional
   ``xi + (1 - alpha_f) nu(x(xi), x'(xi)) = 0``, ``x = U' q+ = U' qp + beta dt^2 U' a+``;
-* Newton's iterations on ``xi`` use the diagonal tangents of ``nu`` and ``S = U' W``: the
-  Woodbury form of the full Newton step, O(m^3) each, no solve with A0.
+* Newton's iterations on ``xi`` use the tangents of ``nu`` and ``S = U' W``: the Woodbury
+  form of the full Newton step, O(m^3) each, no solve with A0; a step that does not lower
+  the residual is halved (the kinks of backlash and of the brake's stick band).
 
 So a step costs one solve with the constant factorisation, two products with the model's
 matrices and O(n m) work. ``F+`` follows from the balance itself. Units: the model's (SI).
@@ -36,8 +37,8 @@ from .integrators import Scheme, _effective, check_step, newmark
 
 log = logging.getLogger(__name__)
 
-#: Newton iterations of one step before it is declared not converging.
-MAX_ITERATIONS = 40
+#: Newton iterations (and halved steps) of one step before it is declared not converging.
+MAX_ITERATIONS = 60
 #: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
 NEWTON_RTOL = 1e-10
 #: Dense models up to this size keep the inverse of the effective matrix (one product a solve).
@@ -200,6 +201,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
         y0 = U.T @ x0
         xp, xdp = U.T @ qp, U.T @ vp
+        best = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
             ua = S @ xi - y0                              # U' a+
             x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
@@ -207,6 +209,14 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
             r = xi + (1 - af) * nu
             if not len(r):
                 break
+            res = np.linalg.norm(r)
+            if res >= best and res > 1e-13 * (np.linalg.norm(xi) + (1 - af) * np.linalg.norm(nu)):
+                # the full step did not lower the residual (a kink of a piecewise law, e.g. the
+                # brake saturating on both sides of its stick band): halve it, from the last point
+                dxi = 0.5 * dxi
+                xi = xi + dxi
+                continue
+            best = res
             J = eye + (ck * tangent(dk) + cc * tangent(dc)) @ S
             dxi = np.linalg.solve(J, r)
             xi = xi - dxi
