@@ -24,7 +24,7 @@ import numpy as np
 from ..scene import HOUSING
 from ..validate import body_origins, element_paths
 from .frf_channels import _strain_rows
-from .mesh_variation import check_positive, dead_zone, factor, series
+from .mesh_variation import check_positive, series
 from .transient import Nonlinear
 
 log = logging.getLogger(__name__)
@@ -99,6 +99,13 @@ class Meshes(Nonlinear):
         self.k0, self.c, self.backlash = np.array(k0), np.array(c), np.array(b)
         self.phase = np.array(phase)
         self.consistent = consistent
+        self._con = 1.0 if consistent else 0.0
+        self._h = np.arange(1, H + 1, dtype=float)
+        self._h2, self._hA = self._h ** 2, self._h * self.A
+        self._linear = np.isnan(self.backlash)
+        self._gap = np.where(self._linear, 0.0, self.backlash)
+        self._i, self._j = np.arange(self.m), np.arange(self.m, 2 * self.m)
+        self._Kt = np.zeros((2 * self.m, 2 * self.m))
         n = model.K.shape[0]
         self.U = np.vstack(rows_g + rows_r).T if self.m else np.zeros((n, 0))
         self.contact = np.ones(self.m, dtype=bool)
@@ -110,31 +117,37 @@ class Meshes(Nonlinear):
         self.gap_slope = 0.0
 
     def state(self, x: np.ndarray, xd: np.ndarray, second: bool = False):
-        """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``."""
+        """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``
+        (the series of :func:`assembly.dynamics.mesh_variation.factor` and
+        :func:`~assembly.dynamics.mesh_variation.dead_zone`, written out for the step loop)."""
         m = self.m
         delta, ddot = x[:m], xd[:m]
-        f, df, *d2 = factor(x[m:] - self.phase, self.A, self.P, second)
-        e, s = dead_zone(delta, self.backlash)
+        arg = np.multiply.outer(x[m:] - self.phase, self._h) + self.P
+        c, sn = self.A * np.cos(arg), self._hA * np.sin(arg)
+        f, df = 1.0 + c.sum(axis=1), -sn.sum(axis=1)
+        d2f = -(self._h2 * c).sum(axis=1) if second else None
+        s = (self._linear | (delta >= 0.0) | (delta < -self._gap)).astype(float)
+        e = np.where(self._linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + self._gap, 0.0))
         k = self.k0 * f
-        return k * e + self.c * s * ddot, k, s, e, df, (d2[0] if d2 else None)
+        return k * e + self.c * s * ddot, k, s, e, df, d2f
 
     def forces(self, t, x, xd):
         """Forces along (g, r) and their tangents: the Hessian of the mesh potential on (delta,
         angle) less the linear model's k0 (module notes), and the contact damper's slope."""
         m = self.m
         force, k, s, e, df, d2f = self._last = self.state(x, xd, second=True)
-        delta, ddot = x[:m], xd[:m]
         kdf = self.k0 * df
-        con = 1.0 if self.consistent else 0.0
-        nu = np.concatenate([force - self.k0 * delta - self.c * ddot, con * 0.5 * kdf * e * e])
-        Kt = np.zeros((2 * m, 2 * m))
-        i, j = np.arange(m), np.arange(m, 2 * m)
+        con = self._con
+        nu, dc, Kt = np.empty(2 * m), np.zeros(2 * m), self._Kt
+        nu[:m] = force - self.k0 * x[:m] - self.c * xd[:m]
+        nu[m:] = con * 0.5 * kdf * e * e
+        dc[:m] = self.c * (s - 1.0)
+        i, j = self._i, self._j
         Kt[i, i] = k * np.maximum(s, self.gap_slope) - self.k0
         Kt[i, j] = kdf * e                               # d nu_g / d angle
         Kt[j, i] = con * kdf * e * s                     # d nu_r / d delta (symmetric: a potential's Hessian)
         Kt[j, j] = con * 0.5 * self.k0 * d2f * e * e
-        dc = np.concatenate([self.c * (s - 1.0), np.zeros(m)])
-        return nu, Kt, dc
+        return nu, Kt.copy(), dc
 
     def commit(self, t, x, xd):
         force, _, s, _, _, _ = self._last if self._last is not None else self.state(x, xd)

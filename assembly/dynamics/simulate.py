@@ -229,12 +229,16 @@ def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=No
     if reference is None:
         have = [b for b in scene.expanded().bodies if b.role == "rotor"]
         reference = have[0].name if have else None
-    phi, why = (None, "") if reference is None else _rigid_mode(model, reference, "simulation.reference")
-    if speed and phi is None:
+    if reference is None:               # no speed reference: the rigid-body mode still relieves the loads
+        phi, why = single_rigid_mode(model)
+        phi = None if phi is None else phi[:, 0]
+    else:
+        phi, why = _rigid_mode(model, reference, "simulation.reference")
+    if speed and (phi is None or reference is None):
         raise SceneError("simulation.speed", speed, "a starting speed needs a rotor (simulation.reference or a "
                                                     "body of role 'rotor') and one rigid-body mode" +
                          (f": {why}" if why else ""))
-    v0 = speed * phi if phi is not None else np.zeros(n)
+    v0 = speed * phi if speed else np.zeros(n)
     # loads
     vecs, hist = [], []
     for i, ld in enumerate(sim.loads):

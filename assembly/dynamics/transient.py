@@ -24,6 +24,7 @@ matrices and O(n m) work. ``F+`` follows from the balance itself. Units: the mod
 from __future__ import annotations
 
 import logging
+import math
 import time as _time
 from dataclasses import dataclass, field
 from typing import Callable, Optional
@@ -65,6 +66,8 @@ class Stack(Nonlinear):
 
     def __init__(self, parts: list, n: int):
         self.parts = [p for p in parts if p is not None and p.U.shape[1]]
+        if len(self.parts) == 1:                   # one part: its own methods, no splitting
+            self.forces, self.commit = self.parts[0].forces, self.parts[0].commit
         self.U = np.hstack([p.U for p in self.parts]) if self.parts else np.zeros((n, 0))
         self._cuts = np.cumsum([0] + [p.U.shape[1] for p in self.parts])
 
@@ -98,6 +101,22 @@ def tangent(T: np.ndarray) -> np.ndarray:
     return np.diag(T) if T.ndim == 1 else T
 
 
+def _norm(v: np.ndarray) -> float:
+    """Euclidean norm of a short vector (cheaper than np.linalg.norm's checks)."""
+    return math.sqrt(v @ v)
+
+
+def _weighted(dk: np.ndarray, dc: np.ndarray, ck: float, cc: float) -> np.ndarray:
+    """``ck dk + cc dc`` as a matrix, either tangent given as a matrix or its diagonal."""
+    if dk.ndim == 2:
+        out = ck * dk
+        if dc.ndim == 2:
+            return out + cc * dc
+        out[np.diag_indices_from(out)] += cc * dc
+        return out
+    return tangent(ck * dk) + cc * tangent(dc) if dc.ndim == 2 else np.diag(ck * dk + cc * dc)
+
+
 @dataclass
 class Transient:
     """A run: ``time_s`` (n_t,), the observed rows ``y`` (n_t, n_obs), Newton iterations
@@ -122,11 +141,20 @@ class Diverged(FloatingPointError):
 
 
 class _Solver:
-    """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU or a sparse LU."""
+    """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU, or for a large
+    sparse matrix a sparse Cholesky factorisation (:func:`cms.linsolve.factor`: CHOLMOD when
+    installed; the effective matrix of a model with symmetric M, C, K is positive definite),
+    else a sparse LU."""
 
     def __init__(self, A):
         if sp.issparse(A) and A.shape[0] > DENSE_INVERSE_MAX:
-            self._lu, self.kind = spla.splu(sp.csc_matrix(A)), "sparse LU"
+            from cms.errors import InteriorMechanismError
+            from cms.linsolve import factor
+            try:
+                f = factor(sp.csc_matrix(A))
+                self._lu, self.kind = f, f"sparse Cholesky ({f.backend})" if f.backend == "cholmod" else "sparse LU"
+            except InteriorMechanismError:
+                self._lu, self.kind = spla.splu(sp.csc_matrix(A)), "sparse LU"
         else:
             A = A.toarray() if sp.issparse(A) else np.asarray(A, float)
             if A.shape[0] <= DENSE_INVERSE_MAX:
@@ -137,7 +165,7 @@ class _Solver:
     def solve(self, b: np.ndarray) -> np.ndarray:
         if self.kind == "dense inverse":
             return self._inv @ b
-        if self.kind == "sparse LU":
+        if self.kind.startswith("sparse"):
             return self._lu.solve(b)
         return sla.lu_solve(self._lu, b)
 
@@ -173,12 +201,12 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     lu = _Solver(_effective(M, C, K, dt, s))
     W = lu.solve(U) if U.shape[1] else np.zeros((n, 0))
     S = U.T @ W
-    t_factor = _time.perf_counter() - t0
     x, xd = U.T @ q, U.T @ v
     nu, _, _ = nl.forces(0.0, x, xd)
     nl.commit(0.0, x, xd)
     F = K @ q + C @ v + U @ nu
-    a = _Solver(M).solve(np.asarray(force(0.0), float) - F)
+    a = _Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
+    t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
     Y = np.empty((n_steps + 1, len(first)))
     Y[0] = first
@@ -193,14 +221,14 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     Ma = M @ a
     xi = xi_prev = np.zeros(U.shape[1])
     eye, ck, cc = np.eye(U.shape[1]), (1 - af) * b * dt * dt, (1 - af) * g * dt
+    UT = np.ascontiguousarray(U.T)
     for i in range(n_steps):
         t_a = t[i] + (1 - af) * dt
         f_a = np.asarray(force(t_a), float)
         qp = q + dt * v + (dt * dt * (0.5 - b)) * a
         vp = v + (dt * (1 - g)) * a
         x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
-        y0 = U.T @ x0
-        xp, xdp = U.T @ qp, U.T @ vp
+        y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
         best = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
             ua = S @ xi - y0                              # U' a+
@@ -209,21 +237,21 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
             r = xi + (1 - af) * nu
             if not len(r):
                 break
-            res = np.linalg.norm(r)
-            if res >= best and res > 1e-13 * (np.linalg.norm(xi) + (1 - af) * np.linalg.norm(nu)):
+            res = _norm(r)
+            if res >= best and res > 1e-13 * (_norm(xi) + (1 - af) * _norm(nu)):
                 # the full step did not lower the residual (a kink of a piecewise law, e.g. the
                 # brake saturating on both sides of its stick band): halve it, from the last point
                 dxi = 0.5 * dxi
                 xi = xi + dxi
                 continue
             best = res
-            J = eye + (ck * tangent(dk) + cc * tangent(dc)) @ S
+            J = eye + _weighted(dk, dc, ck, cc) @ S
             dxi = np.linalg.solve(J, r)
             xi = xi - dxi
             # converged: xi (forces along U) or what it changes, U' a+, settled to NEWTON_RTOL
             # (x, nu: the last iterate's, that close)
-            if (np.linalg.norm(dxi) <= NEWTON_RTOL * np.linalg.norm(xi) or not np.any(dxi)
-                    or np.linalg.norm(S @ dxi) <= NEWTON_RTOL * np.linalg.norm(ua)):
+            step = _norm(dxi)
+            if step <= NEWTON_RTOL * _norm(xi) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
                 break
         else:
             stop(i, f"step to t = {t[i + 1]:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "

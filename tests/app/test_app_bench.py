@@ -106,3 +106,20 @@ def test_bench_frf_prints_the_table_with_errors(tmp_path):
         assert r[1] == "30" and float(r[4]) <= 1e-6
         assert 0 < float(r[5].split()[0]) < 1e-6
     assert rows[2][4] == "reference" and rows[3][1] == "1530"
+
+
+def test_bench_transient_prints_cost_and_drivetrain_tables():
+    # tables 1 and 2 on the rigid 5 MW model, a few steps: each row's numbers are present and
+    # the drivetrain's mean main-shaft torque is the rated rotor torque (the loads balance
+    # through the gear ratio, Jonkman et al. 2009 / the scene's teeth) to its mesh ripple
+    import io
+
+    from assembly.app.bench_transient import main
+    buf = io.StringIO()
+    assert main(["--tables", "1,2", "--no-flexible", "--steps", "50", "--repeat", "50", "--seconds", "0.01"],
+                out=buf) == 0
+    lines = buf.getvalue().splitlines()
+    step = _table(lines, "| scene | DOFs | rank m |")
+    assert step[0][:2] == ["nrel5mw", "126"] and float(step[0][5]) > 0 and float(step[0][7]) >= 1
+    drive = _table(lines, "| scene | DOFs | assemble [s] |")
+    assert drive[0][3] == "100" and abs(float(drive[0][9]) - 1.0) < 1e-2
