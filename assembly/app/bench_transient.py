@@ -185,7 +185,7 @@ def _per_step(cases, a, out) -> None:
               f"{solve * 1e6:.2f} | {step / solve:.0f} | {algebra * 1e6:.2f} | {step / algebra:.0f} |", file=out)
     print(f"\nNotes: {a.steps} steps of {DT_5MW:g} s from the static start, rated operation; every mesh "
           f"angle-driven (step {STEP}) with backlash {BACKLASH * 1e3:.2f} mm. Step time from the run's info "
-          "(its wall_s less factor_s, which still holds the initial-acceleration solve with M). Bare solve: "
+          "(its wall_s less factor_s: both factorisations). Bare solve: "
           f"one `_Solver(A0).solve(b)`, median of 5 blocks of {a.repeat}. The goal is a step within 3x a bare "
           "solve. simulate's warnings: " + ("; ".join(sorted(warn)) or "none") + ".\n", file=out)
 
