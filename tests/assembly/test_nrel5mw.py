@@ -219,4 +219,4 @@ def test_readme_quotes_the_scene_s_own_numbers(scene):
     nums = [float(x) for x in re.findall(r"(\d+\.\d+e\d+|\d+\.\d+)", para[:400])]
     assert nums[0] == pytest.approx(tm.gear_ratio, abs=5e-4)                 # GBRatio
     assert nums[1] == pytest.approx(tm.generator_inertia, abs=0.05)         # GenIner
-    assert nums[4] == pytest.approx(tm.stiffness, rel=5e-3)                 # DTTorSpr
+    assert nums[2] == pytest.approx(tm.stiffness, rel=5e-3)                 # DTTorSpr
