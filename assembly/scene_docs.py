@@ -233,6 +233,12 @@ FIELDS: dict[str, dict[str, str]] = {
         "rho_inf": "Generalized-alpha spectral radius at infinite frequency, [0, 1] (default 0.9).",
         "consistent": "Add the energy-consistent mesh term -1/2 dk/dtheta delta^2 (default true).",
         "static_start": "Start in static equilibrium under the loads at t = 0 (default true).",
+        "points": "Named stress points (`[[simulation.points]]`, `StressPoint` tables): outputs `stress:NAME`.",
+    },
+    "StressPoint": {
+        "name": "Output name: `stress:NAME`.",
+        "body": "The flexible body.",
+        "point": "Global point (m); the stress is the von Mises stress at the nearest FE stress node.",
     },
     "TimeLoad": {
         "body": "Body loaded (a body or stage member name).",

@@ -119,6 +119,16 @@ class Brake:
 
 
 @dataclass(frozen=True)
+class StressPoint:
+    """A named point of a flexible body whose stress a run records: output ``stress:NAME``,
+    the von Mises stress (Pa) at the FE stress node nearest to ``point`` (global, m)."""
+
+    name: str
+    body: str
+    point: tuple[float, float, float] = quantity("m")
+
+
+@dataclass(frozen=True)
 class Simulation:
     """``[simulation]``: the settings of ``flexgear simulate``.
 
@@ -131,7 +141,8 @@ class Simulation:
     sign of the ``lss_shaft`` torque, default the shaft on the rotor). ``scheme``:
     "newmark" (average acceleration), "hht" (``alpha``) or "generalized-alpha"
     (``rho_inf``). ``consistent``: add the energy-consistent mesh term -1/2 dk/dtheta delta^2
-    (Oh, Grosh & Barber 2005)."""
+    (Oh, Grosh & Barber 2005). ``points``: named stress points (:class:`StressPoint`); a run
+    without outputs named records each point's stress and each nonlinear mesh's force."""
 
     speed: float = quantity("rad/s", 0.0)
     reference: Optional[str] = None
@@ -145,7 +156,9 @@ class Simulation:
     rho_inf: float = quantity("", 0.9, ge=0.0, le=1.0)
     consistent: bool = True
     static_start: bool = True
+    points: tuple[StressPoint, ...] = ()
 
     def __post_init__(self):
-        if isinstance(self.loads, list):  # Python callers may pass lists
-            object.__setattr__(self, "loads", tuple(self.loads))
+        for f in ("loads", "points"):
+            if isinstance(getattr(self, f), list):  # Python callers may pass lists
+                object.__setattr__(self, f, tuple(getattr(self, f)))

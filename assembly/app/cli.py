@@ -323,7 +323,7 @@ def cmd_simulate(args) -> int:
             bar.update(step - bar.n)
             bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
         try:
-            r = simulate(scene, args.t_end, args.dt, args.output or (), base_dir=Path(path).parent,
+            r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
                          speed=args.speed, progress=tick, full_fe=args.unreduced)
         except Diverged as exc:
             where = write_partial(exc.partial, args.out if args.out is not None else ".", scene.name)
@@ -346,7 +346,8 @@ def _add_simulate(sub) -> None:
     p.add_argument("--dt", type=float, required=True, metavar="DT", help="time step, s")
     p.add_argument("--output", action="append", metavar="OUT",
                    help="as flexgear frf's outputs (torque:SHAFT, force:MESH, force:BEARING[:dir], "
-                        "motion:BODY[:INTERFACE]:dof, stress:BODY:X,Y,Z) and speed:BODY (rad/s) (repeat for more)")
+                        "motion:BODY[:INTERFACE]:dof, stress:BODY:X,Y,Z), speed:BODY (rad/s) and stress:POINT "
+                        "(simulation.points) (repeat for more; default: every named point and nonlinear mesh)")
     p.add_argument("--speed", type=float, default=None, metavar="RAD_S",
                    help="starting speed of the rotor (rad/s; default simulation.speed)")
     p.add_argument("--unreduced", action="store_true",

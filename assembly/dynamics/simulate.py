@@ -21,6 +21,7 @@ components at each instant.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass, field
@@ -208,10 +209,11 @@ def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=No
     return z[:n]
 
 
-def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=None, speed: float | None = None,
+def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=None, speed: float | None = None,
              progress=None, full_fe: bool = False) -> SimulationResult:
     """Integrate ``scene`` (its ``[simulation]`` table, or defaults) to ``t_end`` with step
-    ``dt`` (s), recording ``outputs`` (names; module notes). ``speed`` (rad/s) overrides
+    ``dt`` (s), recording ``outputs`` (names; module notes; None: every named stress point of
+    ``simulation.points`` and every nonlinear mesh's force). ``speed`` (rad/s) overrides
     ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
     A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
     is the :class:`SimulationResult` so far (``complete`` False)."""
@@ -266,13 +268,21 @@ def simulate(scene, t_end: float, dt: float, outputs=(), model=None, base_dir=No
         q0 = static_start(M, K, U, nl, force(0.0), phi, U.T @ v0, float(closing.max(initial=0.0)),
                           lambda x: np.concatenate([meshes.coast_preload(x[:meshes.U.shape[1]]), pad]))
         meshes.gap_slope = 0.0
-    # outputs
+    # outputs: as named, or every named stress point and nonlinear mesh force
+    points = {f"stress:{p.name}": (i, p) for i, p in enumerate(sim.points)}
+    if outputs is None:
+        outputs = [*points, *(f"force:{mi.name}" for mi in meshes.info)]
     names = list(dict.fromkeys(outputs))
     chans, speed_rows = [], {}
     for name in names:
         if name.startswith("speed:"):
             body, _ = _body_point(model, name[6:], "--output", name)
             speed_rows[name] = spin_row(model, body)
+        elif name in points:
+            i, p = points[name]
+            where = f"stress:{p.body}:" + ",".join(f"{v:.17g}" for v in p.point)
+            chans.extend(dataclasses.replace(c, name=f"{name}:{c.name.rsplit(':', 1)[1]}", group=name)
+                         for c in output_channels(model, where, f"simulation.points[{i}]"))
         else:
             chans.extend(output_channels(model, name))
     Ok, Oc = output_rows(chans) if chans else (np.zeros((0, n)), np.zeros((0, n)))

@@ -92,3 +92,25 @@ def test_time_domain_stress_starts_at_the_static_stress(held_stage):
     assert r.outputs[name][0] == pytest.approx(static.von_mises[node], rel=1e-9)
     # held at rest under a constant load: the stress stays static (to the run's round-off)
     np.testing.assert_allclose(r.outputs[name], static.von_mises[node], rtol=1e-8)
+
+
+def test_named_stress_point_is_the_coordinate_output(held_stage):
+    # [[simulation.points]] names a point: stress:NAME records the same history as the
+    # coordinate form, and a run without outputs records it (with each nonlinear mesh's force)
+    from assembly.dynamics.simulate import simulate
+    model = held_stage
+    iface = sorted(model.bodies["pinion"].masters)[0]
+    wheel = model.bodies["wheel"]
+    p = wheel.origin + wheel.axes @ wheel.stress(np.zeros(wheel.ndof)).points[0]
+    sim = {"loads": [{"body": "pinion", "interface": iface, "value": 1.0}],
+           "points": [{"name": "rim", "body": "wheel", "point": p.tolist()}]}
+    scene = model.source.with_values({"simulation": sim})
+    named = simulate(scene, 2e-4, 1e-5, model=model)
+    coord = simulate(scene, 2e-4, 1e-5, ["stress:wheel:" + ",".join(f"{v:.17g}" for v in p)], model=model)
+    assert list(named.outputs) == ["stress:rim"] and named.units["stress:rim"] == "Pa"
+    np.testing.assert_array_equal(named.outputs["stress:rim"], next(iter(coord.outputs.values())))
+    bad = model.source.with_values({"simulation": {**sim, "points": [{"name": "x", "body": "wheel",
+                                                                       "point": [5.0, 5.0, 5.0]}]}})
+    with pytest.raises(SceneError, match="off the body") as err:
+        simulate(bad, 2e-4, 1e-5, model=model)
+    assert err.value.path == "simulation.points[0]"
