@@ -1,0 +1,195 @@
+"""A design study's variants: scene fields named by path, their values, and the design.
+
+A study names any scene field by its path (:mod:`assembly.edit`: ``bearings[2].k_radial``,
+``stages[0].planets.count``, ``bodies.wheel.flex.cutoff_hz``), with ``[*]`` for every item
+of a list (``meshes[*].stiffness``: one value set on each). Each parameter gives its values
+as one of:
+
+* ``values = [...]``: a list;
+* ``range = [start, stop, n]``: n values spaced linearly, both ends included;
+* ``log_range = [start, stop, n]``: n values spaced logarithmically (start, stop > 0);
+* ``bounds = [low, high]`` (with ``log = true`` for a log scale): for a sampled design.
+
+The design combines them: ``"grid"`` (default; every combination of the parameters' values),
+``"lhs"`` (Latin hypercube: ``samples`` points, each parameter's range cut into ``samples``
+equal strata with one point in each, strata paired at random) or ``"random"`` (``samples``
+independent uniform points); the sampled designs take ``bounds`` and a ``seed``, so a study
+gives the same variants every time. Problems raise :class:`assembly.errors.SceneError`
+naming the study field (``parameters[1].path``) and, for a path the scene does not have, the
+nearest one it has.
+"""
+from __future__ import annotations
+
+import difflib
+import itertools
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..edit import get_value, parse_path
+from ..errors import SceneError
+from ..schema import to_dict
+
+DESIGNS = ("grid", "lhs", "random")
+#: Most variants one study may expand to (a guard against a typo such as n = 1e6).
+MAX_VARIANTS = 100_000
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One variant: its index and {scene path: value} (wildcards expanded)."""
+
+    index: int
+    values: dict
+
+
+def scene_paths(scene) -> list[str]:
+    """Every leaf path of the scene's tables (lists by index), for suggestions."""
+    out = []
+
+    def walk(node, prefix):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, f"{prefix}.{k}" if prefix else k)
+        elif isinstance(node, list) and node and all(isinstance(x, dict) for x in node):
+            for i, v in enumerate(node):
+                walk(v, f"{prefix}[{i}]")
+        else:
+            out.append(prefix)
+    walk(to_dict(scene), "")
+    return out
+
+
+def expand_path(scene, path: str, field: str) -> list[str]:
+    """The concrete paths of ``path`` (``[*]`` -> every index of that list), each checked to
+    exist in ``scene``; SceneError at ``field`` naming the nearest path the scene has."""
+    if not isinstance(path, str):
+        raise SceneError(field, path, "must be a scene path such as 'bearings[2].k_radial'")
+    head, star, tail = path.partition("[*]")
+    if star:
+        node = _node(to_dict(scene), head)
+        if not isinstance(node, list) or not node:
+            raise SceneError(field, path, f"{head!r} is not a list of the scene with items" + _nearest(scene, head))
+        return [p for i in range(len(node)) for p in expand_path(scene, f"{head}[{i}]{tail}", field)]
+    try:
+        get_value(scene, path)
+    except SceneError as exc:
+        raise SceneError(field, path, f"{exc.reason}" + _nearest(scene, path, exc.reason)) from None
+    return [path]
+
+
+def _node(data, path: str):
+    """The plain-dict node at ``path`` (list items by index or name), or None."""
+    node = data
+    try:
+        for step in parse_path(path):
+            if isinstance(node, list) and isinstance(step, str):
+                node = next(it for it in node if isinstance(it, dict) and it.get("name") == step)
+            else:
+                node = node[step]
+    except (KeyError, IndexError, TypeError, StopIteration, SceneError):
+        return None
+    return node
+
+
+def _nearest(scene, path: str, reason: str = "") -> str:
+    """`` (nearest valid path: P)``: among the fields the failing table has (listed in
+    ``reason`` by :mod:`assembly.edit`), else among the scene's given paths."""
+    parent = path.rsplit(".", 1)[0] if "." in path else ""
+    fields = re.search(r"it has: ([^;]+)", reason)
+    pool = [f"{parent}.{f.strip()}" for f in fields.group(1).split(",")] if fields and parent else []
+    near = difflib.get_close_matches(path, pool, n=1, cutoff=0.5) or \
+        difflib.get_close_matches(path, scene_paths(scene), n=1, cutoff=0.5)
+    return f" (nearest valid path: {near[0]})" if near else ""
+
+
+def _number(v, field: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise SceneError(field, v, "must be a finite number")
+    return float(v)
+
+
+def parameter_values(p: dict, field: str, design: str) -> list | tuple:
+    """A parameter's list of values (grid) or its (low, high, log) bounds (lhs, random)."""
+    given = [k for k in ("values", "range", "log_range", "bounds") if k in p]
+    if len(given) != 1:
+        raise SceneError(field, sorted(p), "give exactly one of values, range, log_range, bounds")
+    key = given[0]
+    v = p[key]
+    if design != "grid":
+        if key != "bounds":
+            raise SceneError(f"{field}.{key}", v, f"a {design} design samples between bounds = [low, high]")
+    elif key == "bounds":
+        raise SceneError(f"{field}.bounds", v, "a grid design takes values, range or log_range")
+    if key == "values":
+        if not isinstance(v, list) or not v:
+            raise SceneError(f"{field}.values", v, "must be a non-empty list")
+        return v
+    if not isinstance(v, list) or len(v) != (2 if key == "bounds" else 3):
+        raise SceneError(f"{field}.{key}", v, "[start, stop, n]" if key != "bounds" else "[low, high]")
+    if key == "bounds":
+        lo, hi = (_number(x, f"{field}.bounds") for x in v)
+        log = bool(p.get("log", False))
+        if not lo < hi or (log and lo <= 0):
+            raise SceneError(f"{field}.bounds", v, "needs low < high" + (" and low > 0 (log)" if log else ""))
+        return lo, hi, log
+    a, b = (_number(x, f"{field}.{key}") for x in v[:2])
+    n = v[2]
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise SceneError(f"{field}.{key}", v, "n (the third entry) must be an integer >= 1")
+    if key == "log_range":
+        if not (a > 0 and b > 0):
+            raise SceneError(f"{field}.log_range", v, "start and stop must be > 0")
+        return list(np.geomspace(a, b, n))
+    return list(np.linspace(a, b, n))
+
+
+def variants(scene, study: dict) -> list[Variant]:
+    """The variants of ``study`` (a dict: ``parameters`` list, optional ``design`` table with
+    ``kind``, ``samples``, ``seed``) on ``scene``, module notes."""
+    params = study.get("parameters")
+    if not isinstance(params, list) or not params:
+        raise SceneError("parameters", params, "a study needs at least one [[parameters]] table")
+    design = study.get("design", {})
+    kind = design.get("kind", "grid")
+    if kind not in DESIGNS:
+        raise SceneError("design.kind", kind, f"must be one of {list(DESIGNS)}")
+    paths, values = [], []
+    for i, p in enumerate(params):
+        if not isinstance(p, dict) or "path" not in p:
+            raise SceneError(f"parameters[{i}].path", None, "missing: the scene field to vary")
+        paths.append(expand_path(scene, p["path"], f"parameters[{i}].path"))
+        values.append(parameter_values(p, f"parameters[{i}]", kind))
+    if kind == "grid":
+        n = math.prod(len(v) for v in values)
+        if n > MAX_VARIANTS:
+            raise SceneError("parameters", n, f"the grid has {n} variants; at most {MAX_VARIANTS}")
+        combos = list(itertools.product(*values))
+    else:
+        n = design.get("samples")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_VARIANTS:
+            raise SceneError("design.samples", n, f"a {kind} design needs samples, an integer in [1, {MAX_VARIANTS}]")
+        seed = design.get("seed", 0)
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise SceneError("design.seed", seed, "must be an integer >= 0")
+        combos = sample(values, n, kind, seed)
+    if not combos:
+        raise SceneError("parameters", 0, "the study has no variants")
+    return [Variant(k, {path: v for ps, v in zip(paths, combo) for path in ps}) for k, combo in enumerate(combos)]
+
+
+def sample(bounds: list, n: int, kind: str, seed: int) -> list[tuple]:
+    """``n`` points in the box ``bounds`` [(low, high, log), ...]: Latin hypercube ("lhs")
+    or independent uniform ("random"), on a log scale where asked, from ``seed``."""
+    rng = np.random.default_rng(seed)
+    d = len(bounds)
+    if kind == "lhs":
+        u = (np.array([rng.permutation(n) for _ in range(d)]).T + rng.random((n, d))) / n
+    else:
+        u = rng.random((n, d))
+    cols = []
+    for j, (lo, hi, log) in enumerate(bounds):
+        cols.append(np.exp(np.log(lo) + u[:, j] * (np.log(hi) - np.log(lo))) if log else lo + u[:, j] * (hi - lo))
+    return [tuple(float(c[k]) for c in cols) for k in range(n)]
