@@ -335,13 +335,22 @@ def stage_from_teeth(st, path: str):
             missing = "k_mesh_sun" if st.k_mesh_sun is None else "k_mesh_ring"
             raise SceneError(f"{path}.face_width", None, f"missing: {missing} left out is the {ISO_SOURCE} "
                                                          f"value, which needs the face width (m); or give {missing}")
-        pairs = {"k_mesh_sun": (zs, zp, xs, xp, False, (k_sp, k_sp)),
-                 "k_mesh_ring": (zp, zr, xp, xr, True, (k_sp, 0.0))}
-        for f, (z1, z2, x1, x2, internal, ks) in pairs.items():
+        pairs = {"k_mesh_sun": (zs, zp, xs, xp, False), "k_mesh_ring": (zp, zr, xp, xr, True)}
+        for (f, (z1, z2, x1, x2, internal)), eps in zip(pairs.items(), stage_contact_ratios(st)):
             if getattr(st, f) is None:
-                eps = transverse_contact_ratio(z1, -z2 if internal else z2, x1, x2, m_n, a_n, beta, ks)
                 new[f] = _iso_stiffness(f"{path}.{f}", z1, z2, x1, x2, beta, a_n, eps, st.face_width, internal)
     return keep_degrees(st, dataclasses.replace(st, **new))
+
+
+def stage_contact_ratios(st) -> tuple[float, float]:
+    """Transverse contact ratios (sun-planet, planet-ring) of a stage with teeth and
+    ``normal_module``: the sun and planet tips with the sun-planet pair's ISO 21771 tip
+    alteration (the planets' one tip circle serves the ring mesh too), the ring's unaltered."""
+    m_n, a_n, beta = st.normal_module, st.normal_pressure_angle, st.helix_angle
+    (zs, xs), (zp, xp), (zr, xr) = ((m.teeth, m.profile_shift) for m in (st.sun, st.planets, st.ring))
+    k_sp = tip_alteration(zs, zp, xs, xp, m_n, a_n, beta)
+    return (transverse_contact_ratio(zs, zp, xs, xp, m_n, a_n, beta, (k_sp, k_sp)),
+            transverse_contact_ratio(zp, -zr, xp, xr, m_n, a_n, beta, (k_sp, 0.0)))
 
 
 def ring_closes(st, path: str, a_sp: float) -> None:

@@ -57,22 +57,16 @@ def filled(v: MeshVariation, path: str, teeth: int | None, contact_ratio: float 
 def stage_variations(st, path: str, psi: float) -> tuple:
     """(sun-planet, planet-ring) variations of the planet at angle ``psi`` (rad) of stage
     ``st`` (None where the stage gives none): counted on the sun's / ring's teeth."""
-    from fe_components.gear_pair import tip_alteration, transverse_contact_ratio
+    from .gear_data import stage_contact_ratios      # gear_data reads this module's mesh_variation
+    with_teeth = st.normal_module is not None
+    ratios = stage_contact_ratios(st) if with_teeth and (st.variation_sun or st.variation_ring) else (None, None)
+    eps_b = overlap_ratio(st.face_width, st.helix_angle, st.normal_module) if with_teeth else None
     out = []
-    for which, z, internal in (("sun", st.sun.teeth, False), ("ring", st.ring.teeth, True)):
+    for which, z, eps in (("sun", st.sun.teeth, ratios[0]), ("ring", st.ring.teeth, ratios[1])):
         v = getattr(st, f"variation_{which}")
         if v is None:
             out.append(None)
             continue
-        eps = eps_b = None
-        if st.normal_module is not None:
-            m_n, a_n, beta = st.normal_module, st.normal_pressure_angle, st.helix_angle
-            zs, zp, zr = st.sun.teeth, st.planets.teeth, st.ring.teeth
-            xs, xp, xr = st.sun.profile_shift, st.planets.profile_shift, st.ring.profile_shift
-            k_sp = tip_alteration(zs, zp, xs, xp, m_n, a_n, beta)
-            eps = (transverse_contact_ratio(zs, zp, xs, xp, m_n, a_n, beta, (k_sp, k_sp)) if not internal else
-                   transverse_contact_ratio(zp, -zr, xp, xr, m_n, a_n, beta, (k_sp, 0.0)))
-            eps_b = overlap_ratio(st.face_width, beta, m_n)
         zc = v.teeth if v.teeth is not None else z
         out.append(filled(v, f"{path}.variation_{which}", z, eps, eps_b, (zc or 0) * psi))
     return tuple(out)
