@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..edit import get_value, parse_path
+from ..edit import get_value
 from ..errors import SceneError
 from ..schema import to_dict
 
@@ -69,7 +69,10 @@ def expand_path(scene, path: str, field: str) -> list[str]:
         raise SceneError(field, path, "must be a scene path such as 'bearings[2].k_radial'")
     head, star, tail = path.partition("[*]")
     if star:
-        node = _node(to_dict(scene), head)
+        try:
+            node = get_value(scene, head)
+        except SceneError:
+            node = None
         if not isinstance(node, list) or not node:
             raise SceneError(field, path, f"{head!r} is not a list of the scene with items" + _nearest(scene, head))
         return [p for i in range(len(node)) for p in expand_path(scene, f"{head}[{i}]{tail}", field)]
@@ -78,20 +81,6 @@ def expand_path(scene, path: str, field: str) -> list[str]:
     except SceneError as exc:
         raise SceneError(field, path, f"{exc.reason}" + _nearest(scene, path, exc.reason)) from None
     return [path]
-
-
-def _node(data, path: str):
-    """The plain-dict node at ``path`` (list items by index or name), or None."""
-    node = data
-    try:
-        for step in parse_path(path):
-            if isinstance(node, list) and isinstance(step, str):
-                node = next(it for it in node if isinstance(it, dict) and it.get("name") == step)
-            else:
-                node = node[step]
-    except (KeyError, IndexError, TypeError, StopIteration, SceneError):
-        return None
-    return node
 
 
 def _nearest(scene, path: str, reason: str = "") -> str:
