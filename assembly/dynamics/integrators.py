@@ -36,6 +36,9 @@ from ..errors import SceneError
 
 log = logging.getLogger(__name__)
 
+#: Dense models up to this size keep the inverse of the effective matrix (one product a solve).
+DENSE_INVERSE_MAX = 4000
+
 
 @dataclass(frozen=True)
 class Scheme:
@@ -93,16 +96,33 @@ def check_step(dt: float, t_end: float) -> int:
 
 
 class _Solver:
-    """Factorisation of the effective matrix, dense or sparse, made once."""
+    """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU, or for a large
+    sparse matrix a sparse Cholesky factorisation (:func:`cms.linsolve.factor`: CHOLMOD when
+    installed; the effective matrix of a model with symmetric M, C, K is positive definite),
+    else a sparse LU."""
 
     def __init__(self, A):
-        if sp.issparse(A):
-            self._lu, self._sparse = spla.splu(sp.csc_matrix(A)), True
+        if sp.issparse(A) and A.shape[0] > DENSE_INVERSE_MAX:
+            from cms.errors import InteriorMechanismError
+            from cms.linsolve import factor
+            try:
+                f = factor(sp.csc_matrix(A))
+                self._lu, self.kind = f, f"sparse Cholesky ({f.backend})" if f.backend == "cholmod" else "sparse LU"
+            except InteriorMechanismError:
+                self._lu, self.kind = spla.splu(sp.csc_matrix(A)), "sparse LU"
         else:
-            self._lu, self._sparse = sla.lu_factor(np.asarray(A, float)), False
+            A = A.toarray() if sp.issparse(A) else np.asarray(A, float)
+            if A.shape[0] <= DENSE_INVERSE_MAX:
+                self._inv, self.kind = sla.inv(A), "dense inverse"
+            else:
+                self._lu, self.kind = sla.lu_factor(A), "dense LU"
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        return self._lu.solve(b) if self._sparse else sla.lu_solve(self._lu, b)
+        if self.kind == "dense inverse":
+            return self._inv @ b
+        if self.kind.startswith("sparse"):
+            return self._lu.solve(b)
+        return sla.lu_solve(self._lu, b)
 
 
 def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, t_end: float,

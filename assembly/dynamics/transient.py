@@ -30,11 +30,9 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
-from .integrators import Scheme, _effective, check_step, newmark
+from .integrators import DENSE_INVERSE_MAX, Scheme, _effective, _Solver, check_step, newmark
 
 log = logging.getLogger(__name__)
 
@@ -42,8 +40,6 @@ log = logging.getLogger(__name__)
 MAX_ITERATIONS = 60
 #: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
 NEWTON_RTOL = 1e-10
-#: Dense models up to this size keep the inverse of the effective matrix (one product a solve).
-DENSE_INVERSE_MAX = 4000
 
 
 class Nonlinear:
@@ -140,36 +136,6 @@ class Diverged(FloatingPointError):
         self.partial = partial
 
 
-class _Solver:
-    """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU, or for a large
-    sparse matrix a sparse Cholesky factorisation (:func:`cms.linsolve.factor`: CHOLMOD when
-    installed; the effective matrix of a model with symmetric M, C, K is positive definite),
-    else a sparse LU."""
-
-    def __init__(self, A):
-        if sp.issparse(A) and A.shape[0] > DENSE_INVERSE_MAX:
-            from cms.errors import InteriorMechanismError
-            from cms.linsolve import factor
-            try:
-                f = factor(sp.csc_matrix(A))
-                self._lu, self.kind = f, f"sparse Cholesky ({f.backend})" if f.backend == "cholmod" else "sparse LU"
-            except InteriorMechanismError:
-                self._lu, self.kind = spla.splu(sp.csc_matrix(A)), "sparse LU"
-        else:
-            A = A.toarray() if sp.issparse(A) else np.asarray(A, float)
-            if A.shape[0] <= DENSE_INVERSE_MAX:
-                self._inv, self.kind = sla.inv(A), "dense inverse"
-            else:
-                self._lu, self.kind = sla.lu_factor(A), "dense LU"
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        if self.kind == "dense inverse":
-            return self._inv @ b
-        if self.kind.startswith("sparse"):
-            return self._lu.solve(b)
-        return sla.lu_solve(self._lu, b)
-
-
 def _matrix(A, n: int):
     if A is None:
         return sp.csr_matrix((n, n))
@@ -219,7 +185,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         raise Diverged(why, partial)
 
     Ma = M @ a
-    xi = xi_prev = np.zeros(U.shape[1])
+    xi = xi_prev = dxi = np.zeros(U.shape[1])
     eye, ck, cc = np.eye(U.shape[1]), (1 - af) * b * dt * dt, (1 - af) * g * dt
     UT = np.ascontiguousarray(U.T)
     for i in range(n_steps):
