@@ -21,10 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..loads import axial_rotation
 from ..scene import HOUSING
 from ..validate import body_origins, element_paths
 from .frf_channels import _strain_rows
-from .mesh_variation import check_positive, series
+from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear
 
 log = logging.getLogger(__name__)
@@ -45,11 +46,9 @@ class MeshInfo:
 
 
 def spin_row(model, body: str) -> np.ndarray:
-    """Row on q of ``body``'s rotation (rad) about its own axis."""
-    bm = model.bodies[body]
-    row = np.zeros(model.n_abs)
-    row[model.body_slice(body)] = bm.axes[:, 2] @ bm.rigid_projection()[3:]
-    return np.asarray(model.T.T @ row).ravel()
+    """Row on q of ``body``'s rotation (rad) about its own axis (:func:`assembly.loads.axial_rotation`
+    of the columns of ``T``)."""
+    return np.asarray(axial_rotation(model, model.T, body)).ravel()
 
 
 def _frame(scene, gear1: str, gear2: str) -> str | None:
@@ -100,12 +99,8 @@ class Meshes(Nonlinear):
         self.phase = np.array(phase)
         self.consistent = consistent
         self._con = 1.0 if consistent else 0.0
-        self._h = np.arange(1, H + 1, dtype=float)
-        self._h2, self._hA = self._h ** 2, self._h * self.A
-        self._linear = np.isnan(self.backlash)
-        self._gap = np.where(self._linear, 0.0, self.backlash)
         self._i, self._j = np.arange(self.m), np.arange(self.m, 2 * self.m)
-        self._Kt = np.zeros((2 * self.m, 2 * self.m))
+        self._series, self._zone = Series(self.A, self.P), DeadZone(self.backlash)
         n = model.K.shape[0]
         self.U = np.vstack(rows_g + rows_r).T if self.m else np.zeros((n, 0))
         self.contact = np.ones(self.m, dtype=bool)
@@ -117,19 +112,13 @@ class Meshes(Nonlinear):
         self.gap_slope = 0.0
 
     def state(self, x: np.ndarray, xd: np.ndarray, second: bool = False):
-        """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``
-        (the series of :func:`assembly.dynamics.mesh_variation.factor` and
-        :func:`~assembly.dynamics.mesh_variation.dead_zone`, written out for the step loop)."""
+        """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``."""
         m = self.m
         delta, ddot = x[:m], xd[:m]
-        arg = np.multiply.outer(x[m:] - self.phase, self._h) + self.P
-        c, sn = self.A * np.cos(arg), self._hA * np.sin(arg)
-        f, df = 1.0 + c.sum(axis=1), -sn.sum(axis=1)
-        d2f = -(self._h2 * c).sum(axis=1) if second else None
-        s = (self._linear | (delta >= 0.0) | (delta < -self._gap)).astype(float)
-        e = np.where(self._linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + self._gap, 0.0))
+        f, df, *d2 = self._series(x[m:] - self.phase, second)
+        e, s = self._zone(delta)
         k = self.k0 * f
-        return k * e + self.c * s * ddot, k, s, e, df, d2f
+        return k * e + self.c * s * ddot, k, s, e, df, (d2[0] if d2 else None)
 
     def forces(self, t, x, xd):
         """Forces along (g, r) and their tangents: the Hessian of the mesh potential on (delta,
@@ -138,7 +127,7 @@ class Meshes(Nonlinear):
         force, k, s, e, df, d2f = self._last = self.state(x, xd, second=True)
         kdf = self.k0 * df
         con = self._con
-        nu, dc, Kt = np.empty(2 * m), np.zeros(2 * m), self._Kt
+        nu, dc, Kt = np.empty(2 * m), np.zeros(2 * m), np.zeros((2 * m, 2 * m))
         nu[:m] = force - self.k0 * x[:m] - self.c * xd[:m]
         nu[m:] = con * 0.5 * kdf * e * e
         dc[:m] = self.c * (s - 1.0)
@@ -147,7 +136,7 @@ class Meshes(Nonlinear):
         Kt[i, j] = kdf * e                               # d nu_g / d angle
         Kt[j, i] = con * kdf * e * s                     # d nu_r / d delta (symmetric: a potential's Hessian)
         Kt[j, j] = con * 0.5 * self.k0 * d2f * e * e
-        return nu, Kt.copy(), dc
+        return nu, Kt, dc
 
     def commit(self, t, x, xd):
         force, _, s, _, _, _ = self._last if self._last is not None else self.state(x, xd)

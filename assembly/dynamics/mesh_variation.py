@@ -45,14 +45,27 @@ def series(v) -> tuple[np.ndarray, np.ndarray]:
     return a, np.zeros_like(a)
 
 
+class Series:
+    """The series of meshes with amplitudes and phases ``A``, ``P`` (m, H), its harmonic
+    numbers prepared once (a time step evaluates it several times)."""
+
+    def __init__(self, A: np.ndarray, P: np.ndarray):
+        self.A, self.P = A, P
+        self.h = np.arange(1, A.shape[-1] + 1, dtype=float)
+        self.hA, self.h2 = self.h * A, self.h ** 2
+
+    def __call__(self, phi, second: bool = False):
+        """``f(phi)``, ``f'(phi)`` (and ``f''(phi)`` if ``second``) at the meshes' angles."""
+        arg = np.multiply.outer(phi, self.h) + self.P
+        c = self.A * np.cos(arg)
+        out = (1.0 + c.sum(axis=-1), -(self.hA * np.sin(arg)).sum(axis=-1))
+        return out + (-(self.h2 * c).sum(axis=-1),) if second else out
+
+
 def factor(phi, A: np.ndarray, P: np.ndarray, second: bool = False):
     """``f(phi)``, ``f'(phi)`` (and ``f''(phi)`` if ``second``) for meshes' angles ``phi``
-    (m,), amplitudes and phases (m, H) each."""
-    h = np.arange(1, A.shape[-1] + 1)
-    arg = np.multiply.outer(phi, h) + P
-    c, hs = A * np.cos(arg), h * A * np.sin(arg)
-    out = (1.0 + c.sum(axis=-1), -hs.sum(axis=-1))
-    return out + (-(h * h * c).sum(axis=-1),) if second else out
+    (m,), amplitudes and phases (m, H) each (:class:`Series`)."""
+    return Series(A, P)(phi, second)
 
 
 def lowest_factor(a: np.ndarray, p: np.ndarray) -> tuple[float, float]:
@@ -76,11 +89,21 @@ def check_positive(a: np.ndarray, p: np.ndarray, path: str) -> None:
                          f"{phi:.4g} rad: a mesh stiffness must stay positive")
 
 
+class DeadZone:
+    """The backlash of meshes (m; NaN: no dead zone), prepared once: calling it with the
+    compressions ``delta`` gives :func:`dead_zone`'s (e, s)."""
+
+    def __init__(self, backlash: np.ndarray):
+        self.linear = np.isnan(backlash)
+        self.gap = np.where(self.linear, 0.0, backlash)
+
+    def __call__(self, delta: np.ndarray):
+        e = np.where(self.linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + self.gap, 0.0))
+        s = self.linear | (delta >= 0.0) | (delta < -self.gap)
+        return e, s.astype(float)
+
+
 def dead_zone(delta: np.ndarray, backlash: np.ndarray):
     """(e, s): the flank compression ``e`` and contact slope ``s`` (1 in contact, 0 in the
     gap) of compressions ``delta`` (m); ``backlash`` NaN: no dead zone (e = delta)."""
-    linear = np.isnan(backlash)
-    b = np.where(linear, 0.0, backlash)
-    e = np.where(linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + b, 0.0))
-    s = linear | (delta >= 0.0) | (delta < -b)
-    return e, s.astype(float)
+    return DeadZone(backlash)(delta)
