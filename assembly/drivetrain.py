@@ -120,8 +120,8 @@ def chain_ends(scene, rotor: str | None = None, generator: str | None = None) ->
     return ends[0], ends[1]
 
 
-def _rigid_motion(model, reference: str) -> np.ndarray:
-    """The rigid-body mode on the absolute coordinates, scaled to a unit rotation of
+def rigid_mode(model, reference: str) -> np.ndarray:
+    """The rigid-body mode on the independent coordinates q, scaled to a unit rotation of
     ``reference`` about its own axis. MechanismError when there is not exactly one
     rigid-body mode or the reference stands still in it."""
     phi, why = single_rigid_mode(model)
@@ -131,7 +131,12 @@ def _rigid_motion(model, reference: str) -> np.ndarray:
     w_ref = axial_rotation(model, Z, reference)
     if abs(w_ref) <= 1e-12 * np.abs(Z).max():
         raise MechanismError(f"{reference} stands still in the rigid-body mode: no speed ratio to it", reference)
-    return Z / w_ref
+    return phi[:, 0] / w_ref
+
+
+def _rigid_motion(model, reference: str) -> np.ndarray:
+    """:func:`rigid_mode` on the absolute coordinates."""
+    return model.T @ rigid_mode(model, reference)
 
 
 def speed_ratios(model, reference: str) -> dict[str, float]:

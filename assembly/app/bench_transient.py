@@ -63,15 +63,12 @@ def rated_5mw(name: str):
 def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]:
     """(s per solve with the run's constant factorisation, s per solve + products with K, C
     and M, solver kind), built as ``simulate`` builds them."""
-    from ..dynamics.integrators import _effective
-    from ..dynamics.simulate import _damping, scheme_of
-    from ..dynamics.transient import DENSE_INVERSE_MAX, _Solver
+    from ..dynamics.integrators import _effective, _Solver
+    from ..dynamics.simulate import model_matrices, scheme_of
     from ..modal import SMALL_DENSE
     from ..scene_time import Simulation
     n = model.K.shape[0]
-    sparse = n > DENSE_INVERSE_MAX
-    M, K = (model.M, model.K) if sparse else (model.M.toarray(), model.K.toarray())
-    C = _damping(model)
+    M, C, K = model_matrices(model)
     solver = _Solver(_effective(M, C, K, dt, scheme_of(scene.simulation or Simulation())))
     b = np.random.default_rng(0).standard_normal(n)
 

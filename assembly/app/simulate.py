@@ -77,8 +77,9 @@ def summary_text(r: SimulationResult, scene: str) -> str:
     return "\n".join(lines)
 
 
-def write_h5(r: SimulationResult, path, scene: str) -> Path:
-    """``/time_s`` (s) and ``/outputs/NAME`` (attribute ``unit``); run facts as file attributes."""
+def write_h5(r: SimulationResult, path, scene: str, facts: dict | None = None) -> Path:
+    """``/time_s`` (s) and ``/outputs/NAME`` (attribute ``unit``); run facts (``facts``,
+    default :func:`summary`) as file attributes."""
     import h5py
     with h5py.File(path, "w") as f:
         f.create_dataset("time_s", data=r.time_s).attrs["unit"] = "s"
@@ -87,7 +88,7 @@ def write_h5(r: SimulationResult, path, scene: str) -> Path:
             g.create_dataset(k.replace("/", "|"), data=y).attrs["unit"] = r.units[k]
         f.attrs["scene"] = scene
         f.attrs["complete"] = r.complete
-        f.attrs["summary"] = json.dumps(summary(r, scene))
+        f.attrs["summary"] = json.dumps(facts if facts is not None else summary(r, scene))
     return Path(path)
 
 
@@ -138,7 +139,7 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
     plots, mk = [], marks(r)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
-            write_h5(r, work / "simulation.h5", scene)
+            write_h5(r, work / "simulation.h5", scene, s)
             (work / "summary.json").write_text(json.dumps(s, indent=1), encoding="utf-8")
             for i, (k, y) in enumerate(r.outputs.items()):
                 unit = r.units[k]

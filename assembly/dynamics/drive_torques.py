@@ -49,7 +49,6 @@ class ShaftTorques(Nonlinear):
         self.U = np.array(cols).T if cols else np.zeros((n, 0))
         self.integral, self.error, self.friction, self.omega_prev, self.alpha = 0.0, None, 0.0, None, 0.0
         self.lss_torque = 0.0
-        self.constant_load = None        # a constant generator torque alone: its load vector on q
         self.last = {"generator": 0.0, "brake": 0.0, "friction": 0.0}
 
     def _generator(self, xd):

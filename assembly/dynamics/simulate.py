@@ -32,8 +32,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from ..drivetrain import chain_ends
-from ..errors import SceneError
+from ..drivetrain import chain_ends, rigid_mode
+from ..errors import MechanismError, SceneError
 from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
 from ..scene_time import Simulation
@@ -133,14 +133,24 @@ def load_vector(model, ld, path: str) -> np.ndarray:
 
 
 def _rigid_mode(model, reference: str, path: str):
+    """(the rigid-body mode at a unit speed of ``reference``, "") or (None, why there is not
+    one); SceneError at ``path`` when the reference stands still in it."""
     phi, why = single_rigid_mode(model)
     if phi is None:
         return None, why
-    phi = phi[:, 0]
-    w = spin_row(model, reference) @ phi
-    if abs(w) <= 1e-12 * np.abs(phi).max():
-        raise SceneError(path, reference, "this body stands still in the rigid-body mode: it cannot set the speed")
-    return phi / w, ""
+    try:
+        return rigid_mode(model, reference), ""
+    except MechanismError:
+        raise SceneError(path, reference, "this body stands still in the rigid-body mode: it cannot set the "
+                                          "speed") from None
+
+
+def model_matrices(model):
+    """(M, C, K) of a run on q: dense for a reduced model, sparse above DENSE_INVERSE_MAX
+    DOFs (C: :func:`_damping`)."""
+    sparse = model.K.shape[0] > DENSE_INVERSE_MAX
+    M, K = (model.M, model.K) if sparse else (model.M.toarray(), model.K.toarray())
+    return M, _damping(model), K
 
 
 def _damping(model):
@@ -222,10 +232,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     model = model if model is not None else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
     n = model.K.shape[0]
-    sparse = n > DENSE_INVERSE_MAX
-    M = model.M if sparse else model.M.toarray()
-    K = model.K if sparse else model.K.toarray()
-    C = _damping(model)
+    M, C, K = model_matrices(model)
     speed = sim.speed if speed is None else speed
     reference = sim.reference
     if reference is None:
@@ -241,23 +248,22 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
                                                     "body of role 'rotor') and one rigid-body mode" +
                          (f": {why}" if why else ""))
     v0 = speed * phi if speed else np.zeros(n)
-    # loads
+    # loads (a constant generator torque among them)
+    meshes = Meshes(model, sim.consistent)
+    torques, generator_load = _shaft_torques(model, scene, sim, dt, v0)
     vecs, hist = [], []
     for i, ld in enumerate(sim.loads):
         path = f"simulation.loads[{i}]"
         hist.append(load_history(ld, path, base_dir))
         vecs.append(load_vector(model, ld, path))
+    if generator_load is not None:
+        hist.append(constant(1.0, "generator", "N m"))
+        vecs.append(generator_load)
     V = np.array(vecs).T if vecs else np.zeros((n, 0))
 
     def force(t):
         return V @ np.array([h(t) for h in hist]) if hist else np.zeros(n)
 
-    meshes = Meshes(model, sim.consistent)
-    torques = _shaft_torques(model, scene, sim, dt, v0)
-    if torques is not None and torques.constant_load is not None:     # a constant generator torque: a load
-        V = np.column_stack([V, torques.constant_load])
-        hist.append(constant(1.0, "generator", "N m"))
-        torques = None
     nl = Stack([meshes, torques], n)
     U = nl.U
     q0 = np.zeros(n)
@@ -332,10 +338,11 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
 
 
 def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
-    """The generator / brake / friction part, or None when the scene asks for none."""
+    """(the generator / brake / friction part or None, a load vector or None): a constant
+    generator torque alone is a plain load (its vector on q), needing no nonlinear part."""
     gen, brake, eta = sim.generator, sim.brake, sim.gearbox_efficiency
     if gen is None and brake is None and eta >= 1.0:
-        return None
+        return None, None
     if gen is not None and gen.law == "pi" and gen.rated_speed is None:
         raise SceneError("simulation.generator.rated_speed", None, "missing: the PI law needs the generator's "
                                                                    "rated speed (rad/s)")
@@ -343,6 +350,8 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
     g_body = _table_body(model, scene, gen, "simulation.generator")
     r_gen = spin_row(model, g_body)
     sense = float(np.sign(r_gen @ v0)) or 1.0
+    if gen is not None and gen.law == "constant" and brake is None and eta >= 1.0:
+        return None, -sense * gen.torque * r_gen
     r_brake = spin_row(model, _brake_body(model, scene, sim)) if brake is not None else None
     lss = None
     if eta < 1.0:
@@ -356,10 +365,7 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
         s_rot = float(np.sign(spin_row(model, rotor) @ v0)) or 1.0
         lss = [s_rot * ch.k_row, s_rot * (ch.c_row if ch.c_row is not None else np.zeros_like(ch.k_row))]
     J = _polar_inertia(model, g_body)
-    part = ShaftTorques(model.K.shape[0], dt, gen, r_gen, sense, brake, r_brake, eta, lss, J)
-    if gen is not None and gen.law == "constant" and brake is None and eta >= 1.0:
-        part.constant_load = -sense * gen.torque * r_gen
-    return part
+    return ShaftTorques(model.K.shape[0], dt, gen, r_gen, sense, brake, r_brake, eta, lss, J), None
 
 
 def _table_body(model, scene, table, path: str) -> str:
