@@ -167,6 +167,32 @@ def get_value(scene: Scene, path: str) -> Any:
     return None
 
 
+def value_kind(scene: Scene, path: str) -> str:
+    """What the field at ``path`` holds: "bool", "int", "number" (a float; an angle in
+    degrees), "text" or "other" (a table, a list, a union), from its value or, for a field
+    not given, from its declared type."""
+    value = get_value(scene, path)
+    if value is None:
+        found = _locate(to_dict(scene), parse_path(path), path, create=False)
+        cls, key = (found[2], found[1]) if found is not None else (None, None)
+        if cls is None or not dataclasses.is_dataclass(cls):
+            return "other"
+        if key.endswith("_deg"):
+            return "number"
+        tp = _hints(cls).get(key)
+        args = [a for a in get_args(tp) if a is not type(None)] if get_origin(tp) in (typing.Union, types.UnionType) \
+            else [tp]
+        tp = args[0] if len(args) == 1 else None
+        return {bool: "bool", int: "int", float: "number", str: "text"}.get(tp, "other")
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, int):
+        return "int"
+    if isinstance(value, float):
+        return "number"
+    return "text" if isinstance(value, str) else "other"
+
+
 def with_value(scene: Scene, path: str, value) -> Scene:
     """New validated scene with the field at ``path`` set to ``value`` (``None`` removes
     an optional field: its default applies)."""

@@ -2,8 +2,11 @@
 
 A study names any scene field by its path (:mod:`assembly.edit`: ``bearings[2].k_radial``,
 ``stages[0].planets.count``, ``bodies.wheel.flex.cutoff_hz``), with ``[*]`` for every item
-of a list (``meshes[*].stiffness``: one value set on each). Each parameter gives its values
-as one of:
+of a list (``meshes[*].stiffness``: one value set on each). ``path`` may also be a list of
+paths that take the same value (a common factor on several stiffnesses); ``name`` names the
+parameter's column (default: its path); ``scale = true`` multiplies the scene's own value
+at each path instead of replacing it (a bearing stiffness factor). Each parameter gives its
+values as one of:
 
 * ``values = [...]``: a list;
 * ``range = [start, stop, n]``: n values spaced linearly, both ends included;
@@ -14,7 +17,11 @@ The design combines them: ``"grid"`` (default; every combination of the paramete
 ``"lhs"`` (Latin hypercube: ``samples`` points, each parameter's range cut into ``samples``
 equal strata with one point in each, strata paired at random) or ``"random"`` (``samples``
 independent uniform points); the sampled designs take ``bounds`` and a ``seed``, so a study
-gives the same variants every time. Problems raise :class:`assembly.errors.SceneError`
+gives the same variants every time.
+
+Values are checked against the field they go to when the study is read: a number for a
+number (an integer field such as a planet count takes whole numbers; a sampled design
+rounds to them), text for text, true/false for a switch. Problems raise :class:`assembly.errors.SceneError`
 naming the study field (``parameters[1].path``) and, for a path the scene does not have, the
 nearest one it has.
 """
@@ -24,11 +31,11 @@ import difflib
 import itertools
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..edit import get_value
+from ..edit import get_value, value_kind
 from ..errors import SceneError
 from ..schema import to_dict
 
@@ -39,10 +46,13 @@ MAX_VARIANTS = 100_000
 
 @dataclass(frozen=True)
 class Variant:
-    """One variant: its index and {scene path: value} (wildcards expanded)."""
+    """One variant: its ``index``, ``values`` {scene path: value} (wildcards expanded,
+    scale factors applied: what :meth:`Scene.with_values` takes) and ``params``
+    {parameter name: value} (the study's own values: the row's columns)."""
 
     index: int
     values: dict
+    params: dict = field(default_factory=dict)
 
 
 def scene_paths(scene) -> list[str]:
@@ -92,6 +102,35 @@ def _nearest(scene, path: str, reason: str = "") -> str:
     near = difflib.get_close_matches(path, pool, n=1, cutoff=0.5) or \
         difflib.get_close_matches(path, scene_paths(scene), n=1, cutoff=0.5)
     return f" (nearest valid path: {near[0]})" if near else ""
+
+
+def _kind(value) -> str:
+    """What a study value is: "bool", "int", "number", "text" or "other"."""
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, int):
+        return "int"
+    return "number" if isinstance(value, float) else "text" if isinstance(value, str) else "other"
+
+
+def check_types(scene, paths: list[str], values, field: str, scale: bool) -> None:
+    """Refuse (SceneError at ``field``) values that do not fit the fields at ``paths``:
+    numbers for numbers, whole numbers for an integer field, text for text, true/false for
+    a switch; ``scale`` needs number fields."""
+    kinds = {value_kind(scene, p) for p in paths} - {"other"}
+    listed = isinstance(values, list)
+    for j, v in enumerate(values if listed else values[:2]):
+        where = f"{field}.values[{j}]" if listed else f"{field}.bounds"
+        if scale and (kinds - {"number", "int"} or _kind(v) not in ("int", "number")):
+            raise SceneError(where, v, "scale = true multiplies a number field by a number")
+        for k in kinds:
+            ok = {"bool": _kind(v) == "bool", "text": _kind(v) == "text",
+                  "int": _kind(v) == "int" or (_kind(v) == "number" and float(v).is_integer()),
+                  "number": _kind(v) in ("int", "number")}[k]
+            if not ok:
+                want = {"bool": "true or false", "text": "text", "int": "a whole number",
+                        "number": "a number"}[k]
+                raise SceneError(where, v, f"{paths[0]} takes {want}")
 
 
 def _number(v, field: str) -> float:
@@ -145,12 +184,36 @@ def variants(scene, study: dict) -> list[Variant]:
     kind = design.get("kind", "grid")
     if kind not in DESIGNS:
         raise SceneError("design.kind", kind, f"must be one of {list(DESIGNS)}")
-    paths, values = [], []
+    paths, values, names, scales, ints = [], [], [], [], []
     for i, p in enumerate(params):
         if not isinstance(p, dict) or "path" not in p:
             raise SceneError(f"parameters[{i}].path", None, "missing: the scene field to vary")
-        paths.append(expand_path(scene, p["path"], f"parameters[{i}].path"))
-        values.append(parameter_values(p, f"parameters[{i}]", kind))
+        given = p["path"] if isinstance(p["path"], list) and p["path"] else [p["path"]]
+        ps = [q for j, g in enumerate(given)
+              for q in expand_path(scene, g, f"parameters[{i}].path" + (f"[{j}]" if len(given) > 1 else ""))]
+        name = p.get("name", given[0] if len(given) == 1 else None)
+        if not isinstance(name, str) or not name or name in names or name in ("variant", "status", "error"):
+            raise SceneError(f"parameters[{i}].name", name, "a parameter with several paths needs a name, unique "
+                                                             "and not variant, status or error")
+        scale = p.get("scale", False)
+        if not isinstance(scale, bool):
+            raise SceneError(f"parameters[{i}].scale", scale, "must be true or false")
+        vals = parameter_values(p, f"parameters[{i}]", kind)
+        check_types(scene, ps, vals, f"parameters[{i}]", scale)
+        whole = not scale and any(value_kind(scene, q) == "int" for q in ps)
+        if whole and isinstance(vals, list):  # a range of counts: 3.0, 4.0 -> 3, 4
+            vals = [int(v) for v in vals]
+        paths.append(ps)
+        values.append(vals)
+        names.append(name)
+        if scale:
+            base = [get_value(scene, q) for q in ps]
+            unset = [q for q, b in zip(ps, base) if b is None]
+            if unset:
+                raise SceneError(f"parameters[{i}].scale", True, f"{unset[0]} is not given in the scene (it is "
+                                                                 "derived): there is no value to scale; set it instead")
+        scales.append(base if scale else None)
+        ints.append(whole)
     if kind == "grid":
         n = math.prod(len(v) for v in values)
         if n > MAX_VARIANTS:
@@ -163,10 +226,17 @@ def variants(scene, study: dict) -> list[Variant]:
         seed = design.get("seed", 0)
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
             raise SceneError("design.seed", seed, "must be an integer >= 0")
-        combos = sample(values, n, kind, seed)
+        combos = [tuple(int(round(x)) if whole else x for x, whole in zip(c, ints))
+                  for c in sample(values, n, kind, seed)]
     if not combos:
         raise SceneError("parameters", 0, "the study has no variants")
-    return [Variant(k, {path: v for ps, v in zip(paths, combo) for path in ps}) for k, combo in enumerate(combos)]
+    out = []
+    for k, combo in enumerate(combos):
+        edits = {}
+        for ps, v, base in zip(paths, combo, scales):
+            edits.update({q: v if base is None else b * v for q, b in zip(ps, base or [None] * len(ps))})
+        out.append(Variant(k, edits, dict(zip(names, combo))))
+    return out
 
 
 def sample(bounds: list, n: int, kind: str, seed: int) -> list[tuple]:

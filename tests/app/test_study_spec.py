@@ -22,7 +22,8 @@ def test_grid_is_every_combination(scene):
     v = variants(scene, {"parameters": [{"path": "meshes[0].stiffness", "values": [1e9, 2e9]},
                                         {"path": "stages[0].planets.count", "range": [3, 5, 3]}]})
     assert [x.values for x in v] == [{"meshes[0].stiffness": a, "stages[0].planets.count": b}
-                                     for a in (1e9, 2e9) for b in (3.0, 4.0, 5.0)]
+                                     for a in (1e9, 2e9) for b in (3, 4, 5)]
+    assert all(type(x.values["stages[0].planets.count"]) is int for x in v)  # a count stays whole
 
 
 def test_log_range_is_geometric(scene):
@@ -96,12 +97,48 @@ def test_bad_study_names_its_field(scene, study, path, words):
     assert "\n" not in str(e.value)
 
 
-def test_variant_values_build_valid_scenes_or_name_the_path(scene):
-    # the values go through Scene.with_values: a value of the wrong type is refused naming the path
+def test_variant_values_build_valid_scenes(scene):
     # (5 planets: (19 + 56) / 5 = 15, the assembly condition of stage 1, Lynwander 1983)
-    v = variants(scene, {"parameters": [{"path": "stages[0].planets.count", "values": [5, "five"]}]})
+    v = variants(scene, {"parameters": [{"path": "stages[0].planets.count", "values": [5]}]})
     assert scene.with_values(v[0].values).stages[0].planets.count == 5
-    with pytest.raises(SceneError) as e:
-        scene.with_values(v[1].values)
-    assert str(e.value).startswith("stages[0].planets.count")
     assert math.isfinite(v[0].values["stages[0].planets.count"])
+
+
+@pytest.mark.parametrize("param, where, words", [
+    ({"path": "stages[0].planets.count", "values": [5, "five"]}, "parameters[0].values[1] = 'five'", "whole number"),
+    ({"path": "stages[0].planets.count", "values": [3.5]}, "parameters[0].values[0] = 3.5", "whole number"),
+    ({"path": "meshes[0].stiffness", "values": [1e9, "stiff"]}, "parameters[0].values[1]", "a number"),
+    ({"path": "meshes[0].stiffness", "values": [True]}, "parameters[0].values[0] = True", "a number"),
+    ({"path": "meshes[0].name", "values": [3]}, "parameters[0].values[0] = 3", "text"),
+    ({"path": "meshes[0].name", "scale": True, "values": [2.0]}, "parameters[0].values[0]", "scale"),
+    ({"path": "meshes[0].stiffness", "scale": "yes", "values": [2.0]}, "parameters[0].scale", "true or false"),
+])
+def test_wrong_value_types_are_refused_when_the_study_is_read(scene, param, where, words):
+    # before any variant runs: the message names the study field, the value and what the path takes
+    with pytest.raises(SceneError) as e:
+        variants(scene, {"parameters": [param]})
+    assert str(e.value).startswith(where) and words in str(e.value), str(e.value)
+
+
+def test_scale_multiplies_each_paths_own_value_and_a_name_labels_several_paths(scene):
+    # one factor on every bearing's radial and tilt stiffness (a bearing-factor study)
+    pair = load_scene("kahraman_beta20")
+    study = {"parameters": [{"name": "bearing_factor", "path": ["bearings[*].k_radial", "bearings[*].k_tilt"],
+                             "scale": True, "values": [1.0, 10.0]}]}
+    v = variants(pair, study)
+    assert [x.params for x in v] == [{"bearing_factor": 1.0}, {"bearing_factor": 10.0}]
+    for i, b in enumerate(pair.bearings):
+        assert v[1].values[f"bearings[{i}].k_radial"] == 10.0 * b.k_radial
+        assert v[1].values[f"bearings[{i}].k_tilt"] == 10.0 * b.k_tilt
+    # a derived value (not in the file) cannot be scaled
+    with pytest.raises(SceneError, match=r"^parameters\[0\]\.scale.*bearings\[0\]\.k_radial_y is not given"):
+        variants(scene, {"parameters": [{"path": "bearings[*].k_radial_y", "scale": True, "values": [2.0]}]})
+    with pytest.raises(SceneError, match=r"^parameters\[0\]\.name"):   # several paths need a name
+        variants(pair, {"parameters": [{"path": ["bearings[0].k_radial", "bearings[1].k_radial"], "values": [1e9]}]})
+
+
+def test_sampled_counts_are_whole(scene):
+    v = variants(scene, {"design": {"kind": "lhs", "samples": 8, "seed": 1},
+                         "parameters": [{"path": "stages[0].planets.count", "bounds": [3, 7]}]})
+    assert {type(x.values["stages[0].planets.count"]) for x in v} == {int}
+    assert {x.values["stages[0].planets.count"] for x in v} <= set(range(3, 8))
