@@ -12,10 +12,13 @@ truncated, wrong hash, older format, or rejected by the caller's ``check``) is a
 cache miss: the file is renamed to ``<name>.corrupt-<UTC time>-<pid>`` in the same
 folder (delete those at will), a WARNING names it and the reason, and the
 superelement is reduced again. Writes are atomic (unique temporary file, fsync,
-``os.replace``), so concurrent runs storing the same entry each publish a whole file.
+``os.replace``), and a miss is reduced under an exclusive lock on ``.<key>.npz.lock``
+(``fcntl.flock``): of two processes missing the same entry at once, one reduces and the
+other waits and loads its entry; no reader ever sees a half-written file.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import logging
@@ -116,15 +119,40 @@ class SuperelementCache:
         reduction (raising = error, nothing stored)."""
         key = cache_key(**inputs)
         se = self.get(key, check)
-        if se is not None:
-            self.hits += 1
-            log.info("superelement cache hit %s", key[:12])
-            return se
-        self.misses += 1
-        se = reduce()
-        if check is not None:
-            check(se)
-        se.metadata.setdefault("inputs", inputs)
-        self.put(key, se)
-        log.info("superelement cache miss %s: reduced and stored", key[:12])
+        if se is None:
+            with self._build_lock(key):  # another process may have stored it while we waited
+                se = self.get(key, check)
+                if se is None:
+                    self.misses += 1
+                    se = reduce()
+                    if check is not None:
+                        check(se)
+                    se.metadata.setdefault("inputs", inputs)
+                    self.put(key, se)
+                    log.info("superelement cache miss %s: reduced and stored", key[:12])
+                    return se
+        self.hits += 1
+        log.info("superelement cache hit %s", key[:12])
         return se
+
+    @contextlib.contextmanager
+    def _build_lock(self, key: str):
+        """Exclusive ``fcntl.flock`` on ``.<key>.npz.lock`` while an entry is reduced (the mesh
+        cache, fe_components.meshing.build_lock, locks by the same rule in its own copy); a
+        folder that cannot take the lock file reduces without it."""
+        import fcntl
+        try:
+            os.makedirs(self.directory, exist_ok=True)
+            lock = os.path.join(self.directory, f".{key}.npz.lock")
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError:
+            yield
+            return
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            yield
+        finally:
+            # removed while held: whoever locks after this sees the published entry
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(lock)
+            os.close(fd)

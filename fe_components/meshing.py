@@ -184,7 +184,10 @@ def cached_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | Non
     path = mesh_path(params, options, cache_dir)
     sha = _load_entry(path, mesh_content_hash, heal)
     if sha is None:
-        sha = _generate_entry(params, options, path)
+        with build_lock(path):  # another process may have meshed it while we waited
+            sha = _load_entry(path, mesh_content_hash, heal)
+            if sha is None:
+                sha = _generate_entry(params, options, path)
     return MeshEntry(path, sha)
 
 
@@ -195,7 +198,11 @@ def load_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None 
     path = mesh_path(params, options, cache_dir)
     raw = _load_entry(path, read_mesh, heal)
     if raw is None:
-        _generate_entry(params, options, path)
+        with build_lock(path):
+            raw = _load_entry(path, read_mesh, heal)
+            if raw is None:
+                _generate_entry(params, options, path)
+    if raw is None:
         try:
             raw = read_mesh(path)
         except MeshCacheError as exc:
@@ -219,6 +226,30 @@ def _load_entry(path: Path, reader, heal: bool | None):
         return None
     log.info("mesh cache hit: %s", path)
     return out
+
+
+@contextlib.contextmanager
+def build_lock(path: Path):
+    """Hold an exclusive lock (``fcntl.flock`` on ``.<name>.lock`` beside ``path``) while an
+    entry is built, so that two processes never build the same entry at the same time: the
+    second waits, then finds the first one's entry. A folder that cannot take the lock file
+    (read-only) builds without it. The superelement cache (cms.cache) locks by the same rule,
+    in its own copy: the two packages import nothing of each other."""
+    import fcntl
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        lock = path.with_name(f".{path.name}.lock")
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError:
+        yield
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        # removed while held: whoever locks after this sees the published entry
+        lock.unlink(missing_ok=True)
+        os.close(fd)  # closing releases the lock
 
 
 def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: str = "meshing again") -> None:

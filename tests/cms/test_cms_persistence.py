@@ -207,3 +207,35 @@ def test_concurrent_writers_of_one_entry_each_publish_a_whole_file(tmp_path):
     x = read_sealed_npz(p)["x"]
     assert np.all(x == x[0]) and x[0] in range(8)
     assert os.listdir(tmp_path) == ["se.npz"]
+
+
+def _reduce_slowly_and_count(folder: str, counter: str, start) -> str:
+    """A worker process: wait for the start signal, then get-or-reduce one entry with a
+    reduction that takes 0.5 s and records (appends a line to ``counter``) that it ran."""
+    import time as _time
+
+    def reduce():
+        with open(counter, "a") as fh:
+            fh.write("reduced\n")
+        _time.sleep(0.5)
+        return _reduce()[2]
+    start.wait()
+    se = SuperelementCache(folder).get_or_reduce({"mesh": "shared-entry"}, reduce)
+    return array_hash(se.K, se.M)
+
+
+def test_two_processes_missing_one_entry_reduce_it_once(tmp_path):
+    # Both processes miss the same key at the same moment: the build lock lets one reduce
+    # while the other waits and then loads that entry (design studies run workers in parallel)
+    import multiprocessing as mp
+    ctx = mp.get_context("spawn")
+    counter = tmp_path / "reductions.txt"
+    with ctx.Manager() as manager, ctx.Pool(2) as pool:
+        start = manager.Event()
+        jobs = [pool.apply_async(_reduce_slowly_and_count, (str(tmp_path / "cache"), str(counter), start))
+                for _ in range(2)]
+        start.set()
+        hashes = [j.get(timeout=120) for j in jobs]
+    assert counter.read_text().count("reduced") == 1
+    assert hashes[0] == hashes[1]
+    assert [p.name for p in (tmp_path / "cache").iterdir() if p.name.startswith(".")] == []  # no lock left
