@@ -1,4 +1,4 @@
-"""flexgear application layer: command line, report pipeline, rendering, plots, sweeps,
+"""flexgear application layer: command line, report pipeline, rendering, plots, design studies,
 benchmarks. The model core (:mod:`assembly`) never imports it.
 
 From Python, :func:`run_report` does what ``flexgear run`` does. This module imports nothing

@@ -1,4 +1,4 @@
-"""``flexgear`` command line: modes, compare, static, run, sweep, campbell, frf, simulate, export, demo, reference,
+"""``flexgear`` command line: modes, compare, static, run, study, campbell, frf, simulate, export, demo, reference,
 bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
@@ -168,21 +168,56 @@ def cmd_run(args) -> int:
     return 0
 
 
-def cmd_sweep(args) -> int:
-    """``flexgear sweep``: frequencies against one parameter into ``--out``."""
-    from .progress import Progress
-    from .sweep import parse_values, sweep_to_dir
+def cmd_study(args) -> int:
+    """``flexgear study``: every variant of a study file, on a local Dask cluster (default),
+    an existing one (``--scheduler``) or in this process (``--serial``), into ``--out``."""
+    import time
 
-    try:
-        values = parse_values(args.values, args.param)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    from fe_components.meshing import default_cache_dir
+
+    from .output import check_output_dir
+    from .progress import Progress
+    from .study_engine import run_study
+    from .study_file import read_study
+    from .study_out import study_to_dir
+
+    study = read_study(args.study)
+    out = Path(args.out).absolute()
+    check_output_dir(out)       # refuse a foreign folder before the (possibly long) study
+    mode = "serial" if args.serial else "scheduler" if args.scheduler else "local"
     progress = Progress(enabled=False if args.quiet else None)
-    info = sweep_to_dir(scene_file(args), args.param, values, args.out, progress, args.max_modes)
+    t0 = time.perf_counter()
+    with progress.bar(f"{study.name}: {len(study.variants)} variants ({mode})", total=len(study.variants),
+                      unit="variant") as bar:
+        failed = []
+
+        def tick(row):
+            failed.extend([row["variant"]] if row["status"] != "ok" else [])
+            bar.update(1)
+            bar.set_postfix_str(f"{len(failed)} failed", refresh=False)
+        rows = run_study(study, mode, args.scheduler, args.workers, str(default_cache_dir().absolute()), tick)
+    info = study_to_dir(study, rows, out, mode, time.perf_counter() - t0)
     if not args.quiet:
-        print(f"{info['scene']}: {len(values)} values of {args.param} -> {Path(args.out) / 'sweep.csv'}, "
-              f"{Path(args.out) / 'sweep.png'} ({info['time_s']:.1f} s)")
+        print(f"{study.name}: {info['variants']} variants ({info['failed']} failed) in {info['time_s']:.1f} s "
+              f"-> {out / 'index.html'}")
     return 0
+
+
+def _add_study(sub) -> None:
+    p = sub.add_parser("study", help="design study: any scene fields varied (grid, Latin hypercube, random), each "
+                                     "variant a modes, compare, frf or simulate run, on a Dask cluster")
+    p.add_argument("study", help="study TOML file (or the name of a shipped study: helix_angle, bearing_factor, "
+                                 "planet_count)")
+    p.add_argument("--out", required=True, help=OUT_HELP + " (study.parquet, study.csv, runs.csv, plots)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="run on this Dask scheduler (tcp://host:8786); its workers must see the scene and "
+                            "cache folders (default: a local cluster, one worker process per core)")
+    where.add_argument("--serial", action="store_true", help="run the variants one after the other in this process")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
+    p.set_defaults(func=cmd_study, check=lambda a: a.workers is None or _at_least(a.workers, "--workers", 1))
 
 
 def cmd_export_elastodyn(args) -> int:
@@ -441,20 +476,6 @@ def _add_run(sub) -> None:
     p.set_defaults(func=cmd_run, check=lambda a: parse_modes(a.modes))
 
 
-def _add_sweep(sub) -> None:
-    from .sweep import PARAMS
-    p = sub.add_parser("sweep", help="natural frequencies against helix angle or bearing stiffness factor")
-    p.add_argument("scene", help=SCENE_HELP)
-    p.add_argument("--param", required=True, choices=PARAMS,
-                   help="helix: helix angle of every helical mesh (deg); bearing-factor: factor on all bearing stiffnesses")
-    p.add_argument("--values", nargs="*", default=[], metavar="V",
-                   help="values (numbers, or start:stop:count; default 0:30:31 deg / 1:1e6:25 geometric)")
-    p.add_argument("--out", required=True, help=OUT_HELP + " (sweep.csv, sweep.png)")
-    p.add_argument("--max-modes", type=int, default=None, metavar="N", help="plot at most N elastic modes")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
-    p.set_defaults(func=cmd_sweep, check=lambda a: a.max_modes is None or _at_least(a.max_modes, "--max-modes", 1))
-
-
 class _Parser(argparse.ArgumentParser):
     """argparse with its errors (unknown choice, missing argument) in one line, exit 2, like
     every other user error of the command line (no usage block: ``--help`` has it)."""
@@ -472,7 +493,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "else $XDG_CACHE_HOME/flexgear or ~/.cache/flexgear)")
     sub = p.add_subparsers(dest="cmd", required=True)
     _add_run(sub)
-    _add_sweep(sub)
+    _add_study(sub)
     _add_campbell(sub)
     _add_frf(sub)
     _add_simulate(sub)

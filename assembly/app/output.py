@@ -1,4 +1,4 @@
-"""Output folders of ``flexgear run`` and ``flexgear sweep``: ``--out P/X`` always holds either a
+"""Output folders of ``flexgear run``, ``flexgear study`` and the other commands with ``--out``: ``--out P/X`` always holds either a
 complete flexgear result or what it held before, also when the program is killed, the disk fills
 or a second run writes into the same folder.
 

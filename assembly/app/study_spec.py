@@ -170,8 +170,8 @@ def parameter_values(p: dict, field: str, design: str) -> list | tuple:
     if key == "log_range":
         if not (a > 0 and b > 0):
             raise SceneError(f"{field}.log_range", v, "start and stop must be > 0")
-        return list(np.geomspace(a, b, n))
-    return list(np.linspace(a, b, n))
+        return [float(x) for x in np.geomspace(a, b, n)]
+    return [float(x) for x in np.linspace(a, b, n)]
 
 
 def variants(scene, study: dict) -> list[Variant]:

@@ -1,0 +1,190 @@
+"""A design-study file (TOML): the scene, the analysis per variant, what to keep, the design.
+
+::
+
+    name = "Helix angle"                # optional title
+    scene = "kahraman_beta20.toml"      # relative to this file, or a shipped scene
+    analysis = "modes"                  # modes | compare | frf | simulate
+
+    [keep]
+    modes = 12                          # modes, compare: the first N elastic frequencies (Hz)
+    stats = ["peak", "mean"]            # simulate: per output, of mean rms min max peak
+
+    [frf]                               # analysis = "frf": as `flexgear frf`
+    input = "torque:rotor"
+    outputs = ["mesh_force:stage1_sun_p0"]
+    fmin = 1.0                          # Hz
+    fmax = 500.0                        # Hz
+    points = 400
+    log = true
+
+    [simulate]                          # analysis = "simulate": as `flexgear simulate`
+    t_end = 0.5                         # s
+    dt = 1e-4                           # s
+    outputs = ["mesh_force:stage3"]     # default: every nonlinear mesh's force and stress point
+
+    [design]                            # default: grid
+    kind = "lhs"                        # grid | lhs | random
+    samples = 50
+    seed = 1
+
+    [[parameters]]                      # see assembly.app.study_spec
+    path = "meshes[0].helix_angle_deg"
+    range = [0.0, 30.0, 31]
+
+Shipped studies are in ``assembly/studies`` and may be named without a folder. Every problem
+raises :class:`assembly.errors.SceneError` naming the study field (``frf.fmax``,
+``parameters[0].path``) and the value, before any variant runs.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import SceneError
+from .study_spec import Variant, variants
+
+STUDY_DIR = Path(__file__).resolve().parents[1] / "studies"
+ANALYSES = ("modes", "compare", "frf", "simulate")
+STATS = ("mean", "rms", "min", "max", "peak")
+KEYS = {"name", "scene", "analysis", "keep", "frf", "simulate", "design", "parameters"}
+
+
+@dataclass
+class Study:
+    """A read and checked study: the scene file, the analysis and its settings (SI: Hz, s),
+    what to keep, and the variants."""
+
+    name: str
+    scene: str                      # the scene file (absolute path)
+    analysis: str
+    settings: dict
+    keep: dict
+    variants: list[Variant]
+    source: str = ""                # the study file
+    parameters: list[str] = field(default_factory=list)   # the parameters' column names
+
+
+def resolve_study_path(path) -> Path:
+    """``path`` if it exists, else a shipped study of that bare name (``.toml`` optional)."""
+    p = Path(path)
+    if p.exists() or Path(p.name) != p:
+        return p
+    for cand in (STUDY_DIR / p.name, (STUDY_DIR / p.name).with_suffix(".toml")):
+        if cand.exists():
+            return cand
+    return p
+
+
+def read_study(path) -> Study:
+    """Read, check and expand the study file at ``path`` (module notes)."""
+    from ..schema import load_scene, resolve_scene_path
+    p = resolve_study_path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise SceneError("study", str(p), f"cannot read: {exc.strerror or exc}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise SceneError("study", str(p), f"not a valid TOML file: {exc}") from None
+    unknown = sorted(set(data) - KEYS)
+    if unknown:
+        raise SceneError(unknown[0], data[unknown[0]], f"not a study key; a study has: {sorted(KEYS)}")
+    scene_name = data.get("scene")
+    if not isinstance(scene_name, str) or not scene_name:
+        raise SceneError("scene", scene_name, "the scene file to vary (relative to the study file, or a shipped one)")
+    local = p.parent / scene_name
+    scene_path = local if local.exists() else resolve_scene_path(scene_name)
+    scene = load_scene(scene_path)
+    analysis = data.get("analysis", "modes")
+    if analysis not in ANALYSES:
+        raise SceneError("analysis", analysis, f"must be one of {list(ANALYSES)}")
+    for other in ("frf", "simulate"):
+        if other in data and other != analysis:
+            raise SceneError(other, data[other], f"a [{other}] table needs analysis = {other!r}")
+    settings = _settings(analysis, data.get(analysis, {}))
+    keep = _keep(analysis, data.get("keep", {}))
+    vs = variants(scene, {"parameters": data.get("parameters"), "design": _table(data, "design")})
+    names = list(vs[0].params)
+    title = data.get("name", p.stem)
+    if not isinstance(title, str):
+        raise SceneError("name", title, "must be text")
+    return Study(title, str(Path(scene_path).resolve()), analysis, settings, keep, vs, str(p), names)
+
+
+def _table(data: dict, key: str) -> dict:
+    t = data.get(key, {})
+    if not isinstance(t, dict):
+        raise SceneError(key, t, "must be a table")
+    return t
+
+
+def _keep(analysis: str, keep) -> dict:
+    if not isinstance(keep, dict):
+        raise SceneError("keep", keep, "must be a table")
+    allowed = {"modes": {"modes"}, "compare": {"modes"}, "frf": set(), "simulate": {"stats"}}[analysis]
+    for k in keep:
+        if k not in allowed:
+            raise SceneError(f"keep.{k}", keep[k], f"not kept by analysis {analysis!r}"
+                             + (f" (it keeps: {sorted(allowed)})" if allowed else " (it keeps each output's peak)"))
+    out = {"modes": 10, "stats": ["peak", "mean"], **keep}
+    n = out["modes"]
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise SceneError("keep.modes", n, "must be an integer >= 1")
+    st = out["stats"]
+    if not isinstance(st, list) or not st or any(s not in STATS for s in st):
+        raise SceneError("keep.stats", st, f"must be a non-empty list of {list(STATS)}")
+    return out
+
+
+def _number(t: dict, key: str, where: str, default=None, positive=True) -> float:
+    v = t.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or (positive and v <= 0):
+        raise SceneError(f"{where}.{key}", v, "must be a finite number" + (" > 0" if positive else ""))
+    return float(v)
+
+
+def _names(t: dict, key: str, where: str, required: bool) -> list | None:
+    v = t.get(key)
+    if v is None and not required:
+        return None
+    if not isinstance(v, list) or not v or not all(isinstance(x, str) and x for x in v):
+        raise SceneError(f"{where}.{key}", v, "must be a non-empty list of output names")
+    return v
+
+
+def _settings(analysis: str, t) -> dict:
+    """The analysis's own settings, checked (Hz, s)."""
+    if not isinstance(t, dict):
+        raise SceneError(analysis, t, "must be a table")
+    known = {"modes": set(), "compare": set(),
+             "frf": {"input", "outputs", "fmin", "fmax", "points", "log", "method", "modes_hz"},
+             "simulate": {"t_end", "dt", "outputs", "speed", "unreduced"}}[analysis]
+    for k in t:
+        if k not in known:
+            raise SceneError(f"{analysis}.{k}", t[k], f"not a setting of {analysis}; it has: {sorted(known)}")
+    if analysis == "frf":
+        if not isinstance(t.get("input"), str):
+            raise SceneError("frf.input", t.get("input"), "the input, e.g. 'torque:rotor'")
+        s = {"input": t["input"], "outputs": _names(t, "outputs", "frf", True),
+             "fmin": _number(t, "fmin", "frf", 1.0), "fmax": _number(t, "fmax", "frf"),
+             "points": t.get("points", 400), "log": t.get("log", False), "method": t.get("method", "modal"),
+             "modes_hz": None if t.get("modes_hz") is None else _number(t, "modes_hz", "frf")}
+        if isinstance(s["points"], bool) or not isinstance(s["points"], int) or s["points"] < 2:
+            raise SceneError("frf.points", s["points"], "must be an integer >= 2")
+        if not s["fmin"] < s["fmax"]:
+            raise SceneError("frf.fmax", s["fmax"], f"must be above fmin = {s['fmin']} Hz")
+        if not isinstance(s["log"], bool):
+            raise SceneError("frf.log", s["log"], "must be true or false")
+        return s
+    if analysis == "simulate":
+        s = {"t_end": _number(t, "t_end", "simulate"), "dt": _number(t, "dt", "simulate"),
+             "outputs": _names(t, "outputs", "simulate", False), "unreduced": t.get("unreduced", False),
+             "speed": None if t.get("speed") is None else _number(t, "speed", "simulate", positive=False)}
+        if s["dt"] >= s["t_end"]:
+            raise SceneError("simulate.dt", s["dt"], f"must be below t_end = {s['t_end']} s")
+        if not isinstance(s["unreduced"], bool):
+            raise SceneError("simulate.unreduced", s["unreduced"], "must be true or false")
+        return s
+    return {}
