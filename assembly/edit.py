@@ -173,8 +173,8 @@ def value_kind(scene: Scene, path: str) -> str:
     not given, from its declared type."""
     value = get_value(scene, path)
     if value is None:
-        found = _locate(to_dict(scene), parse_path(path), path, create=False)
-        cls, key = (found[2], found[1]) if found is not None else (None, None)
+        found = _locate(to_dict(scene), parse_path(path), path, create=True, value=0)  # on a copy
+        cls, key = found[2], found[1]
         if cls is None or not dataclasses.is_dataclass(cls):
             return "other"
         if key.endswith("_deg"):

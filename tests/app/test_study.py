@@ -1,0 +1,192 @@
+"""``flexgear study``: the shipped studies against the scenes and closed forms they reproduce,
+each analysis's row against the analysis run directly, the results folder, and bad studies
+refused in one line (exit 2, nothing written) before any variant runs."""
+from __future__ import annotations
+
+import csv
+import math
+import time
+
+import numpy as np
+import pytest
+
+from assembly import assemble, load_scene, scale_bearings, solve_modes
+from assembly.app.cli import main
+from assembly.app.study_engine import run_study
+from assembly.app.study_file import read_study
+from tests.app.test_simulate_cli import pair_file
+
+# The torsional pair of tests/app/test_simulate_cli.py: rotor J1 = 2, generator J2 = 0.5 kg m^2,
+# base radii 0.05 / 0.15 m, mesh stiffness k along the line of action; its one elastic mode has
+# w^2 = k (rb1^2 / J1 + rb2^2 / J2) (two inertias on a spring through the base radii).
+J1, J2, RB1, RB2 = 2.0, 0.5, 0.05, 0.15
+
+
+def pair_hz(k: float) -> float:
+    return math.sqrt(k * (RB1 ** 2 / J1 + RB2 ** 2 / J2)) / (2 * math.pi)
+
+
+def _study(tmp_path, text: str, name: str = "study.toml") -> str:
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def _rows(path: str):
+    return run_study(read_study(path), "serial")
+
+
+def test_helix_angle_study_reproduces_the_shipped_pairs():
+    # Peeters et al. (2006) Fig. 7: at 0 and 20 deg the rows are the kahraman_beta0 / beta20 scenes
+    rows = {r["helix_angle_deg"]: r for r in _rows("helix_angle")}
+    assert sorted(rows) == [float(x) for x in range(31)]
+    for deg, name in ((0.0, "kahraman_beta0"), (20.0, "kahraman_beta20")):
+        ref = solve_modes(assemble(load_scene(name)))
+        want = np.sort(ref.frequencies_hz)[ref.n_rigid:]
+        got = [rows[deg][f"f{j + 1}_hz"] for j in range(len(want))]
+        assert got == pytest.approx(want, rel=1e-9)
+
+
+def test_bearing_factor_study_is_the_scaled_scene_and_tends_to_rigid_supports():
+    rows = _rows("bearing_factor")
+    assert [r["bearing_factor"] for r in rows] == pytest.approx(np.geomspace(1, 1e6, 25), rel=1e-12)
+    scene = load_scene("kahraman_beta20")
+    for r in (rows[0], rows[16]):        # factors 1 and 1e4
+        ref = solve_modes(assemble(scale_bearings(scene, r["bearing_factor"])))
+        want = np.sort(ref.frequencies_hz)[ref.n_rigid:]
+        assert [r[f"f{j + 1}_hz"] for j in range(len(want))] == pytest.approx(want, rel=1e-9)
+    # Peeters Fig. 11a: the bearing modes grow as sqrt(factor) (x10 in frequency for x100 in
+    # stiffness at the top of the range) while the lowest gear mode levels off
+    top, below = rows[-1], rows[-9]      # factors 1e6 and 1e4 (4 values a decade)
+    assert top["f11_hz"] / below["f11_hz"] == pytest.approx(10.0, rel=1e-3)
+    assert top["f1_hz"] / below["f1_hz"] == pytest.approx(1.0, abs=1e-3)
+
+
+def test_planet_count_study_gives_lin_parkers_stages_and_refuses_overlapping_planets():
+    rows = _rows("planet_count")
+    assert [r["planets"] for r in rows] == [3, 4, 5, 6, 7]
+    for r in rows[:3]:
+        ref = solve_modes(assemble(load_scene(f"lin_parker_n{r['planets']}")))
+        want = ref.frequencies_hz[ref.n_rigid:ref.n_rigid + 24]
+        assert r["status"] == "ok" and r["n_rigid"] == ref.n_rigid
+        assert [r[f"f{j + 1}_hz"] for j in range(len(want))] == pytest.approx(want, rel=1e-9)
+    # six planets on a 97.8 mm carrier radius: centres 97.8 mm apart < 110.4 mm tip diameter
+    for r in rows[3:]:
+        assert r["status"] == "error" and "planets overlap" in r["error"] and "f1_hz" not in r
+
+
+PAIR_STUDY = """
+scene = "pair.toml"
+analysis = "{analysis}"
+{extra}
+[[parameters]]
+path = "meshes[0].stiffness"
+values = [1.0e8, 4.0e8]
+"""
+
+
+@pytest.fixture
+def pair(tmp_path):
+    pair_file(tmp_path)
+    return tmp_path
+
+
+def test_modes_rows_follow_the_closed_form(pair):
+    rows = _rows(_study(pair, PAIR_STUDY.format(analysis="modes", extra="")))
+    for r in rows:
+        assert r["f1_hz"] == pytest.approx(pair_hz(r["meshes[0].stiffness"]), rel=1e-9)
+        assert r["n_rigid"] == 1 and "f2_hz" not in r     # one rigid rotation, one elastic mode
+
+
+def test_frf_rows_peak_at_the_resonance_and_equal_the_direct_frf(pair):
+    from assembly.dynamics.frf import frequency_response
+    extra = """[frf]
+input = "torque:rotor"
+outputs = ["force:m", "motion:generator:rz"]
+fmin = 300.0
+fmax = 800.0
+points = 501
+"""
+    rows = _rows(_study(pair, PAIR_STUDY.format(analysis="frf", extra=extra)))
+    f = np.linspace(300.0, 800.0, 501)                          # 1 Hz grid
+    for r in rows:
+        fn = pair_hz(r["meshes[0].stiffness"])                   # 342.3 and 684.5 Hz
+        assert abs(r["peak_hz[force:m]"] - fn) <= 0.5            # the grid point nearest resonance
+        direct = frequency_response(assemble(load_scene(str(pair / "pair.toml")).with_values(
+            {"meshes[0].stiffness": r["meshes[0].stiffness"]})), "torque:rotor", ["force:m"], f)
+        assert r["peak[force:m]"] == np.max(np.abs(direct.outputs["force:m"]))
+
+
+def test_simulate_rows_are_the_runs_summary(pair):
+    from assembly.app.simulate import summary
+    from assembly.dynamics.simulate import simulate
+    extra = """[keep]
+stats = ["peak", "mean", "rms"]
+[simulate]
+t_end = 0.01
+dt = 1.0e-4
+outputs = ["force:m"]
+"""
+    rows = _rows(_study(pair, PAIR_STUDY.format(analysis="simulate", extra=extra)))
+    for r in rows:
+        scene = load_scene(str(pair / "pair.toml")).with_values({"meshes[0].stiffness": r["meshes[0].stiffness"]})
+        s = summary(simulate(scene, 0.01, 1e-4, ["force:m"], base_dir=pair), "pair")["outputs"]["force:m"]
+        assert (r["peak[force:m]"], r["mean[force:m]"], r["rms[force:m]"]) == (s["peak"], s["mean"], s["rms"])
+        assert r["contact_losses"] == 0
+
+
+def test_compare_rows_hold_each_fidelity(pair):
+    rows = _rows(_study(pair, PAIR_STUDY.format(analysis="compare", extra="")))
+    for r in rows:
+        assert r["torsional_f1_hz"] == pytest.approx(pair_hz(r["meshes[0].stiffness"]), rel=1e-9)
+        assert r["rigid_n_rigid"] >= 1 and r["rigid_f1_hz"] > 0
+
+
+def test_cli_writes_the_table_plots_and_index(pair, capsys):
+    import pyarrow.parquet as pq
+    out = pair / "out"
+    assert main(["study", _study(pair, PAIR_STUDY.format(analysis="modes", extra="")), "--out", str(out),
+                 "--serial", "-q"]) == 0
+    assert {"study.parquet", "study.csv", "runs.csv", "frequencies_vs_meshes_0_stiffness.png", "index.html",
+            "flexgear_run.json"} <= {p.name for p in out.iterdir()}
+    rows = list(csv.DictReader(open(out / "study.csv")))
+    table = pq.read_table(out / "study.parquet").to_pylist()
+    assert [float(r["f1_hz"]) for r in rows] == [t["f1_hz"] for t in table]     # CSV keeps every digit
+    assert [t["status"] for t in table] == ["ok", "ok"]
+    assert "time_s" not in rows[0] and "time_s" in next(csv.DictReader(open(out / "runs.csv")))
+
+
+@pytest.mark.parametrize("text, where, words", [
+    # a path the scene does not have: named, with the nearest one it has
+    ('scene = "kahraman_beta20"\n[[parameters]]\npath = "bearings[0].k_radiall"\nvalues = [1e8]\n',
+     "parameters[0].path = 'bearings[0].k_radiall'", "nearest valid path: bearings[0].k_radial"),
+    ('scene = "kahraman_beta20"\n[[parameters]]\npath = "bearings[0].k_radial"\nvalues = ["stiff"]\n',
+     "parameters[0].values[0] = 'stiff'", "takes a number"),
+    ('scene = "kahraman_beta20"\n[[parameters]]\npath = "bearings[0].k_radial"\nvalues = []\n',
+     "parameters[0].values = []", "non-empty"),                           # zero variants
+    ('scene = "kahraman_beta20"\n[design]\nkind = "lhs"\nsamples = 0\n'
+     '[[parameters]]\npath = "bearings[0].k_radial"\nbounds = [1e8, 1e9]\n', "design.samples = 0", "integer"),
+    ('scene = "kahraman_beta20"\n', "parameters = None", "at least one"),
+    ('scene = "no_such_scene.toml"\n[[parameters]]\npath = "a"\nvalues = [1]\n', "no_such_scene", ""),
+    ('scene = "kahraman_beta20"\nanalysis = "fft"\n', "analysis = 'fft'", "modes"),
+    ('scene = "kahraman_beta20"\nanlysis = "modes"\n', "anlysis = 'modes'", "not a study key"),
+    ('scene = "kahraman_beta20"\nanalysis = "frf"\n[frf]\ninput = "torque:pinion"\noutputs = ["force:pinion-wheel"]\n'
+     'fmax = -5.0\n[[parameters]]\npath = "bearings[0].k_radial"\nvalues = [1e8]\n', "frf.fmax = -5.0", "> 0"),
+])
+def test_bad_studies_are_one_line_and_write_nothing(tmp_path, capsys, text, where, words):
+    out = tmp_path / "out"
+    assert main(["study", _study(tmp_path, text), "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and where in err and words in err, err
+    assert not out.exists()
+
+
+def test_an_unreachable_scheduler_is_one_line_within_seconds(tmp_path, capsys):
+    # nothing listens on port 9 (discard) of localhost
+    out = tmp_path / "out"
+    t0 = time.perf_counter()
+    assert main(["study", "helix_angle", "--out", str(out), "--scheduler", "tcp://127.0.0.1:9", "-q"]) == 2
+    assert time.perf_counter() - t0 < 15.0     # CONNECT_TIMEOUT_S = 5 plus start-up
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--scheduler = 'tcp://127.0.0.1:9'" in err and "no Dask scheduler" in err
+    assert not out.exists()
