@@ -289,7 +289,13 @@ def _arpack(K, M, k, F, sigma, tol, threads, t0, solves0, rhs0, deflate=None):
         # ARPACK to machine precision (tol=0). A looser 1e-2 * tol saved ~15 % of the
         # solves (94 vs 110 at 48k DOFs) but left a stiff (E x 1e4) superelement at a
         # residual of 3.5e-5 that the polish below could not repair.
-        w, X = spla.eigsh(K, k, M, sigma=sigma, which="LM", OPinv=op, tol=0)
+        # A fixed start vector: ARPACK's own comes from a generator whose state persists in
+        # the process, so the same reduction would differ in its last digits (1e-12) with
+        # what the process solved before (seen in design studies' worker processes).
+        v0 = np.random.default_rng(0).standard_normal(K.shape[0])
+        if deflate is not None and deflate.shape[1]:
+            v0 -= D @ (MD.T @ v0)
+        w, X = spla.eigsh(K, k, M, sigma=sigma, which="LM", OPinv=op, tol=0, v0=v0)
     order = np.argsort(w)
     lam, X = w[order], X[:, order]
     res = residual_norms(K, M, lam, X, sigma=sigma)
