@@ -190,3 +190,13 @@ def test_an_unreachable_scheduler_is_one_line_within_seconds(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--scheduler = 'tcp://127.0.0.1:9'" in err and "no Dask scheduler" in err
     assert not out.exists()
+
+
+def test_the_documented_study_file_reads(tmp_path):
+    # docs/study.md's example: a 5 x 2 grid on the shipped flexible planetary stage
+    from pathlib import Path
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "study.md").read_text(encoding="utf-8")
+    block = doc.split("```toml\n", 1)[1].split("```", 1)[0]
+    study = read_study(_study(tmp_path, block))
+    assert study.analysis == "modes" and study.keep["modes"] == 8 and len(study.variants) == 10
+    assert study.parameters == ["stages[0].planets.bearing.k_radial", "stages[0].carrier.flex.cutoff_hz"]

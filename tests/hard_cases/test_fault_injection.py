@@ -309,11 +309,11 @@ def test_other_errors_pass_unchanged(error, out, monkeypatch):
     _assert_clean(out)
 
 
-def test_sweep_full_disk_is_one_line(out, monkeypatch, capsys):
+def test_study_full_disk_is_one_line(out, monkeypatch, capsys):
     before = _snapshot(out)
     full = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))  # reported on flush: no file name
-    monkeypatch.setattr("assembly.app.sweep.write_csv", lambda sr, path: _raise(full))
-    assert main(["sweep", RIGID, "--param", "helix", "--values", "0", "10", "--out", str(out), "-q"]) == 2
+    monkeypatch.setattr("assembly.app.study_out.write_table", lambda rows, names, folder: _raise(full))
+    assert main(["study", "helix_angle", "--serial", "--out", str(out), "-q"]) == 2
     _assert_one_line(capsys.readouterr().err, out, os.strerror(errno.ENOSPC))
     assert _snapshot(out) == before
     _assert_clean(out)
