@@ -1,7 +1,7 @@
 """Benchmark (not a test): design studies (``flexgear study``) in this process and on a local Dask cluster.
 
 ``flexgear bench study [--variants 20] [--vary thickness|cutoff] [--rigid-variants 200]
-[--workers 2] [--no-flexible] [--no-rigid] [--quick]`` builds its studies in a temporary
+[--workers 2] [--no-flexible] [--no-rigid] [--no-diagnosis] [--quick]`` builds its studies in a temporary
 folder (study files written there, read by :func:`assembly.app.study_file.read_study`),
 runs each with :func:`assembly.app.study_engine.run_study` ``mode="serial"`` (one variant
 after the other in this process) and ``mode="local"`` (a new LocalCluster of ``--workers``
@@ -14,10 +14,19 @@ prints three Markdown tables (times in s unless marked, memory in MB):
    variant a new mesh, FE model and reduction) or ``stages[0].carrier.flex.cutoff_hz``
    4-12 kHz (``--vary cutoff``: the same mesh, a new reduction each). Each engine gets its
    own fresh cache folder (``cache_dir``), so every reduction is built. Wall time, the sum of
-   the rows' own ``time_s``, the speed-up (serial wall / this wall), and the largest
-   ``|f - f_serial|`` over every variant and kept frequency (every result column is
-   compared: "identical" or not); errors = rows with ``status = "error"``. Sizes: the shipped
-   scene's carrier FE DOFs -> reduced DOFs and the model's DOFs (its first variant may differ).
+   the rows' own ``time_s``, the speed-up (serial wall / this wall), the variants whose result
+   columns are not bitwise those of the serial run, the largest ``|f - f_serial|`` over every
+   variant and kept frequency (and relative to f), and how many of the meshes cached by both
+   runs differ in content (gmsh's mesh of a component is not bit-reproducible from one run to
+   the next: a few node coordinates may differ in their last bits, and the frequencies then
+   at round-off level); errors = rows with ``status = "error"``. Sizes: the shipped scene's
+   carrier FE DOFs -> reduced DOFs and the model's DOFs (its first variant may differ).
+   A last row (diagnosis, ``--no-diagnosis`` skips it) runs the local engine again, cold, with
+   glibc's default allocator settings in its workers: the Dask nanny starts every worker with
+   ``MALLOC_TRIM_THRESHOLD_=65536`` (``distributed.nanny.pre-spawn-environ``), which fixes
+   glibc's mmap threshold, so every large numpy temporary is a fresh ``mmap`` whose pages the
+   kernel zeroes on first touch (system time, minor page faults); that row unsets it (Dask
+   config and this process's environment, where the nanny also leaves it, both restored).
 2. **reductions reused, cold vs warm**: the same study run again on each engine's now-warm
    cache folder (new worker processes; in this process the memoised FE models are dropped
    first): per run the reductions built and reused (sums of the rows' ``reductions_built``,
@@ -39,12 +48,15 @@ Memory: peak resident memory of this (client) process so far, ``getrusage``, aft
 (the local runs go first, so their figure is the client's own, before any serial run), and
 of each worker process (``VmHWM`` of ``/proc/PID/status`` of the row's ``pid``, read when its
 row arrives; the largest worker is printed). The machine (cores, load average) is printed
-with the tables.
+with the tables. The sparse backend is loaded (``machine()``) before any run, so the one BLAS
+thread that :func:`assembly.app.study_run.run_variant` holds applies to it in a serial run too.
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
+import os
 import sys
 import tempfile
 import time
@@ -84,8 +96,24 @@ def worker_hwm_mb(pid: int) -> float | None:
     return None
 
 
-def timed_run(study, mode: str, workers: int | None, cache_dir: str | None) -> dict:
-    """Run ``study``: its rows, wall time, sums of the run columns and peak memory."""
+@contextlib.contextmanager
+def glibc_malloc_defaults():
+    """Within the block, new Dask worker processes start without ``MALLOC_TRIM_THRESHOLD_``
+    (module notes): unset in the nanny's pre-spawn environment and in this process's."""
+    import dask
+    saved = os.environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+    try:
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            yield
+    finally:
+        os.environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+        if saved is not None:
+            os.environ["MALLOC_TRIM_THRESHOLD_"] = saved
+
+
+def timed_run(study, mode: str, workers: int | None, cache_dir: str | None, malloc_defaults: bool = False) -> dict:
+    """Run ``study``: its rows, wall time, sums of the run columns and peak memory;
+    ``malloc_defaults``: workers with glibc's allocator defaults (:func:`glibc_malloc_defaults`)."""
     from ..components import forget_fe_models
     from .study_engine import run_study
     if mode == "serial":
@@ -97,9 +125,10 @@ def timed_run(study, mode: str, workers: int | None, cache_dir: str | None) -> d
             m = worker_hwm_mb(row["pid"])
             if m is not None:
                 hwm[row["pid"]] = max(hwm.get(row["pid"], 0.0), m)
-    t0 = time.perf_counter()
-    rows = run_study(study, mode=mode, workers=workers, cache_dir=cache_dir, tick=tick)
-    wall = time.perf_counter() - t0
+    with glibc_malloc_defaults() if malloc_defaults else contextlib.nullcontext():
+        t0 = time.perf_counter()
+        rows = run_study(study, mode=mode, workers=workers, cache_dir=cache_dir, tick=tick)
+        wall = time.perf_counter() - t0
     return dict(mode=mode, workers=1 if mode == "serial" else min(workers, len(rows)), rows=rows, wall=wall,
                 work=sum(r.get("time_s", 0.0) for r in rows), n=len(rows),
                 errors=sum(r["status"] != "ok" for r in rows),
@@ -109,20 +138,40 @@ def timed_run(study, mode: str, workers: int | None, cache_dir: str | None) -> d
                 client_mb=peak_rss_mb(), worker_mb=max(hwm.values(), default=None))
 
 
-def compare_rows(rows: list, ref: list) -> tuple[bool, float]:
-    """(every result column identical, largest |f - f_ref| over the frequency columns, Hz)."""
+def compare_rows(rows: list, ref: list) -> dict:
+    """How ``rows`` differ from ``ref`` (the same variants): ``differ``, the variants with a
+    result column (every column but the run columns) not bitwise equal; ``abs``, ``rel``, the
+    largest ``|f - f_ref|`` (Hz) and ``|f - f_ref| / f_ref`` over the frequency columns."""
     from .study_run import RUN_COLUMNS
-    same, worst = len(rows) == len(ref), 0.0
+    out = {"differ": abs(len(rows) - len(ref)), "abs": 0.0, "rel": 0.0}
     for r, q in zip(rows, ref):
         a = {k: v for k, v in r.items() if k not in RUN_COLUMNS}
         b = {k: v for k, v in q.items() if k not in RUN_COLUMNS}
-        same = same and a == b
+        out["differ"] += a != b
         keys = [k for k in a if k.endswith("_hz") and k in b]
         if set(keys) != {k for k in b if k.endswith("_hz")}:
-            worst = float("inf")
+            out["abs"] = out["rel"] = float("inf")
         for k in keys:
-            worst = max(worst, abs(float(a[k]) - float(b[k])))
-    return same, worst
+            d = abs(float(a[k]) - float(b[k]))
+            out["abs"] = max(out["abs"], d)
+            out["rel"] = max(out["rel"], d / abs(float(b[k])) if b[k] else d)
+    return out
+
+
+def same_text(c: dict, n: int) -> str:
+    return "identical" if not c["differ"] else f"{c['differ']} of {n} variants differ"
+
+
+def mesh_hashes(folder) -> dict:
+    """{mesh file name: SHA-256 of its content} of the meshes cached in ``folder``."""
+    import hashlib
+    return {f.name: hashlib.sha256(f.read_bytes()).hexdigest() for f in sorted(Path(folder).glob("*.msh"))}
+
+
+def unlike(hashes: dict, ref: dict) -> str:
+    """``k of n``: the meshes of ``hashes`` also in ``ref`` whose content differs."""
+    common = [k for k in hashes if k in ref]
+    return f"{sum(hashes[k] != ref[k] for k in common)} of {len(common)}"
 
 
 def flexible_sizes(scene_name: str, cache_dir: str) -> str:
@@ -145,17 +194,28 @@ def _mb(x) -> str:
 def print_flexible(runs: dict, sizes: str, vary: str, out) -> None:
     serial = runs["serial", "cold"]
     print("| engine | workers (processes) | variants | wall [s] | sum of time_s [s] | speed-up vs serial | "
-          "result columns vs serial | max abs diff of frequencies [Hz] | errors | client peak RSS [MB] | "
-          "worker peak RSS, largest [MB] |", file=out)
-    print("|---|---|---|---|---|---|---|---|---|---|---|", file=out)
-    for mode in ("serial", "local"):
-        r = runs[mode, "cold"]
-        same, worst = compare_rows(r["rows"], serial["rows"])
-        print(f"| {mode} | {r['workers']} ({r['pids']}) | {r['n']} | {r['wall']:.2f} | {r['work']:.2f} | "
-              f"{serial['wall'] / r['wall']:.2f} | {'identical' if same else 'DIFFERENT'} | {worst:.3g} | "
+          "result columns vs serial | max abs diff of frequencies [Hz] (relative) | cached meshes unlike serial's | "
+          "errors | client peak RSS [MB] | worker peak RSS, largest [MB] |", file=out)
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|", file=out)
+    labels = {("serial", "cold"): "serial", ("local", "cold"): "local",
+              ("local", "malloc"): "local, workers without MALLOC_TRIM_THRESHOLD_ (diagnosis)"}
+    for key, label in labels.items():
+        if key not in runs:
+            continue
+        r, mode = runs[key], key[0]
+        c = compare_rows(r["rows"], serial["rows"])
+        print(f"| {label} | {r['workers']} ({r['pids']}) | {r['n']} | {r['wall']:.2f} | {r['work']:.2f} | "
+              f"{serial['wall'] / r['wall']:.2f} | {same_text(c, r['n'])} | {c['abs']:.3g} ({c['rel']:.1e}) | "
+              f"{unlike(r['meshes'], serial['meshes'])} | "
               f"{r['errors']} | {_mb(r['client_mb'])} | {_mb(r['worker_mb']) if mode != 'serial' else '(client)'} |",
               file=out)
     print(f"\nScene {FLEX_SCENE} as shipped: {sizes}. Varied: {VARY[vary][0]}.", file=out)
+    print("Cached meshes unlike serial's: the meshes of the same name (same component parameters) in this run's "
+          "cache folder whose content (SHA-256) differs from the serial run's; a mesh from the committed reference "
+          "meshes (meshes/ref) is not in either folder. Results depend on the mesh's every bit.", file=out)
+    if ("local", "malloc") in runs:
+        print("Diagnosis row: the local engine with the MALLOC_TRIM_THRESHOLD_=65536 that the Dask nanny sets in "
+              "every worker (distributed.nanny.pre-spawn-environ) unset, i.e. glibc's allocator defaults.", file=out)
 
 
 def print_reuse(runs: dict, out) -> None:
@@ -183,9 +243,9 @@ def print_overhead(runs: dict, fixed: float, out) -> None:
               f"{1e3 * r['work'] / r['n']:.1f} | {1e3 * incl:.1f} | {1e3 * excl:.1f} | "
               f"{f'{fixed:.2f}' if mode == 'local' else '0'} | {serial['wall'] / r['wall']:.2f} | {r['errors']} | "
               f"{_mb(r['worker_mb']) if mode != 'serial' else '(client)'} |", file=out)
-    same, worst = compare_rows(runs["local"]["rows"], serial["rows"])
-    print(f"\nResult columns, local vs serial: {'identical' if same else 'DIFFERENT'} "
-          f"(max abs diff of frequencies {worst:.3g} Hz). Engine fixed cost: wall of a 1-variant local study "
+    c = compare_rows(runs["local"]["rows"], serial["rows"])
+    print(f"\nResult columns, local vs serial: {same_text(c, serial['n'])} "
+          f"(max abs diff of frequencies {c['abs']:.3g} Hz). Engine fixed cost: wall of a 1-variant local study "
           f"less its time_s.", file=out)
 
 
@@ -200,13 +260,15 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--workers", type=int, default=2, help="worker processes of the local cluster")
     p.add_argument("--no-flexible", action="store_true", help="skip the flexible study (tables 1 and 2)")
     p.add_argument("--no-rigid", action="store_true", help="skip the rigid study (table 3)")
+    p.add_argument("--no-diagnosis", action="store_true",
+                   help="skip the flexible study's run with glibc's allocator defaults in the workers")
     p.add_argument("--quick", action="store_true", help="small sizes: 4 flexible, 20 rigid variants")
     a = p.parse_args(argv)
     if a.quick:
         a.variants, a.rigid_variants = 4, 20
     if a.variants < 1 or a.rigid_variants < 1 or a.workers < 1:
         p.error("--variants, --rigid-variants and --workers must be >= 1")
-    print(f"`flexgear bench study`: {a.workers} workers; {machine()}\n", file=out)
+    print(f"`flexgear bench study`: {a.workers} workers; {machine()}", file=out)
     with tempfile.TemporaryDirectory(prefix="flexgear-bench-study-") as tmp:
         tmp = Path(tmp)
         rigid = None
@@ -225,15 +287,18 @@ def main(argv=None, out=None) -> int:
                 caches[mode] = str(tmp / f"cache-{mode}")
                 for state in ("cold", "warm"):
                     runs[mode, state] = timed_run(study, mode, a.workers, caches[mode])
+                runs[mode, "cold"]["meshes"] = mesh_hashes(caches[mode])
+                if mode == "local" and not a.no_diagnosis:
+                    runs["local", "malloc"] = timed_run(study, "local", a.workers, str(tmp / "cache-malloc"), True)
+                    runs["local", "malloc"]["meshes"] = mesh_hashes(tmp / "cache-malloc")
             sizes = flexible_sizes(FLEX_SCENE, caches["serial"])
-            print(f"Flexible study: {a.variants} variants of {FLEX_SCENE}, modes (first {KEEP_MODES}), cold caches",
+            print(f"\nFlexible study: {a.variants} variants of {FLEX_SCENE}, modes (first {KEEP_MODES}), cold caches",
                   file=out)
             print_flexible(runs, sizes, a.vary, out)
             print("\nReductions reused, cold vs warm (the same caches again)", file=out)
             print_reuse(runs, out)
-            print(file=out)
         if rigid is not None:
-            print(f"Per-variant overhead: {a.rigid_variants} variants of {RIGID_SCENE} (rigid), modes "
+            print(f"\nPer-variant overhead: {a.rigid_variants} variants of {RIGID_SCENE} (rigid), modes "
                   f"(first {KEEP_MODES}), {RIGID_PATH} log spaced {RIGID_RANGE[0]:g}-{RIGID_RANGE[1]:g}", file=out)
             print_overhead(rigid, fixed, out)
     print(f"\nmachine after: {machine()}", file=out)

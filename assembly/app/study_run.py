@@ -50,6 +50,8 @@ def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", ke
     from fe_components.meshing import cache_root
 
     from .cli import user_errors
+    from cms.linsolve import default_backend
+    default_backend()   # loads CHOLMOD's BLAS now, so that the one-thread limit below reaches it
     keep = {"modes": 10, "stats": ["peak", "mean"], **(keep or {})}
     row = {"variant": variant.index, **(variant.params or variant.values), "status": "ok", "error": ""}
     t0, before = time.perf_counter(), dict(STATS)

@@ -123,3 +123,21 @@ def test_bench_transient_prints_cost_and_drivetrain_tables():
     assert step[0][:2] == ["nrel5mw", "126"] and float(step[0][5]) > 0 and float(step[0][7]) >= 1
     drive = _table(lines, "| scene | DOFs | assemble [s] |")
     assert drive[0][3] == "100" and abs(float(drive[0][9]) - 1.0) < 1e-2
+
+
+def test_bench_study_prints_the_overhead_table_with_identical_results(capsys):
+    # the rigid study alone, 10 variants, in this process and on a 2-worker local cluster:
+    # both rows printed, every variant solved, and the two engines' result columns identical
+    from assembly.app.bench_study import main
+
+    assert main(["--no-flexible", "--rigid-variants", "10", "--workers", "2"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("`flexgear bench study`: 2 workers; ")
+    rows = _table(lines, "| engine | workers | variants | wall [s] |")
+    assert [r[:3] for r in rows] == [["serial", "1", "10"], ["local", "2", "10"]]
+    assert all(r[10] == "0" for r in rows)                               # errors
+    assert all(float(r[3]) > 0 and float(r[4]) > 0 for r in rows)        # wall, sum of time_s
+    assert float(rows[1][8]) > 0 and rows[0][11] == "(client)" and float(rows[1][11]) > 0
+    assert any(line.startswith("Result columns, local vs serial: identical (max abs diff of frequencies 0 Hz)")
+               for line in lines)
+    assert not any(line.startswith("| engine | workers (processes) |") for line in lines)   # no flexible table
