@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dynamics.frf import FRF
+from .html_report import figure
 
 
 def frequencies(fmin: float, fmax: float, points: int, log: bool) -> np.ndarray:
@@ -71,8 +72,7 @@ def summary_text(r: FRF, scene: str) -> str:
 
 def _index(r: FRF, scene: str, plots: list) -> str:
     e = html.escape
-    figs = "\n".join(f'<figure><img src="{e(p)}" alt="{e(n)}"><figcaption>{e(n)} [{e(r.units[n])}]</figcaption>'
-                     f"</figure>" for n, p in plots)
+    figs = "\n".join(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots)
     return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: FRF</title></head><body>"
             f"<h1>{e(scene)}: frequency response from {e(r.input)}</h1>"
             f"<p>{len(r.frequency_hz)} points, {r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz, {e(r.method)}; "

@@ -49,7 +49,7 @@ def _table(header, rows, left=(), row_classes=None) -> str:
     return "\n".join(out)
 
 
-def _img(src: str, caption: str, alt: str = "") -> str:
+def figure(src: str, caption: str, alt: str = "") -> str:
     fid = "fig-" + re.sub(r"[^A-Za-z0-9]+", "-", Path(src).stem)
     return (f'<figure id="{fid}"><a href="{_e(src)}"><img src="{_e(src)}" alt="{_e(alt or caption)}" loading="eager"></a>'
             f"<figcaption>{_e(caption)}</figcaption></figure>")
@@ -68,7 +68,7 @@ def render_index(report: dict) -> str:
     parts.append('<p class="meta">' + "<br>".join(_e(m) for m in report.get("meta", [])) + "</p>")
     if report.get("key_images"):   # the drivetrain pictures come first
         parts.append("<h2>Drivetrain pictures</h2>")
-        parts.append('<div class="grid">' + "".join(_img(p, c) for p, c in report["key_images"]) + "</div>")
+        parts.append('<div class="grid">' + "".join(figure(p, c) for p, c in report["key_images"]) + "</div>")
     for n in report.get("notes", []):
         parts.append(f'<p class="note">{_e(n)}</p>')
 
@@ -95,14 +95,14 @@ def render_index(report: dict) -> str:
 
     if report.get("plots"):
         parts.append("<h2>Plots</h2>")
-        parts.append('<div class="grid">' + "".join(_img(p, c) for p, c in report["plots"]) + "</div>")
+        parts.append('<div class="grid">' + "".join(figure(p, c) for p, c in report["plots"]) + "</div>")
 
     if report.get("overview") or report.get("images"):
         parts.append("<h2>Mode shapes</h2>")
         figs = []
         if report.get("overview"):
-            figs.append(_img(*report["overview"]))
-        figs += [_img(p, c) for p, c in report.get("images", [])]
+            figs.append(figure(*report["overview"]))
+        figs += [figure(p, c) for p, c in report.get("images", [])]
         parts.append('<div class="grid">' + "".join(figs) + "</div>")
 
     if report.get("files"):

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dynamics.simulate import SimulationResult
+from .html_report import figure
 
 #: Mesh harmonics marked on the spectra.
 MARKED_HARMONICS = 3
@@ -112,8 +113,7 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
     meshes = "".join(f"<tr><td>{e(m['name'])}</td><td>{m['backlash_m'] if m['backlash_m'] is not None else '-'}"
                      f"</td><td>{m['harmonics']}</td><td>{m['contact_losses']}</td></tr>" for m in r.meshes)
     warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
-    figs = "\n".join(f'<figure><img src="{e(p)}" alt="{e(n)}"><figcaption>{e(n)}</figcaption></figure>'
-                     for n, p in plots)
+    figs = "\n".join(figure(p, n) for n, p in plots)
     return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: simulation</title></head><body>"
             f"<h1>{e(scene)}: time-domain simulation</h1><p>{s['steps']} steps of {r.info['dt_s']:g} s to "
             f"{s['t_end_s']:g} s, {e(r.info['scheme'])}, {r.info['dofs']} DOFs, {r.info['wall_s']:.3g} s wall. "

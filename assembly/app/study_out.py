@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .html_report import figure
 from .study_run import RUN_COLUMNS
 
 FIXED = ("variant", "status", "error")
@@ -135,8 +136,7 @@ def index_html(title: str, info: dict, plots: list, rows: list[dict]) -> str:
     e = html.escape
     failed = [r for r in rows if r["status"] != "ok"]
     fail_list = "".join(f"<li>variant {r['variant']}: {e(str(r['error']))}</li>" for r in failed[:50])
-    figs = "\n".join(f'<figure><img src="{e(f)}" alt="{e(c)}"><figcaption>{e(c)}</figcaption></figure>'
-                     for f, c in plots)
+    figs = "\n".join(figure(f, c) for f, c in plots)
     return (f'<!DOCTYPE html><html><head><meta charset="utf-8"><title>{e(title)}: study</title></head><body>'
             f"<h1>{e(title)}</h1><p>Scene {e(info['scene'])}, analysis {e(info['analysis'])}, "
             f"{info['variants']} variants ({info['failed']} failed), run {e(info['mode'])} in {info['time_s']:.1f} s. "
