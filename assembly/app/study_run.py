@@ -53,7 +53,7 @@ def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", ke
     from cms.linsolve import default_backend
     default_backend()   # loads CHOLMOD's BLAS now, so that the one-thread limit below reaches it
     keep = {"modes": 10, "stats": ["peak", "mean"], **(keep or {})}
-    row = {"variant": variant.index, **(variant.params or variant.values), "status": "ok", "error": ""}
+    row = {"variant": variant.index, **variant.params, "status": "ok", "error": ""}
     t0, before = time.perf_counter(), dict(STATS)
     try:
         with threadpool_limits(1), (cache_root(cache_dir) if cache_dir else contextlib.nullcontext()):

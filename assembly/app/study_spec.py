@@ -113,11 +113,12 @@ def _kind(value) -> str:
     return "number" if isinstance(value, float) else "text" if isinstance(value, str) else "other"
 
 
-def check_types(scene, paths: list[str], values, field: str, scale: bool) -> None:
-    """Refuse (SceneError at ``field``) values that do not fit the fields at ``paths``:
-    numbers for numbers, whole numbers for an integer field, text for text, true/false for
-    a switch; ``scale`` needs number fields."""
-    kinds = {value_kind(scene, p) for p in paths} - {"other"}
+def check_types(kinds: list[str], path: str, values, field: str, scale: bool) -> None:
+    """Refuse (SceneError at ``field``) values that do not fit fields of ``kinds``
+    (:func:`assembly.edit.value_kind` of each path; ``path`` is the first, named in the
+    message): numbers for numbers, whole numbers for an integer field, text for text,
+    true/false for a switch; ``scale`` needs number fields."""
+    kinds = set(kinds) - {"other"}
     listed = isinstance(values, list)
     for j, v in enumerate(values if listed else values[:2]):
         where = f"{field}.values[{j}]" if listed else f"{field}.bounds"
@@ -130,7 +131,7 @@ def check_types(scene, paths: list[str], values, field: str, scale: bool) -> Non
             if not ok:
                 want = {"bool": "true or false", "text": "text", "int": "a whole number",
                         "number": "a number"}[k]
-                raise SceneError(where, v, f"{paths[0]} takes {want}")
+                raise SceneError(where, v, f"{path} takes {want}")
 
 
 def _number(v, field: str) -> float:
@@ -199,8 +200,9 @@ def variants(scene, study: dict) -> list[Variant]:
         if not isinstance(scale, bool):
             raise SceneError(f"parameters[{i}].scale", scale, "must be true or false")
         vals = parameter_values(p, f"parameters[{i}]", kind)
-        check_types(scene, ps, vals, f"parameters[{i}]", scale)
-        whole = not scale and any(value_kind(scene, q) == "int" for q in ps)
+        kinds = [value_kind(scene, q) for q in ps]
+        check_types(kinds, ps[0], vals, f"parameters[{i}]", scale)
+        whole = not scale and "int" in kinds
         if whole and isinstance(vals, list):  # a range of counts: 3.0, 4.0 -> 3, 4
             vals = [int(v) for v in vals]
         paths.append(ps)
