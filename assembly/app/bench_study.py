@@ -1,7 +1,7 @@
 """Benchmark (not a test): design studies (``flexgear study``) in this process and on a local Dask cluster.
 
 ``flexgear bench study [--variants 20] [--vary thickness|cutoff] [--rigid-variants 200]
-[--workers 2] [--no-flexible] [--no-rigid] [--no-diagnosis] [--quick]`` builds its studies in a temporary
+[--workers 2] [--no-flexible] [--no-rigid] [--quick]`` builds its studies in a temporary
 folder (study files written there, read by :func:`assembly.app.study_file.read_study`),
 runs each with :func:`assembly.app.study_engine.run_study` ``mode="serial"`` (one variant
 after the other in this process) and ``mode="local"`` (a new LocalCluster of ``--workers``
@@ -21,12 +21,8 @@ prints three Markdown tables (times in s unless marked, memory in MB):
    the next: a few node coordinates may differ in their last bits, and the frequencies then
    at round-off level); errors = rows with ``status = "error"``. Sizes: the shipped scene's
    carrier FE DOFs -> reduced DOFs and the model's DOFs (its first variant may differ).
-   A last row (diagnosis, ``--no-diagnosis`` skips it) runs the local engine again, cold, with
-   glibc's default allocator settings in its workers: the Dask nanny starts every worker with
-   ``MALLOC_TRIM_THRESHOLD_=65536`` (``distributed.nanny.pre-spawn-environ``), which fixes
-   glibc's mmap threshold, so every large numpy temporary is a fresh ``mmap`` whose pages the
-   kernel zeroes on first touch (system time, minor page faults); that row unsets it (Dask
-   config and this process's environment, where the nanny also leaves it, both restored).
+   The local engine starts its workers without the Dask nanny's ``MALLOC_TRIM_THRESHOLD_``
+   (:mod:`assembly.app.study_engine`); with it, 2 workers took 0.70x the serial time.
 2. **reductions reused, cold vs warm**: the same study run again on each engine's now-warm
    cache folder (new worker processes; in this process the memoised FE models are dropped
    first): per run the reductions built and reused (sums of the rows' ``reductions_built``,
@@ -54,9 +50,7 @@ thread that :func:`assembly.app.study_run.run_variant` holds applies to it in a 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import logging
-import os
 import sys
 import tempfile
 import time
@@ -96,24 +90,8 @@ def worker_hwm_mb(pid: int) -> float | None:
     return None
 
 
-@contextlib.contextmanager
-def glibc_malloc_defaults():
-    """Within the block, new Dask worker processes start without ``MALLOC_TRIM_THRESHOLD_``
-    (module notes): unset in the nanny's pre-spawn environment and in this process's."""
-    import dask
-    saved = os.environ.pop("MALLOC_TRIM_THRESHOLD_", None)
-    try:
-        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
-            yield
-    finally:
-        os.environ.pop("MALLOC_TRIM_THRESHOLD_", None)
-        if saved is not None:
-            os.environ["MALLOC_TRIM_THRESHOLD_"] = saved
-
-
-def timed_run(study, mode: str, workers: int | None, cache_dir: str | None, malloc_defaults: bool = False) -> dict:
-    """Run ``study``: its rows, wall time, sums of the run columns and peak memory;
-    ``malloc_defaults``: workers with glibc's allocator defaults (:func:`glibc_malloc_defaults`)."""
+def timed_run(study, mode: str, workers: int | None, cache_dir: str | None) -> dict:
+    """Run ``study``: its rows, wall time, sums of the run columns and peak memory."""
     from ..components import forget_fe_models
     from .study_engine import run_study
     if mode == "serial":
@@ -125,10 +103,9 @@ def timed_run(study, mode: str, workers: int | None, cache_dir: str | None, mall
             m = worker_hwm_mb(row["pid"])
             if m is not None:
                 hwm[row["pid"]] = max(hwm.get(row["pid"], 0.0), m)
-    with glibc_malloc_defaults() if malloc_defaults else contextlib.nullcontext():
-        t0 = time.perf_counter()
-        rows = run_study(study, mode=mode, workers=workers, cache_dir=cache_dir, tick=tick)
-        wall = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    rows = run_study(study, mode=mode, workers=workers, cache_dir=cache_dir, tick=tick)
+    wall = time.perf_counter() - t0
     return dict(mode=mode, workers=1 if mode == "serial" else min(workers, len(rows)), rows=rows, wall=wall,
                 work=sum(r.get("time_s", 0.0) for r in rows), n=len(rows),
                 errors=sum(r["status"] != "ok" for r in rows),
@@ -197,11 +174,7 @@ def print_flexible(runs: dict, sizes: str, vary: str, out) -> None:
           "result columns vs serial | max abs diff of frequencies [Hz] (relative) | cached meshes unlike serial's | "
           "errors | client peak RSS [MB] | worker peak RSS, largest [MB] |", file=out)
     print("|---|---|---|---|---|---|---|---|---|---|---|---|", file=out)
-    labels = {("serial", "cold"): "serial", ("local", "cold"): "local",
-              ("local", "malloc"): "local, workers without MALLOC_TRIM_THRESHOLD_ (diagnosis)"}
-    for key, label in labels.items():
-        if key not in runs:
-            continue
+    for key, label in ((("serial", "cold"), "serial"), (("local", "cold"), "local")):
         r, mode = runs[key], key[0]
         c = compare_rows(r["rows"], serial["rows"])
         print(f"| {label} | {r['workers']} ({r['pids']}) | {r['n']} | {r['wall']:.2f} | {r['work']:.2f} | "
@@ -213,9 +186,6 @@ def print_flexible(runs: dict, sizes: str, vary: str, out) -> None:
     print("Cached meshes unlike serial's: the meshes of the same name (same component parameters) in this run's "
           "cache folder whose content (SHA-256) differs from the serial run's; a mesh from the committed reference "
           "meshes (meshes/ref) is not in either folder. Results depend on the mesh's every bit.", file=out)
-    if ("local", "malloc") in runs:
-        print("Diagnosis row: the local engine with the MALLOC_TRIM_THRESHOLD_=65536 that the Dask nanny sets in "
-              "every worker (distributed.nanny.pre-spawn-environ) unset, i.e. glibc's allocator defaults.", file=out)
 
 
 def print_reuse(runs: dict, out) -> None:
@@ -260,8 +230,6 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--workers", type=int, default=2, help="worker processes of the local cluster")
     p.add_argument("--no-flexible", action="store_true", help="skip the flexible study (tables 1 and 2)")
     p.add_argument("--no-rigid", action="store_true", help="skip the rigid study (table 3)")
-    p.add_argument("--no-diagnosis", action="store_true",
-                   help="skip the flexible study's run with glibc's allocator defaults in the workers")
     p.add_argument("--quick", action="store_true", help="small sizes: 4 flexible, 20 rigid variants")
     a = p.parse_args(argv)
     if a.quick:
@@ -288,9 +256,6 @@ def main(argv=None, out=None) -> int:
                 for state in ("cold", "warm"):
                     runs[mode, state] = timed_run(study, mode, a.workers, caches[mode])
                 runs[mode, "cold"]["meshes"] = mesh_hashes(caches[mode])
-                if mode == "local" and not a.no_diagnosis:
-                    runs["local", "malloc"] = timed_run(study, "local", a.workers, str(tmp / "cache-malloc"), True)
-                    runs["local", "malloc"]["meshes"] = mesh_hashes(tmp / "cache-malloc")
             sizes = flexible_sizes(FLEX_SCENE, caches["serial"])
             print(f"\nFlexible study: {a.variants} variants of {FLEX_SCENE}, modes (first {KEEP_MODES}), cold caches",
                   file=out)
