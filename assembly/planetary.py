@@ -18,6 +18,7 @@ import numpy as np
 
 from fe_components.errors import GeometryError
 from fe_components.params import CarrierParams
+from fe_components.part_file import PartFile
 
 from .errors import SceneError
 from .kinematics import axis_frame
@@ -29,7 +30,12 @@ from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
 def carrier_pins(st: PlanetaryStage, path: str) -> CarrierParams:
     """The carrier component of stage ``st`` (scene path ``path``) with its pins at the
     planets: their angles (rad) on the carrier radius (m). A pin check that fails names the
-    carrier's field, or the planets' count or angles when the pins follow from those."""
+    carrier's field, or the planets' count or angles when the pins follow from those. A
+    carrier read from a file (:class:`fe_components.part_file.PartFile`) keeps its own pins,
+    which must be where the planets are (:func:`check_part_pins`)."""
+    if isinstance(st.carrier.component, PartFile):
+        check_part_pins(st, path)
+        return st.carrier.component
     try:
         return dataclasses.replace(st.carrier.component, planet_angles=st.planet_angles(),
                                    pin_pitch_radius=st.carrier_radius())
@@ -37,6 +43,39 @@ def carrier_pins(st: PlanetaryStage, path: str) -> CarrierParams:
         if err.parameter == "planet_angles":   # the planets' own numbers, as the user wrote them
             raise SceneError(*planets_field(st, path), f"the carrier component {err.reason}") from None
         raise SceneError(f"{path}.carrier.component.{err.parameter}", err.value, err.reason) from None
+
+
+#: A part file's pin master may lie this fraction of the carrier radius from its planet's
+#: axis point (the CAD file's coordinate precision is far finer).
+PIN_TOLERANCE = 1e-6
+
+
+def check_part_pins(st: PlanetaryStage, path: str) -> None:
+    """Each planet n rides on interface ``pin_n`` of a carrier read from a file: that
+    interface must exist and its master be the planet's centre, (R_c cos psi_n, R_c sin
+    psi_n, 0) in the carrier's local axes (m)."""
+    from fe_components.part_geometry import part_geometry
+    part = st.carrier.component
+    where = f"{path}.carrier.component"
+    try:
+        masters = {i.name: i.master for i in part_geometry(part).interfaces}
+    except GeometryError as err:
+        raise SceneError(f"{where}.{err.parameter}", err.value, err.reason) from None
+    Rc = st.carrier_radius()
+    for k, psi in enumerate(st.planet_angles()):
+        name = f"pin_{k}"
+        want = np.array([Rc * math.cos(psi), Rc * math.sin(psi), 0.0])
+        if name not in masters:
+            raise SceneError(f"{where}.interfaces", sorted(masters),
+                             f"{part.path.name}: no interface {name!r} for planet {k} (the stage has "
+                             f"{len(st.planet_angles())} planets: pin_0..pin_{len(st.planet_angles()) - 1})")
+        gap = float(np.linalg.norm(masters[name] - want))
+        if gap > PIN_TOLERANCE * Rc:
+            i, _ = part.rule(name)
+            raise SceneError(f"{where}.interfaces[{i}]", name,
+                             f"{part.path.name}: the pin's master {np.round(masters[name], 6).tolist()} m is "
+                             f"{gap:.4g} m from planet {k}'s centre {np.round(want, 6).tolist()} m (carrier "
+                             f"radius {Rc:.6g} m, {math.degrees(psi):.6g} deg): the part does not reach the planet")
 
 
 def expand_stages(scene) -> dict:

@@ -135,6 +135,34 @@ FIELDS: dict[str, dict[str, str]] = {
         "center_hole_diameter": "Central through-hole, e.g. for the sun shaft (0 = none).",
         "post_radius": "Radius of the post centres (default the pin radius).",
     },
+    "PartFile": {
+        "file": "The part's file: CAD (.step/.stp/.brep) or volume mesh (.msh, .inp, .bdf, .vtu, ...); a "
+                "relative path is relative to the scene file. The caches key on its content (SHA-256).",
+        "interfaces": "The part's interfaces (`[[...component.interfaces]]`), in master order: where "
+                      "bearings, meshes, planets and loads attach.",
+        "units": "Length unit of the file's numbers: 'm', 'mm', 'cm', 'um', 'in', 'ft'. STEP: default the "
+                 "unit the file declares; BREP: default 'mm'; a mesh file: required.",
+        "volumes": "Several volumes in the file: 'refuse' (default) or 'fuse' them into one part (they must touch).",
+    },
+    "InterfaceRule": {
+        "name": "Interface name the scene refers to (`pin_0`, `bearing_b`, ...).",
+        "select": "How its faces are found: 'group' (a named group of a mesh file), 'cylinder', 'plane' "
+                  "or 'box'. A rule that selects no face, or a face another rule selects, is an error.",
+        "group": "select = 'group': gmsh physical group, Abaqus node set or face element set.",
+        "axis_point": "select = 'cylinder': a point of the axis (part axes, after the unit conversion).",
+        "axis": "select = 'cylinder': axis direction (default +z).",
+        "radius": "select = 'cylinder': faces on this radius about the axis.",
+        "outer_radius": "select = 'cylinder': instead every face between `radius` and this radius that is "
+                        "not normal to the axis (gear teeth, splines).",
+        "span": "select = 'cylinder': [start, end] along the axis from `axis_point` the faces lie in.",
+        "point": "select = 'plane': a point of the plane.",
+        "normal": "select = 'plane': the plane's normal.",
+        "box_min": "select = 'box' (or to restrict a cylinder or plane): faces inside box_min..box_max.",
+        "box_max": "Upper corner of the box.",
+        "coupling": "'rbe2' (rigid spider, default) or 'rbe3' (distributing: adds no stiffness).",
+        "master": "Master node position; default the faces' area centroid (a cylinder's on its axis).",
+        "tolerance": "How far a face may lie off the rule (default 1e-5 of the part's size).",
+    },
     "CylinderParams": {
         "length": "Length along local +z from 0 (interfaces `end_a` at 0, `end_b` at `length`).",
         "diameter": "Outer diameter.",
@@ -477,6 +505,16 @@ NOTES: dict[str, str] = {
         "`bearing_a`, `bearing_b`, `output_bore`. Give `planet_angles` or `n_planets` "
         "(+ `first_planet_angle`); inside a stage, neither (the stage places the pins)."),
     "CylinderParams": "Local origin: the end face `end_a`; the cylinder runs along +z to `end_b`.",
+    "PartFile": (
+        "The user's own part (`kind = \"file\"`): a STEP/BREP file meshed by gmsh, or a tetrahedral "
+        "volume mesh read by meshio, converted to metres on reading. Local origin and axes: the file's; "
+        "its rotation axis is its z. Refused with one line naming the file: an open shell, several "
+        "volumes (unless `volumes = 'fuse'`), loose faces, inverted or degenerate elements, a size "
+        "outside 1 mm to 100 m (wrong units), a master the part does not reach. A stage carrier's "
+        "`pin_<n>` must be at planet n. See docs/user_parts.md."),
+    "InterfaceRule": (
+        "A face belongs to a rule when every sample of it does (within `tolerance`); each interface "
+        "is coupled (RBE2 or RBE3) to a 6-DOF master node."),
     "GearTeeth": (
         "ISO 21771 nomenclature, standard basic rack. **Helix hand:** `helix_angle` > 0 is a "
         "right-hand helix about local +z (the transverse profile turns positively as z grows). "

@@ -21,6 +21,7 @@ same quantity in degrees under the key ``<field>_deg`` (converted once, here).
 """
 from __future__ import annotations
 
+import contextvars
 import dataclasses
 import functools
 import logging
@@ -45,6 +46,8 @@ log = logging.getLogger(__name__)
 
 #: Example scenes shipped with the package.
 SCENE_DIR = Path(__file__).parent / "scenes"
+#: Folder of the scene file being read: a part file's relative path is relative to it.
+_BASE_DIR: contextvars.ContextVar[Path | None] = contextvars.ContextVar("scene_base_dir", default=None)
 
 
 def _join(path: str, key: str) -> str:
@@ -322,14 +325,17 @@ def _all_required(cls) -> bool:
 
 def component_from_table(table: Any, path: str):
     """fe_components parameters from a ``component`` table: ``kind`` (pinion, wheel,
-    carrier, cylinder) picks the parameter class, the other keys are its fields (angles may
-    be given in degrees under ``<name>_deg``). A carrier may give ``n_planets`` (and
-    ``first_planet_angle``) instead of ``planet_angles``."""
+    carrier, cylinder, file) picks the parameter class, the other keys are its fields (angles
+    may be given in degrees under ``<name>_deg``). A carrier may give ``n_planets`` (and
+    ``first_planet_angle``) instead of ``planet_angles``. A ``file`` part's relative path is
+    relative to the folder of the scene file being read."""
     kind = table.get("kind") if isinstance(table, dict) else None
     if not isinstance(kind, str) or kind not in COMPONENT_KINDS:
         raise SceneError(f"{path}.kind", kind, f"must be one of {sorted(COMPONENT_KINDS)}")
     data = {k: v for k, v in table.items() if k != "kind"}
     cls = COMPONENT_KINDS[kind]
+    if kind == "file" and isinstance(data.get("file"), str) and _BASE_DIR.get() is not None:
+        data["file"] = str(_BASE_DIR.get() / Path(data["file"]).expanduser())  # absolute stays absolute
     if cls is CarrierParams and "n_planets" in data:
         params = from_dict(cls, _equally_spaced_planets(data, path), path)
         object.__setattr__(params, _N_PLANETS, data["n_planets"])  # as written, for messages
@@ -363,6 +369,8 @@ def to_dict(obj, defaults: bool = True) -> dict:
     out = {"kind": component_kind(obj)} if type(obj) in _COMPONENT_CLASSES else {}
     given = getattr(obj, "as_given", functools.partial(getattr, obj))  # a Scene: as written
     for f in dataclasses.fields(obj):
+        if not f.init:  # derived on construction (a part file's content hash)
+            continue
         v = given(f.name)
         if v is None or not defaults and f.default is not dataclasses.MISSING and _same(v, f.default):
             continue
@@ -434,9 +442,13 @@ def load_scene(path, _chain: tuple = ()) -> Scene:
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(str(p), "<file>", f"not valid TOML: {exc}") from None
     from .variant import is_variant, variant_scene
-    if is_variant(data):
-        return variant_scene(data, p, load_scene, _chain)
-    return scene_from_dict(data)
+    token = _BASE_DIR.set(p.parent.absolute())
+    try:
+        if is_variant(data):
+            return variant_scene(data, p, load_scene, _chain)
+        return scene_from_dict(data)
+    finally:
+        _BASE_DIR.reset(token)
 
 
 def scene_from_dict(data: dict) -> Scene:

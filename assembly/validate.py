@@ -17,7 +17,9 @@ import math
 import numpy as np
 
 from fe_components.geometry import volume_lower_bound
+from fe_components.errors import GeometryError
 from fe_components.params import CarrierParams, component_kind
+from fe_components.part_file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .constraints import can_constrain
@@ -55,7 +57,7 @@ def check_body(b: Body, path: str) -> None:
         _check_component_body(b, path)
     elif b.fidelity == "flexible":
         raise SceneError(f"{path}.fidelity", b.fidelity,
-                         "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder)")
+                         "a flexible body needs a 'component' table (pinion, wheel, carrier, cylinder, file)")
     elif b.flex is not None:
         raise SceneError(f"{path}.flex", "table", "only a body with a component takes flex options")
     else:
@@ -68,6 +70,7 @@ def _check_component_body(b: Body, path: str) -> None:
         if getattr(b, f) is not None:
             raise SceneError(f"{path}.{f}", getattr(b, f),
                              "a body with a component takes mass and inertia from its mesh")
+    check_part(b.component, f"{path}.component")
     if isinstance(b.component, CarrierParams):
         for f in ("planet_angles", "pin_pitch_radius"):
             if getattr(b.component, f) is None:
@@ -77,6 +80,17 @@ def _check_component_body(b: Body, path: str) -> None:
                                  "its planets")
     if b.flex is not None:
         check_flex(b.flex, f"{path}.flex")
+
+
+def check_part(component, path: str) -> None:
+    """A part read from a file (``kind = "file"``): read it now (size, volumes, interfaces
+    found by their rules), so that a problem names its scene path before anything is meshed."""
+    if isinstance(component, PartFile):
+        from fe_components.part_geometry import part_geometry
+        try:
+            part_geometry(component)
+        except GeometryError as err:
+            raise SceneError(f"{path}.{err.parameter}", err.value, err.reason) from None
 
 
 def _check_mass_properties(b: Body, path: str) -> None:
@@ -238,12 +252,13 @@ def check_stage(st: PlanetaryStage, path: str) -> None:
 
 def _check_member(m, role: str, p: str) -> None:
     if m.component is not None:
-        if role != "carrier" or not isinstance(m.component, CarrierParams):
+        if role != "carrier" or not isinstance(m.component, (CarrierParams, PartFile)):
             raise SceneError(f"{p}.component", component_kind(m.component),
                              "only the carrier of a planetary stage can be a component so far "
-                             "(of kind 'carrier')")
+                             "(of kind 'carrier' or 'file')")
+        check_part(m.component, f"{p}.component")
         for f in ("planet_angles", "pin_pitch_radius"):
-            if getattr(m.component, f) is not None:
+            if getattr(m.component, f, None) is not None:
                 raise SceneError(*as_written(m.component, f, f"{p}.component.{f}"),
                                  "set by the stage from its planets; remove it")
         if m.mass is not None or m.polar_inertia is not None:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .involute import flank_half_angle, flank_radii
-from .params import CarrierParams, CylinderParams, GearTeeth, PinionParams, WheelParams
+from .params import CarrierParams, CylinderParams, GearTeeth, PartFile, PinionParams, WheelParams
 
 AXIS = np.array([0.0, 0.0, 1.0])
 
@@ -114,7 +114,15 @@ def interface_defs(params) -> list[InterfaceDef]:
             InterfaceDef("end_a", (0.0, 0.0, 0.0), "rbe3", (_end_face(0.0),)),
             InterfaceDef("end_b", (0.0, 0.0, L), "rbe3", (_end_face(L),)),
         ]
+    if isinstance(params, PartFile):  # from the file (read once per process), faces found by the rules
+        return [InterfaceDef(i.name, tuple(float(x) for x in i.master), i.coupling, ())
+                for i in _part(params).interfaces]
     raise TypeError(f"unsupported component parameters: {type(params).__name__}")
+
+
+def _part(params: PartFile):
+    from .part_geometry import part_geometry
+    return part_geometry(params)
 
 
 def _end_face(z: float) -> SurfaceSelector:
@@ -131,6 +139,8 @@ def characteristic_length(params) -> float:
         return params.cheek_diameter
     if isinstance(params, CylinderParams):
         return max(params.length, params.diameter)
+    if isinstance(params, PartFile):
+        return _part(params).size
     raise TypeError(type(params).__name__)
 
 
@@ -161,6 +171,8 @@ def volume_lower_bound(params) -> float:
         cheek = (_annulus(p.cheek_diameter / 2, p.center_hole_diameter / 2, t)
                  - p.n_planets * _annulus(p.pin_bore_diameter / 2, 0.0, t))
         return 2 * cheek
+    if isinstance(p, PartFile):  # the CAD-exact volume, or the straight elements' of a mesh file
+        return _part(p).volume
     raise TypeError(type(params).__name__)
 
 

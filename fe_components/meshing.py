@@ -47,7 +47,7 @@ import numpy as np
 
 from .errors import GeometryError, MeshCacheError, MeshingError
 from .geometry import build_solid, characteristic_length, interface_defs
-from .params import component_kind, params_as_flat_dict, params_digest
+from .params import PartFile, component_kind, params_as_flat_dict, params_digest
 
 log = logging.getLogger(__name__)
 
@@ -341,6 +341,12 @@ def _surface_samples(gmsh, tag: int, n: int = 7) -> np.ndarray:
 
 def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None:
     """Build the solid, tag interface surfaces as physical groups, mesh and write ``path`` (.msh)."""
+    if isinstance(params, PartFile):  # the user's CAD or mesh file
+        if params.is_mesh:
+            from .part_mesh import generate_part_mesh
+        else:
+            from .part_cad import generate_part_mesh
+        return generate_part_mesh(params, options, path)
     import gmsh  # lazy: loading a cached mesh must not import gmsh
 
     kind = component_kind(params)

@@ -31,6 +31,7 @@ from .errors import GeometryError
 from .fields import check_fields, quantity
 from .gear_pair import base_radius, transverse_pressure_angle
 from .involute import check_tooth_shape
+from .part_file import PartFile
 
 FIDELITIES = ("smooth", "involute")
 #: Most planets a carrier may hold: more than any built stage (3 to 12) by far, and it
@@ -424,9 +425,10 @@ class CylinderParams:
 
 
 
-ComponentParams = PinionParams | WheelParams | CarrierParams | CylinderParams
+ComponentParams = PinionParams | WheelParams | CarrierParams | CylinderParams | PartFile
 
-COMPONENT_KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams, "cylinder": CylinderParams}
+COMPONENT_KINDS = {"pinion": PinionParams, "wheel": WheelParams, "carrier": CarrierParams, "cylinder": CylinderParams,
+                   "file": PartFile}
 
 
 def component_kind(params: ComponentParams) -> str:
@@ -440,6 +442,8 @@ def params_digest(*objs: Any) -> str:
     """Stable SHA-256 (hex, 16 chars) over every field of the given dataclasses / values."""
 
     def enc(o: Any) -> Any:
+        if dataclasses.is_dataclass(o) and hasattr(o, "cache_identity"):  # a user's part: its content
+            return {"__type__": type(o).__name__, **enc(o.cache_identity())}
         if dataclasses.is_dataclass(o):
             return {"__type__": type(o).__name__, **{f.name: enc(getattr(o, f.name)) for f in dataclasses.fields(o)}}
         if isinstance(o, (list, tuple)):

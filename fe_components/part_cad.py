@@ -1,0 +1,194 @@
+"""A user's CAD part (STEP/BREP) read with gmsh's OpenCASCADE kernel: checked, converted to
+metres, its interface faces found by the rules, meshed into the mesh cache.
+
+gmsh is imported inside the functions only. Units: a STEP file's declared length unit is
+converted by OpenCASCADE (``Geometry.OCCTargetUnit = "M"``); ``units`` given overrides it
+(the file's numbers are taken in that unit); a BREP file is in mm unless ``units`` says
+otherwise. The checks, each a :class:`~fe_components.part_file.PartFileError` naming the
+file: nothing readable, an open shell (faces but no closed volume), several volumes
+(refused, or fused with ``volumes = "fuse"`` when they touch), loose faces bounding no
+volume (non-manifold), a size that betrays wrong units.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import re
+
+import numpy as np
+
+from .part_file import UNITS, PartFile, PartFileError
+from .part_geometry import Faces, PartGeometry, check_size, resolve_interfaces
+
+log = logging.getLogger(__name__)
+
+#: Parametric samples per direction of a face (kept where inside the trimmed face), and
+#: samples per boundary curve.
+FACE_SAMPLES = 9
+CURVE_SAMPLES = 9
+
+_SI_PREFIX = {"": 1.0, "MILLI": 1e-3, "CENTI": 1e-2, "DECI": 1e-1, "MICRO": 1e-6, "KILO": 1e3}
+_CONVERTED = {"INCH": 0.0254, "FOOT": 0.3048}
+
+
+def step_length_unit(path) -> tuple[str, float]:
+    """(name, metres) of the length unit a STEP file declares (ISO 10303-41 ``LENGTH_UNIT``:
+    ``SI_UNIT(.MILLI.,.METRE.)`` or a ``CONVERSION_BASED_UNIT('INCH', ...)``); mm if none is
+    found (the STEP default of CAD tools)."""
+    with open(path, "rb") as fh:
+        text = fh.read().decode("latin-1")
+    for m in re.finditer(r"LENGTH_UNIT\s*\(\s*\)[^;]*;", text):
+        ent = m.group(0)
+        si = re.search(r"SI_UNIT\s*\(\s*(?:\.(\w+)\.|\$)\s*,\s*\.METRE\.\s*\)", ent)
+        if si:
+            prefix = si.group(1) or ""
+            if prefix in _SI_PREFIX:
+                return (prefix.lower() + "metre"), _SI_PREFIX[prefix]
+        conv = re.search(r"CONVERSION_BASED_UNIT\s*\(\s*'(\w+)'", ent)
+        if conv and conv.group(1).upper() in _CONVERTED:
+            return conv.group(1).lower(), _CONVERTED[conv.group(1).upper()]
+    return "mm (none declared)", 1e-3
+
+
+@contextlib.contextmanager
+def _session(name: str):
+    """A gmsh model of its own (gmsh initialised here if it is not already, finalised after)."""
+    import gmsh
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    unit = gmsh.option.getString("Geometry.OCCTargetUnit")
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(f"{name}-{os.getpid()}")
+        yield gmsh
+    finally:
+        gmsh.option.setString("Geometry.OCCTargetUnit", unit)
+        if own:
+            gmsh.finalize()
+        else:
+            gmsh.model.remove()
+
+
+def load_solid(gmsh, part: PartFile) -> int:
+    """Import the part into the current gmsh model, in metres, checked to be one closed
+    volume (fused if allowed); return its tag."""
+    name = part.path.name
+    occ = gmsh.model.occ
+    is_step = part.path.suffix.lower() in (".step", ".stp")
+    gmsh.option.setString("Geometry.OCCTargetUnit", "M" if is_step else "")
+    try:
+        occ.importShapes(part.file, highestDimOnly=False)
+        occ.synchronize()
+    except Exception as exc:  # gmsh raises plain Exception
+        raise PartFileError("file", part.file, f"{name}: OpenCASCADE cannot read it ({exc})") from None
+    if is_step:
+        declared, metres = step_length_unit(part.path)
+        factor = 1.0 if part.units is None else UNITS[part.units] / metres
+        unit_text = declared if part.units is None else f"{part.units} (file declares {declared})"
+    else:
+        factor = part.scale
+        unit_text = part.units or "mm (default for BREP)"
+    if factor != 1.0:
+        occ.dilate(gmsh.model.getEntities(), 0.0, 0.0, 0.0, factor, factor, factor)
+        occ.synchronize()
+    vols = [t for _, t in gmsh.model.getEntities(3)]
+    n_faces = len(gmsh.model.getEntities(2))
+    if not vols:
+        what = f"an open shell: {n_faces} faces and no closed volume (sew them into a solid in the CAD tool)" \
+            if n_faces else "no solid, face or curve"
+        raise PartFileError("file", part.file, f"{name}: {what}")
+    if len(vols) > 1:
+        if part.volumes != "fuse":
+            raise PartFileError("volumes", part.volumes, f"{name}: {len(vols)} separate volumes; set volumes = "
+                                                         "'fuse' to join them into one part, or export one solid")
+        occ.fuse([(3, vols[0])], [(3, t) for t in vols[1:]])
+        occ.synchronize()
+        left = [t for _, t in gmsh.model.getEntities(3)]
+        if len(left) != 1:
+            raise PartFileError("volumes", "fuse", f"{name}: fusing its {len(vols)} volumes leaves {len(left)} "
+                                                   "separate parts: they do not all touch")
+        log.info("%s: fused %d volumes into one", name, len(vols))
+        vols = left
+    loose = [t for _, t in gmsh.model.getEntities(2) if len(gmsh.model.getAdjacencies(2, t)[0]) == 0]
+    if loose:
+        raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} faces bound no volume "
+                                               "(loose or dangling faces); remove them in the CAD tool")
+    lo, hi = np.array_split(np.asarray(gmsh.model.getBoundingBox(3, vols[0])), 2)
+    check_size(part, lo, hi, factor * (metres if is_step else 1.0), unit_text)
+    return vols[0]
+
+
+def face_samples(gmsh, tag: int) -> np.ndarray:
+    """Points (m) of CAD face ``tag``: a parametric grid kept where inside the trimmed face,
+    and points along its boundary curves."""
+    lo, hi = gmsh.model.getParametrizationBounds(2, tag)
+    u = np.linspace(lo[0], hi[0], FACE_SAMPLES)
+    v = np.linspace(lo[1], hi[1], FACE_SAMPLES)
+    uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
+    inside = [p for p in uv if gmsh.model.isInside(2, tag, list(p), parametric=True)]
+    pts = [np.asarray(gmsh.model.getValue(2, tag, np.ravel(inside).tolist())).reshape(-1, 3)] if inside else []
+    for _, c in gmsh.model.getBoundary([(2, tag)], combined=False, oriented=False):
+        clo, chi = gmsh.model.getParametrizationBounds(1, abs(c))
+        t = np.linspace(clo[0], chi[0], CURVE_SAMPLES)
+        pts.append(np.asarray(gmsh.model.getValue(1, abs(c), t.tolist())).reshape(-1, 3))
+    return np.concatenate(pts) if pts else np.zeros((0, 3))
+
+
+def cad_faces(gmsh) -> Faces:
+    """Every face of the current model with its samples, area and centroid (m)."""
+    occ = gmsh.model.occ
+    tags = [t for _, t in gmsh.model.getEntities(2)]
+    samples = [face_samples(gmsh, t) for t in tags]
+    k = max(len(s) for s in samples)
+    pts = np.stack([np.concatenate([s, np.repeat(s[-1:], k - len(s), axis=0)]) for s in samples])
+    area = np.array([occ.getMass(2, t) for t in tags])
+    centroid = np.array([occ.getCenterOfMass(2, t) for t in tags])
+    return Faces(pts, area, centroid, np.asarray(tags))
+
+
+def _geometry(gmsh, part: PartFile) -> PartGeometry:
+    occ = gmsh.model.occ
+    vol = load_solid(gmsh, part)
+    faces = cad_faces(gmsh)
+    lo, hi = np.array_split(np.asarray(gmsh.model.getBoundingBox(3, vol)), 2)
+    size = float(np.linalg.norm(hi - lo))
+    interfaces = resolve_interfaces(part, faces, {}, size)
+    return PartGeometry(lo, hi, occ.getMass(3, vol), np.asarray(occ.getCenterOfMass(3, vol)),
+                        np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3), interfaces, "cad")
+
+
+def read_part_geometry(part: PartFile) -> PartGeometry:
+    """The part's size, CAD-exact volume, centroid and inertia per unit density, and its
+    interfaces (:class:`~fe_components.part_geometry.PartGeometry`), without meshing."""
+    with _session("part") as gmsh:
+        return _geometry(gmsh, part)
+
+
+def generate_part_mesh(part: PartFile, options, path) -> None:
+    """Mesh the CAD part with ``options`` (:class:`~fe_components.meshing.MeshOptions`):
+    one physical volume ``solid`` and one physical surface group per interface; write ``path``."""
+    from .meshing import _repair_inverted
+
+    with _session("part-mesh") as gmsh:
+        geo = _geometry(gmsh, part)
+        vol = [t for _, t in gmsh.model.getEntities(3)]
+        gmsh.model.addPhysicalGroup(3, vol, name="solid")
+        for itf in geo.interfaces:
+            gmsh.model.addPhysicalGroup(2, [int(t) for t in itf.face_ids], name=itf.name)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
+        gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
+        gmsh.option.setNumber("Mesh.ElementOrder", options.order)
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
+        gmsh.option.setNumber("Mesh.Binary", 1)
+        try:
+            gmsh.model.mesh.generate(3)
+            if options.order == 2:
+                _repair_inverted(gmsh)
+        except Exception as exc:  # gmsh raises plain Exception
+            raise PartFileError("file", part.file, f"{part.path.name}: gmsh cannot mesh the part at size "
+                                                   f"{options.size:g} m ({exc})") from None
+        gmsh.write(os.fspath(path))
