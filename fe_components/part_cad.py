@@ -2,7 +2,7 @@
 metres, its interface faces found by the rules, meshed into the mesh cache.
 
 gmsh is imported inside the functions only. Units: a STEP file's declared length unit is
-converted by OpenCASCADE (``Geometry.OCCTargetUnit = "M"``); ``units`` given overrides it
+converted to mm by OpenCASCADE, then to m here; ``units`` given overrides it
 (the file's numbers are taken in that unit); a BREP file is in mm unless ``units`` says
 otherwise. The checks, each a :class:`~fe_components.part_file.PartFileError` naming the
 file: nothing readable, an open shell (faces but no closed volume), several volumes
@@ -71,28 +71,31 @@ def _session(name: str):
             gmsh.model.remove()
 
 
-def load_solid(gmsh, part: PartFile) -> int:
-    """Import the part into the current gmsh model, in metres, checked to be one closed
-    volume (fused if allowed); return its tag."""
+def load_solid(gmsh, part: PartFile) -> tuple[int, float]:
+    """Import the part into the current gmsh model, checked to be one closed volume (fused
+    if allowed): ``(volume tag, metres per model unit)``. The CAD stays in its own numbers:
+    OpenCASCADE's scaling (a general transformation) turns exact surfaces into B-spline
+    approximations (0.6 % off in volume on the shipped carrier), so sizes, samples, mass
+    properties and the mesh are scaled instead."""
     name = part.path.name
     occ = gmsh.model.occ
     is_step = part.path.suffix.lower() in (".step", ".stp")
-    gmsh.option.setString("Geometry.OCCTargetUnit", "M" if is_step else "")
+    # mm, OpenCASCADE's own default: the target unit is process-wide state of its STEP
+    # translator that also scales what gmsh writes later (a "M" left behind makes every STEP
+    # written afterwards 1000 x too large), so it is left at mm and the conversion done here
+    gmsh.option.setString("Geometry.OCCTargetUnit", "MM" if is_step else "")
     try:
         occ.importShapes(part.file, highestDimOnly=False)
         occ.synchronize()
     except Exception as exc:  # gmsh raises plain Exception
         raise PartFileError("file", part.file, f"{name}: OpenCASCADE cannot read it ({exc})") from None
-    if is_step:
+    if is_step:  # OpenCASCADE converted from the declared unit to mm
         declared, metres = step_length_unit(part.path)
-        factor = 1.0 if part.units is None else UNITS[part.units] / metres
+        factor = 1e-3 * (1.0 if part.units is None else UNITS[part.units] / metres)
         unit_text = declared if part.units is None else f"{part.units} (file declares {declared})"
     else:
         factor = part.scale
         unit_text = part.units or "mm (default for BREP)"
-    if factor != 1.0:
-        occ.dilate(gmsh.model.getEntities(), 0.0, 0.0, 0.0, factor, factor, factor)
-        occ.synchronize()
     vols = [t for _, t in gmsh.model.getEntities(3)]
     n_faces = len(gmsh.model.getEntities(2))
     if not vols:
@@ -115,9 +118,20 @@ def load_solid(gmsh, part: PartFile) -> int:
     if loose:
         raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} faces bound no volume "
                                                "(loose or dangling faces); remove them in the CAD tool")
-    lo, hi = np.array_split(np.asarray(gmsh.model.getBoundingBox(3, vols[0])), 2)
-    check_size(part, lo, hi, factor * (metres if is_step else 1.0), unit_text)
-    return vols[0]
+    lo, hi = _extent(gmsh)
+    check_size(part, lo * factor, hi * factor, factor * (metres / 1e-3 if is_step else 1.0), unit_text)
+    return vols[0], factor
+
+
+def _extent(gmsh) -> tuple[np.ndarray, np.ndarray]:
+    """Tight bounding box (model units) of the model: OpenCASCADE's own boxes of curved solids are
+    loose (control points), so the extreme points of the curves are taken instead."""
+    pts = []
+    for _, c in gmsh.model.getEntities(1):
+        lo, hi = gmsh.model.getParametrizationBounds(1, c)
+        pts.append(np.asarray(gmsh.model.getValue(1, c, np.linspace(lo[0], hi[0], 4 * CURVE_SAMPLES).tolist())))
+    pts = np.concatenate(pts).reshape(-1, 3)
+    return pts.min(axis=0), pts.max(axis=0)
 
 
 def face_samples(gmsh, tag: int) -> np.ndarray:
@@ -136,8 +150,9 @@ def face_samples(gmsh, tag: int) -> np.ndarray:
     return np.concatenate(pts) if pts else np.zeros((0, 3))
 
 
-def cad_faces(gmsh) -> Faces:
-    """Every face of the current model with its samples, area and centroid (m)."""
+def cad_faces(gmsh, f: float) -> Faces:
+    """Every face of the current model with its samples, area and centroid, in metres
+    (``f``: metres per model unit)."""
     occ = gmsh.model.occ
     tags = [t for _, t in gmsh.model.getEntities(2)]
     samples = [face_samples(gmsh, t) for t in tags]
@@ -145,25 +160,26 @@ def cad_faces(gmsh) -> Faces:
     pts = np.stack([np.concatenate([s, np.repeat(s[-1:], k - len(s), axis=0)]) for s in samples])
     area = np.array([occ.getMass(2, t) for t in tags])
     centroid = np.array([occ.getCenterOfMass(2, t) for t in tags])
-    return Faces(pts, area, centroid, np.asarray(tags))
+    return Faces(pts * f, area * f ** 2, centroid * f, np.asarray(tags))
 
 
-def _geometry(gmsh, part: PartFile) -> PartGeometry:
+def _geometry(gmsh, part: PartFile) -> tuple[PartGeometry, float]:
+    """(the part in metres, metres per model unit)."""
     occ = gmsh.model.occ
-    vol = load_solid(gmsh, part)
-    faces = cad_faces(gmsh)
-    lo, hi = np.array_split(np.asarray(gmsh.model.getBoundingBox(3, vol)), 2)
-    size = float(np.linalg.norm(hi - lo))
+    vol, f = load_solid(gmsh, part)
+    faces = cad_faces(gmsh, f)
+    lo, hi = _extent(gmsh)
+    size = float(np.linalg.norm(hi - lo)) * f
     interfaces = resolve_interfaces(part, faces, {}, size)
-    return PartGeometry(lo, hi, occ.getMass(3, vol), np.asarray(occ.getCenterOfMass(3, vol)),
-                        np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3), interfaces, "cad")
+    return PartGeometry(lo * f, hi * f, occ.getMass(3, vol) * f ** 3, np.asarray(occ.getCenterOfMass(3, vol)) * f,
+                        np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3) * f ** 5, interfaces, "cad"), f
 
 
 def read_part_geometry(part: PartFile) -> PartGeometry:
     """The part's size, CAD-exact volume, centroid and inertia per unit density, and its
     interfaces (:class:`~fe_components.part_geometry.PartGeometry`), without meshing."""
     with _session("part") as gmsh:
-        return _geometry(gmsh, part)
+        return _geometry(gmsh, part)[0]
 
 
 def generate_part_mesh(part: PartFile, options, path) -> None:
@@ -172,13 +188,13 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
     from .meshing import _repair_inverted
 
     with _session("part-mesh") as gmsh:
-        geo = _geometry(gmsh, part)
+        geo, f = _geometry(gmsh, part)
         vol = [t for _, t in gmsh.model.getEntities(3)]
         gmsh.model.addPhysicalGroup(3, vol, name="solid")
         for itf in geo.interfaces:
             gmsh.model.addPhysicalGroup(2, [int(t) for t in itf.face_ids], name=itf.name)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size / f)   # model units
+        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size / f)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
         gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
         gmsh.option.setNumber("Mesh.ElementOrder", options.order)
@@ -188,6 +204,7 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
             gmsh.model.mesh.generate(3)
             if options.order == 2:
                 _repair_inverted(gmsh)
+            gmsh.model.mesh.affineTransform([f, 0, 0, 0, 0, f, 0, 0, 0, 0, f, 0])   # to metres
         except Exception as exc:  # gmsh raises plain Exception
             raise PartFileError("file", part.file, f"{part.path.name}: gmsh cannot mesh the part at size "
                                                    f"{options.size:g} m ({exc})") from None

@@ -48,6 +48,8 @@ CAD_SUFFIXES = (".step", ".stp", ".brep", ".brp")
 #: File suffixes read with meshio (volume meshes).
 MESH_SUFFIXES = (".msh", ".inp", ".bdf", ".nas", ".vtu", ".vtk", ".med", ".xdmf")
 RULES = ("group", "cylinder", "plane", "box")
+#: Bump when reading or meshing a part file changes the mesh it gives (part of the cache key).
+PART_READER_VERSION = 2
 #: A part smaller or larger than this (bounding-box diagonal, m) has the wrong units.
 SIZE_RANGE = (1e-3, 100.0)
 
@@ -199,7 +201,7 @@ class PartFile:
         """What identifies the part's geometry for the caches (:func:`params_digest`): the
         file's content (not its name or folder), the unit and the rules."""
         return {"content_sha256": self.content_sha256, "units": self.units, "volumes": self.volumes,
-                "suffix": Path(self.file).suffix.lower(), "interfaces": list(self.interfaces)}
+                "interfaces": list(self.interfaces), "reader": PART_READER_VERSION}
 
     def rule(self, name: str) -> tuple[int, InterfaceRule]:
         for i, r in enumerate(self.interfaces):
