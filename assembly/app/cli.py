@@ -244,6 +244,12 @@ def cmd_export_elastodyn(args) -> int:
     return 0
 
 
+def cmd_export_superelement(args) -> int:
+    """``flexgear export superelement``: a flexible body's superelement as .npz and Nastran DMIG."""
+    from .export_superelement import run
+    return run(args)
+
+
 def cmd_campbell(args) -> int:
     """``flexgear campbell``: natural frequencies, excitation orders and their crossings over
     a speed range of the reference body (rpm): a table, ``--json``, or files in ``--out``."""
@@ -416,7 +422,8 @@ def _add_campbell(sub) -> None:
 
 
 def _add_export(sub) -> None:
-    p = sub.add_parser("export", help="export to other tools: elastodyn (OpenFAST two-mass drivetrain)")
+    p = sub.add_parser("export", help="export to other tools: elastodyn (OpenFAST two-mass drivetrain), "
+                                      "superelement (.npz, Nastran DMIG)")
     what = p.add_subparsers(dest="what", required=True)
     e = what.add_parser("elastodyn", help="GBRatio, GenIner, DTTorSpr of the rotor-generator chain "
                                           "(an OpenFAST ElastoDyn input fragment)")
@@ -428,6 +435,15 @@ def _add_export(sub) -> None:
                    help="generator body (default: the body of role = \"generator\")")
     e.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
     e.set_defaults(func=cmd_export_elastodyn)
+    s = what.add_parser("superelement", help="a flexible body's reduced K, M and DOF map (local axes): "
+                                             "<DIR>/<body>.npz and Nastran DMIG <DIR>/<body>.dmig")
+    s.add_argument("scene", help=SCENE_HELP)
+    s.add_argument("--body", required=True, metavar="NAME", help="the flexible body (e.g. stage.carrier)")
+    s.add_argument("--out", required=True, metavar="DIR", help="folder of the files (created if missing)")
+    s.add_argument("--format", default="npz,dmig", metavar="LIST", help="npz, dmig or npz,dmig (default)",
+                   type=lambda t: importlib.import_module("assembly.app.export_superelement").parse_formats(t))
+    s.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    s.set_defaults(func=cmd_export_superelement)
 
 
 def cmd_demo(args) -> int:

@@ -1,0 +1,75 @@
+"""``flexgear export superelement``: the flexible carrier of the shipped planetary scene written
+as .npz and Nastran DMIG in its local axes, read back equal to the body's superelement (the
+same reduction: the cache of the test session); one-line errors for bodies without one.
+
+The DMIG reals are shortest round-trip decimals (cms.export.nastran_real), so both files must
+read back bit-exact: every comparison is exact equality."""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from assembly.app.cli import main
+from assembly.model import assemble
+from assembly.schema import load_scene
+from cms.export import dof_map, read_dmig, read_dmig_points, read_npz
+
+SCENE = "planetary_flexible_carrier.toml"
+BODY = "stage.carrier"                          # the carrier of stage "stage"
+
+
+@pytest.fixture(scope="module")
+def carrier():
+    return assemble(load_scene(SCENE)).bodies[BODY]
+
+
+def test_exports_the_flexible_carrier_in_local_axes(carrier, tmp_path, capsys):
+    out = tmp_path / "se"                                         # created by the command
+    assert main(["export", "superelement", SCENE, "--body", BODY, "--out", str(out), "-q"]) == 0
+    stdout = capsys.readouterr().out
+    assert len(stdout.splitlines()) == 1 and f"{BODY}.npz" in stdout and f"{BODY}.dmig" in stdout
+    assert sorted(os.listdir(out)) == [f"{BODY}.dmig", f"{BODY}.npz"]
+    se = carrier.superelement
+    z = read_npz(out / f"{BODY}.npz")
+    assert np.array_equal(z["K"], se.K) and np.array_equal(z["M"], se.M)
+    assert "local component axes" in z["frame"] and BODY in z["frame"]
+    assert np.array_equal(z["frame_origin"], carrier.origin) and np.array_equal(z["frame_axes"], carrier.axes)
+    # interface nodes: the body's masters, at their local positions (global = origin + R local)
+    names = list(z["node_names"])
+    assert sorted(names) == sorted(carrier.masters)
+    for k, nm in enumerate(names):
+        pos, idx = carrier.masters[nm]
+        assert np.allclose(carrier.origin + carrier.axes @ z["node_positions"][k], pos, rtol=0, atol=1e-15)
+        assert list(np.flatnonzero(z["dof_node"] == k)) == list(idx)          # the body's DOF indices
+    assert list(z["dof_names"][:se.n_boundary]) == se.boundary_names
+    assert z["mesh_sha256"] == se.metadata["mesh_sha256"]
+    mats = read_dmig(out / f"{BODY}.dmig")
+    want = dof_map(se).keys()
+    for name, ref in (("KAAX", se.K), ("MAAX", se.M)):
+        matrix, keys = mats[name]
+        idx = [keys.index(k) for k in want]
+        assert np.array_equal(matrix[np.ix_(idx, idx)], ref), name
+    grids, spoints = read_dmig_points(out / f"{BODY}.dmig")
+    assert np.array_equal(np.array([grids[g] for g in z["node_ids"]]), z["node_positions"])
+    assert spoints == list(z["scalar_ids"])
+    assert "local component axes" in (out / f"{BODY}.dmig").read_text().split("GRID,")[0]
+
+
+def test_format_option_writes_only_the_named_file(tmp_path, capsys):
+    assert main(["export", "superelement", SCENE, "--body", BODY, "--out", str(tmp_path), "--format", "dmig",
+                 "-q"]) == 0
+    assert os.listdir(tmp_path) == [f"{BODY}.dmig"]
+    assert main(["export", "superelement", SCENE, "--body", BODY, "--out", str(tmp_path), "--format", "npz,step",
+                 "-q"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "--format" in err and "npz,step" in err
+
+
+@pytest.mark.parametrize("body,reason", [("stage.sun", "is not a flexible body"), ("nope", "no such body")])
+def test_a_body_without_superelement_is_a_one_line_error(tmp_path, capsys, body, reason):
+    assert main(["export", "superelement", SCENE, "--body", body, "--out", str(tmp_path / "x"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and reason in err and BODY in err      # names the flexible bodies
+    assert not (tmp_path / "x").exists()
