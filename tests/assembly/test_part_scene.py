@@ -89,3 +89,21 @@ def test_a_missing_part_file_names_its_scene_path(tmp_path):
         load_scene(tmp_path / SCENE.name)
     assert exc.value.path == "stages[0].carrier.component.file"
     assert "carrier_windows.step" in str(exc.value) and "cannot read" in str(exc.value)
+
+
+def test_run_draws_the_step_carrier(tmp_path):
+    """flexgear run on the example: mode-shape and stress images of the user's carrier (the
+    load case and each mode), all referenced from index.html."""
+    from PIL import Image
+
+    from assembly.app.cli import main
+    from assembly.app.html_report import missing_references
+    out = tmp_path / "out"
+    assert main(["run", str(SCENE), "--out", str(out), "--quiet", "--modes", "2"]) == 0
+    imgs = sorted(p.name for p in (out / "images").glob("stress_*.png"))
+    assert imgs == ["stress_stage.carrier_load.png", "stress_stage.carrier_mode_002.png",
+                    "stress_stage.carrier_mode_003.png"]
+    assert (out / "images" / "mode_002.png").exists()
+    a = np.asarray(Image.open(out / "images" / imgs[1]).convert("L"), float)
+    assert a.std() > 5                     # a picture, not a blank frame
+    assert missing_references(out / "index.html") == []
