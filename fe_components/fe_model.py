@@ -171,10 +171,12 @@ CAD_MASS_TOL = 1e-3
 
 def cad_mass_check(model: "FEModel", part: PartFile) -> dict:
     """Relative errors of the FE model's mass, centre of mass (against the part's size) and
-    inertia tensor (matrix 2-norm) against the part's CAD-exact values (a mesh file: its
-    straight elements'); a WARNING above :data:`CAD_MASS_TOL` (P2)."""
+    inertia tensor (matrix 2-norm) against the part's CAD-exact values; a WARNING above
+    :data:`CAD_MASS_TOL` (P2). A mesh file has no exact geometry to check against: ``{}``."""
     from .part_geometry import part_geometry
     geo = part_geometry(part)
+    if geo.source != "cad":  # a mesh file has no exact geometry: its straight elements are no reference
+        return {}
     rho = model.material.rho
     m_ref = rho * geo.volume
     J_ref = rho * geo.inertia_per_density

@@ -116,7 +116,7 @@ def load_solid(gmsh, part: PartFile) -> tuple[int, float]:
         vols = left
     loose = [t for _, t in gmsh.model.getEntities(2) if len(gmsh.model.getAdjacencies(2, t)[0]) == 0]
     if loose:
-        raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} faces bound no volume "
+        raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} face(s) bound no volume "
                                                "(loose or dangling faces); remove them in the CAD tool")
     lo, hi = _extent(gmsh)
     check_size(part, lo * factor, hi * factor, factor * (metres / 1e-3 if is_step else 1.0), unit_text)

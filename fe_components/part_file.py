@@ -83,6 +83,10 @@ class InterfaceRule:
     tolerance: Optional[float] = quantity("m", None, gt=0.0)
 
     def __post_init__(self) -> None:
+        for f in ("axis_point", "axis", "span", "point", "normal", "box_min", "box_max", "master"):
+            v = getattr(self, f)
+            if isinstance(v, list):  # arrays as tuples: a rule is hashable (the reader memoises on it)
+                object.__setattr__(self, f, tuple(v))
         check_fields(self)
         if not isinstance(self.name, str) or not self.name.strip():
             raise GeometryError("name", self.name, "must be a non-empty string")
@@ -159,7 +163,7 @@ class PartFile:
         object.__setattr__(self, "file", str(path.absolute()))
         object.__setattr__(self, "content_sha256", sha)
         if self.units is not None and self.units not in UNITS:
-            raise PartFileError("units", self.units, f"must be one of {list(UNITS)}")
+            raise PartFileError("units", self.units, f"{path.name}: must be one of {list(UNITS)}")
         if self.units is None and self.is_mesh:
             raise PartFileError("units", None, f"{path.name}: a mesh file carries no length unit: "
                                                f"give units (one of {list(UNITS)})")
@@ -173,7 +177,7 @@ class PartFile:
                 raise PartFileError(f"interfaces[{i}]", rule, "must be an interface rule table")
             if rule.name in seen:
                 raise PartFileError(f"interfaces[{i}].name", rule.name,
-                                    f"already the name of interfaces[{seen[rule.name]}]")
+                                    f"{path.name}: already the name of interfaces[{seen[rule.name]}]")
             seen[rule.name] = i
             if rule.select == "group" and not self.is_mesh:
                 raise PartFileError(f"interfaces[{i}].select", "group",

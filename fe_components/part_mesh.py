@@ -12,7 +12,9 @@ volume) tetrahedra, a size that betrays wrong units.
 """
 from __future__ import annotations
 
+import contextlib
 import functools
+import io
 import logging
 import os
 
@@ -39,9 +41,13 @@ def _read(part: PartFile):
     """(points m, cells, cell type, named face-node sets) of the file, checked."""
     import meshio
     name = part.path.name
+    # a .msh is gmsh's (meshio would try ANSYS's first, print its failure and, on a corrupt
+    # file, sys.exit): name the format where the suffix is ambiguous
+    fmt = "gmsh" if part.path.suffix.lower() == ".msh" else None
     try:
-        m = meshio.read(part.file)
-    except Exception as exc:  # meshio raises many kinds on a bad file
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            m = meshio.read(part.file, file_format=fmt)   # its own failure messages are printed
+    except (Exception, SystemExit) as exc:  # meshio raises many kinds on a bad file
         raise PartFileError("file", part.file, f"{name}: cannot read as a mesh ({type(exc).__name__}: {exc})") from None
     vol = {c.type for c in m.cells if c.type in ("tetra", "tetra10", "hexahedron", "hexahedron20", "hexahedron27",
                                                   "wedge", "wedge15", "pyramid", "pyramid13")}
@@ -58,6 +64,8 @@ def _read(part: PartFile):
     pts = np.asarray(m.points, float)[used, :3] * UNITS[part.units]
     cells = remap[cells]
     _check_elements(part, pts, cells)
+    if ctype == "tetra10":
+        _check_curved(part, pts, cells)
     named = {}
     for key, per_block in m.cell_sets.items():
         if key.startswith("gmsh:"):
@@ -83,6 +91,33 @@ def _check_elements(part: PartFile, pts: np.ndarray, cells: np.ndarray) -> None:
             raise PartFileError("file", part.file, f"{part.path.name}: {len(idx)} of {len(cells)} tetrahedra are "
                                                    f"{what}; first: element {int(idx[0])} at "
                                                    f"{np.round(c, 6).tolist()} m")
+
+
+#: Reference points where a curved (P2) element's Jacobian must be positive: the 4
+#: vertices, the 6 edge midpoints, the centroid and the 4 face centroids.
+_P2_CHECK_POINTS = np.array(
+    [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [.5, 0, 0], [.5, .5, 0], [0, .5, 0], [0, 0, .5], [.5, 0, .5],
+     [0, .5, .5], [.25, .25, .25], [1 / 3, 1 / 3, 0], [1 / 3, 0, 1 / 3], [0, 1 / 3, 1 / 3], [1 / 3, 1 / 3, 1 / 3]]).T
+
+
+def _check_curved(part: PartFile, pts: np.ndarray, cells: np.ndarray) -> None:
+    """Refuse a P2 element whose Jacobian is not positive everywhere: evaluated at its
+    vertices, edge midpoints and face and body centroids (a midside node moved across the
+    element folds it near a vertex while the quadrature points may still see it positive)."""
+    import meshio
+    from skfem.io.meshio import from_meshio
+    mesh = from_meshio(meshio.Mesh(pts, [("tetra10", cells)]))
+    mp = mesh._mapping()
+    J = [[mp.J(i, j, _P2_CHECK_POINTS) for j in range(3)] for i in range(3)]
+    d = (J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0])
+         + J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]))   # det J per element and point
+    bad = np.flatnonzero(d.min(axis=1) <= 0)
+    if len(bad):
+        c = pts[cells[bad[0], :4]].mean(axis=0)
+        raise PartFileError("file", part.file, f"{part.path.name}: {len(bad)} of {len(cells)} curved (P2) "
+                                               f"tetrahedra are folded or inverted (Jacobian not positive "
+                                               f"everywhere); first: element {int(bad[0])} at "
+                                               f"{np.round(c, 6).tolist()} m")
 
 
 def tet_volumes(pts: np.ndarray, cells: np.ndarray) -> np.ndarray:
