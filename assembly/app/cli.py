@@ -21,7 +21,8 @@ log = logging.getLogger("flexgear")
 SCENE_HELP = "scene TOML file (or the name of a shipped example)"
 BENCHMARKS = {"fe": "assembly.app.bench_fe", "cms": "assembly.app.bench_cms", "flex": "assembly.app.bench_flex",
               "drivetrain": "assembly.app.bench_drivetrain", "frf": "assembly.app.bench_frf",
-              "transient": "assembly.app.bench_transient", "study": "assembly.app.bench_study"}
+              "transient": "assembly.app.bench_transient", "study": "assembly.app.bench_study",
+              "part": "assembly.app.bench_part"}
 
 
 OUT_HELP = ("output folder, replaced as a whole when the run succeeds (never half-written); files you "
