@@ -46,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import GeometryError, MeshCacheError, MeshingError
+from .gmsh_session import gmsh_model
 from .geometry import build_solid, characteristic_length, interface_defs
 from .params import PartFile, component_kind, params_as_flat_dict, params_digest
 
@@ -347,75 +348,64 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
         else:
             from .part_cad import generate_part_mesh
         return generate_part_mesh(params, options, path)
-    import gmsh  # lazy: loading a cached mesh must not import gmsh
-
     kind = component_kind(params)
     report = _report(params, options)
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(f"{kind}-{os.getpid()}")
-        gmsh.option.setNumber("Geometry.OCCUnionUnify", 0)  # keep shaft-segment faces distinct
-        occ = gmsh.model.occ
-        vols = build_solid(occ, params, options.flank_points, options.helix_sections)
-        occ.synchronize()
-        # free construction points (arc centres) are not part of the solid
-        in_solid = {abs(t) for d, t in gmsh.model.getBoundary(vols, combined=False, oriented=False, recursive=True)
-                    if d == 0}
-        free_pts = [(0, t) for _, t in gmsh.model.getEntities(0) if t not in in_solid]
-        if free_pts:
-            gmsh.model.removeEntities(free_pts)
-        vol_tags = [t for d, t in gmsh.model.getEntities(3)]
-        if not vol_tags:
-            raise RuntimeError("boolean operations produced no volume")
-        tol = 1e-6 * characteristic_length(params)
-        surfaces = {}
-        for _, tag in gmsh.model.getEntities(2):
-            pts = _surface_samples(gmsh, tag)
-            surfaces[tag] = (pts, float(pts[:, 2].min()), float(pts[:, 2].max()))
-        gmsh.model.addPhysicalGroup(3, vol_tags, name="solid")
-        taken: dict[int, str] = {}
-        tooth_tags: list[int] = []
-        for idef in interface_defs(params):
-            tags = [t for t, (pts, zlo, zhi) in surfaces.items()
-                    if any(sel.matches(pts, zlo, zhi, tol) for sel in idef.selectors)]
-            if not tags:
-                raise RuntimeError(f"no CAD surface found for interface {idef.name!r}")
-            for t in tags:
-                if t in taken:
-                    raise RuntimeError(f"surface {t} belongs to interfaces {taken[t]!r} and {idef.name!r}")
-                taken[t] = idef.name
-            gmsh.model.addPhysicalGroup(2, tags, name=idef.name)
-            if idef.name == "gear_mesh":
-                tooth_tags = tags
-            log.debug("interface %s: surfaces %s", idef.name, tags)
-        if options.tooth_size is not None:
-            _tooth_refinement(gmsh, params, options, tooth_tags)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
-        gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
-        gmsh.option.setNumber("Mesh.ElementOrder", options.order)
-        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
-        gmsh.option.setNumber("Mesh.Binary", 1)
-        gmsh.model.mesh.generate(3)
-        types, _, _ = gmsh.model.mesh.getElements(3)
-        if len(types) == 0:
-            raise RuntimeError("gmsh produced no volume elements")
-        if options.order == 2:
-            _repair_inverted(gmsh)
-        gmsh.write(os.fspath(path))
-    except GeometryError:
-        raise
-    except Exception as err:  # gmsh raises plain Exception
-        raise MeshingError(kind, report, err) from err
-    finally:
-        if own:
-            gmsh.finalize()
-        else:
-            gmsh.model.remove()
+    with gmsh_model(kind) as gmsh:  # lazy: loading a cached mesh must not import gmsh
+        try:
+            gmsh.option.setNumber("Geometry.OCCUnionUnify", 0)  # keep shaft-segment faces distinct
+            occ = gmsh.model.occ
+            vols = build_solid(occ, params, options.flank_points, options.helix_sections)
+            occ.synchronize()
+            # free construction points (arc centres) are not part of the solid
+            in_solid = {abs(t) for d, t in gmsh.model.getBoundary(vols, combined=False, oriented=False, recursive=True)
+                        if d == 0}
+            free_pts = [(0, t) for _, t in gmsh.model.getEntities(0) if t not in in_solid]
+            if free_pts:
+                gmsh.model.removeEntities(free_pts)
+            vol_tags = [t for d, t in gmsh.model.getEntities(3)]
+            if not vol_tags:
+                raise RuntimeError("boolean operations produced no volume")
+            tol = 1e-6 * characteristic_length(params)
+            surfaces = {}
+            for _, tag in gmsh.model.getEntities(2):
+                pts = _surface_samples(gmsh, tag)
+                surfaces[tag] = (pts, float(pts[:, 2].min()), float(pts[:, 2].max()))
+            gmsh.model.addPhysicalGroup(3, vol_tags, name="solid")
+            taken: dict[int, str] = {}
+            tooth_tags: list[int] = []
+            for idef in interface_defs(params):
+                tags = [t for t, (pts, zlo, zhi) in surfaces.items()
+                        if any(sel.matches(pts, zlo, zhi, tol) for sel in idef.selectors)]
+                if not tags:
+                    raise RuntimeError(f"no CAD surface found for interface {idef.name!r}")
+                for t in tags:
+                    if t in taken:
+                        raise RuntimeError(f"surface {t} belongs to interfaces {taken[t]!r} and {idef.name!r}")
+                    taken[t] = idef.name
+                gmsh.model.addPhysicalGroup(2, tags, name=idef.name)
+                if idef.name == "gear_mesh":
+                    tooth_tags = tags
+                log.debug("interface %s: surfaces %s", idef.name, tags)
+            if options.tooth_size is not None:
+                _tooth_refinement(gmsh, params, options, tooth_tags)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
+            gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
+            gmsh.option.setNumber("Mesh.ElementOrder", options.order)
+            gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
+            gmsh.option.setNumber("Mesh.Binary", 1)
+            gmsh.model.mesh.generate(3)
+            types, _, _ = gmsh.model.mesh.getElements(3)
+            if len(types) == 0:
+                raise RuntimeError("gmsh produced no volume elements")
+            if options.order == 2:
+                _repair_inverted(gmsh)
+            gmsh.write(os.fspath(path))
+        except GeometryError:
+            raise
+        except Exception as err:  # gmsh raises plain Exception
+            raise MeshingError(kind, report, err) from err
 
 
 def _min_scaled_jacobians(gmsh) -> np.ndarray:

@@ -11,13 +11,13 @@ volume (non-manifold), a size that betrays wrong units.
 """
 from __future__ import annotations
 
-import contextlib
 import logging
 import os
 import re
 
 import numpy as np
 
+from .gmsh_session import gmsh_model
 from .part_file import UNITS, PartFile, PartFileError
 from .part_geometry import Faces, PartGeometry, check_size, resolve_interfaces
 
@@ -49,26 +49,6 @@ def step_length_unit(path) -> tuple[str, float]:
         if conv and conv.group(1).upper() in _CONVERTED:
             return conv.group(1).lower(), _CONVERTED[conv.group(1).upper()]
     return "mm (none declared)", 1e-3
-
-
-@contextlib.contextmanager
-def _session(name: str):
-    """A gmsh model of its own (gmsh initialised here if it is not already, finalised after)."""
-    import gmsh
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
-    unit = gmsh.option.getString("Geometry.OCCTargetUnit")
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(f"{name}-{os.getpid()}")
-        yield gmsh
-    finally:
-        gmsh.option.setString("Geometry.OCCTargetUnit", unit)
-        if own:
-            gmsh.finalize()
-        else:
-            gmsh.model.remove()
 
 
 def load_solid(gmsh, part: PartFile) -> tuple[int, float]:
@@ -178,7 +158,7 @@ def _geometry(gmsh, part: PartFile) -> tuple[PartGeometry, float]:
 def read_part_geometry(part: PartFile) -> PartGeometry:
     """The part's size, CAD-exact volume, centroid and inertia per unit density, and its
     interfaces (:class:`~fe_components.part_geometry.PartGeometry`), without meshing."""
-    with _session("part") as gmsh:
+    with gmsh_model("part") as gmsh:
         return _geometry(gmsh, part)[0]
 
 
@@ -187,7 +167,7 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
     one physical volume ``solid`` and one physical surface group per interface; write ``path``."""
     from .meshing import _repair_inverted
 
-    with _session("part-mesh") as gmsh:
+    with gmsh_model("part-mesh") as gmsh:
         geo, f = _geometry(gmsh, part)
         vol = [t for _, t in gmsh.model.getEntities(3)]
         gmsh.model.addPhysicalGroup(3, vol, name="solid")

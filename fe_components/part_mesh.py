@@ -20,6 +20,7 @@ import os
 
 import numpy as np
 
+from .gmsh_session import gmsh_model
 from .part_file import UNITS, PartFile, PartFileError
 from .part_geometry import Faces, PartGeometry, check_size, resolve_interfaces
 
@@ -196,15 +197,8 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
     """Write the part's mesh to ``path`` in gmsh's format (the package's cache format): the
     elements as given, a physical volume ``solid`` and one physical surface group per
     interface holding its faces. ``options`` is not used: a mesh file is taken as it is."""
-    import gmsh
-
     pts, cells, ctype, bf, interfaces, _ = _resolved(part)
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(f"part-file-{os.getpid()}")
+    with gmsh_model("part-file") as gmsh:
         v = gmsh.model.addDiscreteEntity(3)
         tags = np.arange(1, len(pts) + 1)
         gmsh.model.mesh.addNodes(3, v, tags.tolist(), pts.ravel().tolist())
@@ -219,8 +213,3 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
             gmsh.model.addPhysicalGroup(2, [s], name=itf.name)
         gmsh.option.setNumber("Mesh.Binary", 1)
         gmsh.write(os.fspath(path))
-    finally:
-        if own:
-            gmsh.finalize()
-        else:
-            gmsh.model.remove()

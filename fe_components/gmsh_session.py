@@ -1,0 +1,27 @@
+"""A gmsh model of one's own for the duration of a block (gmsh imported here, lazily)."""
+from __future__ import annotations
+
+import contextlib
+import os
+
+
+@contextlib.contextmanager
+def gmsh_model(name: str):
+    """Yield the ``gmsh`` module with a fresh current model ``<name>-<pid>``: gmsh initialised
+    here if it is not already (then finalised after, else the model removed), its terminal
+    output off, and the OpenCASCADE target unit (process-wide STEP translator state) restored."""
+    import gmsh
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    unit = gmsh.option.getString("Geometry.OCCTargetUnit")
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(f"{name}-{os.getpid()}")
+        yield gmsh
+    finally:
+        gmsh.option.setString("Geometry.OCCTargetUnit", unit)
+        if own:
+            gmsh.finalize()
+        else:
+            gmsh.model.remove()
