@@ -6,7 +6,7 @@ Usage (wired as ``flexgear bench part``)::
     flexgear bench part --size 0.015,0.012,0.008 # several element sizes
     flexgear bench part --quick                  # 0.03 m: a smoke run of a few seconds
 
-Issue 16's speed item: STEP import + mesh + assemble + couple + reduce of the carrier with
+The cost of a user's part: STEP import + mesh + assemble + couple + reduce of the carrier with
 windows of ``planetary_step_carrier.toml`` (``assembly/scenes/parts/carrier_windows.step``,
 six cylinder interface rules), against the same steps for the built-in parametric carrier
 (:class:`~fe_components.params.CarrierParams`) of ``planetary_flexible_carrier.toml``, its

@@ -1,4 +1,4 @@
-"""Issue 16 item 4: a user's part file that cannot be used is refused in one line naming the
+"""A user's part file that cannot be used is refused in one line naming the
 file and the problem, exit code 2: open shells, non-manifold or multi-volume geometry (fuse
 or refuse, and which), inverted or degenerate elements in a mesh file, units that make the
 part absurdly large or small, a part that does not reach an interface's master, and the

@@ -1,4 +1,4 @@
-"""Issue 16 item 3, last check: a mesh file with second-order elements keeps its boundary
+"""A mesh file with second-order elements keeps its boundary
 groups. One P2 (tetra10) mesh of a cylinder, made here with gmsh (physical surfaces
 "end_a", "end_b" and a physical volume), read as a user's part from every format it can be
 written in: gmsh .msh 4.1 (physical groups), Abaqus .inp written by meshio (groups as

@@ -54,7 +54,7 @@ def _occ_exact(path: Path):
 
 
 def test_step_carrier_mass_properties_match_the_cad_to_1e_3(tmp_path):
-    """Issue 16 item 3: mass, centre of mass and inertia of the P2 FE model against
+    """Mass, centre of mass and inertia of the P2 FE model against
     OpenCASCADE's exact values (gmsh occ.getMass / getCenterOfMass / getMatrixOfInertia) to 1e-3."""
     V, c, J = _occ_exact(CARRIER_STEP)
     fe = build_component(carrier_part(), STEEL, mesh_size=0.012, cache_dir=tmp_path)
@@ -114,7 +114,7 @@ def _lowest(K, M, k: int) -> np.ndarray:
 
 
 def test_builtin_wheel_through_step_gives_the_same_frequencies(tmp_path):
-    """Issue 16 item 3: the built-in wheel exported to STEP and read back as a user part
+    """The built-in wheel exported to STEP and read back as a user part
     (units = "m": the OCC writer declares mm for numbers in metres) has the same free-free and
     coupled frequencies within 0.1 % at the same element size."""
     step = tmp_path / "wheel.step"
@@ -137,7 +137,7 @@ def test_builtin_wheel_through_step_gives_the_same_frequencies(tmp_path):
 
 
 def test_free_sphere_from_step_matches_lamb(tmp_path):
-    """Issue 16 item 3: a free steel sphere (radius 50 mm) from a STEP file, no interfaces,
+    """A free steel sphere (radius 50 mm) from a STEP file, no interfaces,
     reproduces the exact lowest frequencies of a free elastic sphere (Lamb 1882) to 0.5 %:
     the families torsional n = 2, spheroidal n = 2, spheroidal n = 1, with their 2n + 1
     multiplicities (5, 5, 3), after the 6 rigid-body modes."""
