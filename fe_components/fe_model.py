@@ -23,6 +23,7 @@ from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
 from .part_file import PartFile, PartFileError
+from .part_geometry import part_geometry
 from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
                      params_as_flat_dict)
 
@@ -130,7 +131,6 @@ def default_mesh_size(params) -> float:
                  (p.seat_b_diameter - p.output_bore_diameter) / 2, p.seat_a_diameter / 2]
         return min(feats)
     if isinstance(params, PartFile):
-        from .part_geometry import part_geometry
         geo = part_geometry(params)
         # a mesh file is used as it is (its median edge only names the cache entry); a CAD
         # part of unknown walls: a fortieth of its size (give the size in the scene)
@@ -173,7 +173,6 @@ def cad_mass_check(model: "FEModel", part: PartFile) -> dict:
     """Relative errors of the FE model's mass, centre of mass (against the part's size) and
     inertia tensor (matrix 2-norm) against the part's CAD-exact values; a WARNING above
     :data:`CAD_MASS_TOL` (P2). A mesh file has no exact geometry to check against: ``{}``."""
-    from .part_geometry import part_geometry
     geo = part_geometry(part)
     if geo.source != "cad":  # a mesh file has no exact geometry: its straight elements are no reference
         return {}
@@ -185,8 +184,8 @@ def cad_mass_check(model: "FEModel", part: PartFile) -> dict:
            "inertia_rel": float(np.linalg.norm(model.inertia - J_ref, 2) / np.linalg.norm(J_ref, 2))}
     worst = max(out, key=out.get)
     if model.order == 2 and out[worst] > CAD_MASS_TOL:
-        log.warning("%s: FE %s differs from the %s value by %.3g (> %g): refine the mesh", part.path.name,
-                    worst.removesuffix("_rel"), geo.source, out[worst], CAD_MASS_TOL)
+        log.warning("%s: FE %s differs from the CAD value by %.3g (> %g): refine the mesh", part.path.name,
+                    worst.removesuffix("_rel"), out[worst], CAD_MASS_TOL)
     return out
 
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from .involute import flank_half_angle, flank_radii
 from .params import CarrierParams, CylinderParams, GearTeeth, PartFile, PinionParams, WheelParams
+from .part_geometry import part_geometry
 
 AXIS = np.array([0.0, 0.0, 1.0])
 
@@ -116,13 +117,9 @@ def interface_defs(params) -> list[InterfaceDef]:
         ]
     if isinstance(params, PartFile):  # from the file (read once per process), faces found by the rules
         return [InterfaceDef(i.name, tuple(float(x) for x in i.master), i.coupling, ())
-                for i in _part(params).interfaces]
+                for i in part_geometry(params).interfaces]
     raise TypeError(f"unsupported component parameters: {type(params).__name__}")
 
-
-def _part(params: PartFile):
-    from .part_geometry import part_geometry
-    return part_geometry(params)
 
 
 def _end_face(z: float) -> SurfaceSelector:
@@ -140,7 +137,7 @@ def characteristic_length(params) -> float:
     if isinstance(params, CylinderParams):
         return max(params.length, params.diameter)
     if isinstance(params, PartFile):
-        return _part(params).size
+        return part_geometry(params).size
     raise TypeError(type(params).__name__)
 
 
@@ -172,7 +169,7 @@ def volume_lower_bound(params) -> float:
                  - p.n_planets * _annulus(p.pin_bore_diameter / 2, 0.0, t))
         return 2 * cheek
     if isinstance(p, PartFile):  # the CAD-exact volume, or the straight elements' of a mesh file
-        return _part(p).volume
+        return part_geometry(p).volume
     raise TypeError(type(params).__name__)
 
 

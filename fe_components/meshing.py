@@ -388,24 +388,31 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
                 log.debug("interface %s: surfaces %s", idef.name, tags)
             if options.tooth_size is not None:
                 _tooth_refinement(gmsh, params, options, tooth_tags)
-            gmsh.option.setNumber("Mesh.MeshSizeMax", options.size)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size)
-            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
-            gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
-            gmsh.option.setNumber("Mesh.ElementOrder", options.order)
-            gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
-            gmsh.option.setNumber("Mesh.Binary", 1)
-            gmsh.model.mesh.generate(3)
-            types, _, _ = gmsh.model.mesh.getElements(3)
-            if len(types) == 0:
-                raise RuntimeError("gmsh produced no volume elements")
-            if options.order == 2:
-                _repair_inverted(gmsh)
+            mesh_volume(gmsh, options)
             gmsh.write(os.fspath(path))
         except GeometryError:
             raise
         except Exception as err:  # gmsh raises plain Exception
             raise MeshingError(kind, report, err) from err
+
+
+def mesh_volume(gmsh, options: MeshOptions, unit: float = 1.0) -> None:
+    """Mesh the current gmsh model's volumes with ``options`` (binary output, curved P2 edges,
+    inverted second-order elements repaired); ``unit``: metres per model unit (the sizes are
+    given in m)."""
+    gmsh.option.setNumber("Mesh.MeshSizeMax", options.size / unit)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size / unit)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
+    gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
+    gmsh.option.setNumber("Mesh.ElementOrder", options.order)
+    gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
+    gmsh.option.setNumber("Mesh.Binary", 1)
+    gmsh.model.mesh.generate(3)
+    types, _, _ = gmsh.model.mesh.getElements(3)
+    if len(types) == 0:
+        raise RuntimeError("gmsh produced no volume elements")
+    if options.order == 2:
+        _repair_inverted(gmsh)
 
 
 def _min_scaled_jacobians(gmsh) -> np.ndarray:

@@ -51,9 +51,9 @@ def step_length_unit(path) -> tuple[str, float]:
     return "mm (none declared)", 1e-3
 
 
-def load_solid(gmsh, part: PartFile) -> tuple[int, float]:
+def load_solid(gmsh, part: PartFile) -> tuple[int, float, np.ndarray, np.ndarray]:
     """Import the part into the current gmsh model, checked to be one closed volume (fused
-    if allowed): ``(volume tag, metres per model unit)``. The CAD stays in its own numbers:
+    if allowed): ``(volume tag, metres per model unit, extent lo, hi in m)``. The CAD stays in its own numbers:
     OpenCASCADE's scaling (a general transformation) turns exact surfaces into B-spline
     approximations (0.6 % off in volume on the shipped carrier), so sizes, samples, mass
     properties and the mesh are scaled instead."""
@@ -98,9 +98,9 @@ def load_solid(gmsh, part: PartFile) -> tuple[int, float]:
     if loose:
         raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} face(s) bound no volume "
                                                "(loose or dangling faces); remove them in the CAD tool")
-    lo, hi = _extent(gmsh)
-    check_size(part, lo * factor, hi * factor, factor * (metres / 1e-3 if is_step else 1.0), unit_text)
-    return vols[0], factor
+    lo, hi = (factor * x for x in _extent(gmsh))
+    check_size(part, lo, hi, factor * (metres / 1e-3 if is_step else 1.0), unit_text)
+    return vols[0], factor, lo, hi
 
 
 def _extent(gmsh) -> tuple[np.ndarray, np.ndarray]:
@@ -146,12 +146,10 @@ def cad_faces(gmsh, f: float) -> Faces:
 def _geometry(gmsh, part: PartFile) -> tuple[PartGeometry, float]:
     """(the part in metres, metres per model unit)."""
     occ = gmsh.model.occ
-    vol, f = load_solid(gmsh, part)
+    vol, f, lo, hi = load_solid(gmsh, part)
     faces = cad_faces(gmsh, f)
-    lo, hi = _extent(gmsh)
-    size = float(np.linalg.norm(hi - lo)) * f
-    interfaces = resolve_interfaces(part, faces, {}, size)
-    return PartGeometry(lo * f, hi * f, occ.getMass(3, vol) * f ** 3, np.asarray(occ.getCenterOfMass(3, vol)) * f,
+    interfaces = resolve_interfaces(part, faces, {}, float(np.linalg.norm(hi - lo)))
+    return PartGeometry(lo, hi, occ.getMass(3, vol) * f ** 3, np.asarray(occ.getCenterOfMass(3, vol)) * f,
                         np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3) * f ** 5, interfaces, "cad"), f
 
 
@@ -165,7 +163,7 @@ def read_part_geometry(part: PartFile) -> PartGeometry:
 def generate_part_mesh(part: PartFile, options, path) -> None:
     """Mesh the CAD part with ``options`` (:class:`~fe_components.meshing.MeshOptions`):
     one physical volume ``solid`` and one physical surface group per interface; write ``path``."""
-    from .meshing import _repair_inverted
+    from .meshing import mesh_volume
 
     with gmsh_model("part-mesh") as gmsh:
         geo, f = _geometry(gmsh, part)
@@ -173,17 +171,8 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
         gmsh.model.addPhysicalGroup(3, vol, name="solid")
         for itf in geo.interfaces:
             gmsh.model.addPhysicalGroup(2, [int(t) for t in itf.face_ids], name=itf.name)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", options.size / f)   # model units
-        gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size / f)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
-        gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
-        gmsh.option.setNumber("Mesh.ElementOrder", options.order)
-        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
-        gmsh.option.setNumber("Mesh.Binary", 1)
         try:
-            gmsh.model.mesh.generate(3)
-            if options.order == 2:
-                _repair_inverted(gmsh)
+            mesh_volume(gmsh, options, unit=f)
             gmsh.model.mesh.affineTransform([f, 0, 0, 0, 0, f, 0, 0, 0, 0, f, 0])   # to metres
         except Exception as exc:  # gmsh raises plain Exception
             raise PartFileError("file", part.file, f"{part.path.name}: gmsh cannot mesh the part at size "

@@ -65,10 +65,6 @@ class PartGeometry:
         """Bounding-box diagonal (m)."""
         return float(np.linalg.norm(self.hi - self.lo))
 
-    def tolerance(self, rule) -> float:
-        """Face-selection tolerance (m) of ``rule``: its own, else 1e-5 of the part's size."""
-        return rule.tolerance if rule.tolerance is not None else 1e-5 * self.size
-
 
 def check_size(part: PartFile, lo: np.ndarray, hi: np.ndarray, scale: float, unit_text: str) -> None:
     """Refuse a part whose size (bounding-box diagonal, m) is outside :data:`SIZE_RANGE`: its
