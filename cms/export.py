@@ -26,11 +26,9 @@ docs/superelement_export.md.
 """
 from __future__ import annotations
 
-import errno
 import logging
 import math
 import os
-import tempfile
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CacheError, ReductionError
+from .superelement import atomic_write
 
 log = logging.getLogger(__name__)
 
@@ -168,33 +167,6 @@ def _check_ids(node_ids: np.ndarray, scalar_ids: np.ndarray) -> None:
         raise ReductionError("GRID and SPOINT ids must all differ", "node_ids", node_ids.tolist())
 
 
-# ---- atomic write -----------------------------------------------------------------------
-def _atomic_write(path, write) -> Path:
-    """Call ``write(binary file)`` on a temporary file in ``path``'s folder, fsync it and move it
-    onto ``path`` (0o644). A missing or unwritable folder raises an OSError naming the folder;
-    on any failure the temporary file is removed and ``path`` is untouched."""
-    path = Path(path)
-    folder = path.parent
-    if not folder.is_dir():
-        raise FileNotFoundError(errno.ENOENT, f"cannot write {path.name}: no such folder", str(folder))
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    except OSError as exc:
-        raise type(exc)(exc.errno, f"cannot write {path.name} into this folder: {exc.strerror}",
-                        str(folder)) from exc
-    try:
-        os.chmod(tmp, 0o644)                     # mkstemp makes it 0600
-        with os.fdopen(fd, "wb") as fh:
-            write(fh)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
 # ---- npz ---------------------------------------------------------------------------------
 def npz_arrays(se, node_ids=None, first_scalar_id: int | None = None, frame: str = DEFAULT_FRAME,
                frame_origin=None, frame_axes=None) -> dict:
@@ -229,7 +201,7 @@ def write_npz(path, se, *, node_ids=None, first_scalar_id: int | None = None, fr
     ``frame_origin`` (m) / ``frame_axes`` (columns = the frame's x, y, z in global axes):
     optional placement, stored when given. Returns the path."""
     arrays = npz_arrays(se, node_ids, first_scalar_id, frame, frame_origin, frame_axes)
-    out = _atomic_write(path, lambda fh: np.savez_compressed(fh, **arrays))
+    out = atomic_write(path, lambda fh: np.savez_compressed(fh, **arrays))
     log.info("wrote superelement npz (%d boundary DOFs, %d modal) to %s", se.n_boundary, se.n_modes, out)
     return out
 
@@ -382,7 +354,7 @@ def write_dmig(path, se, *, k_name: str = "KAAX", m_name: str = "MAAX", node_ids
     free fields to that, at >= 10 significant digits (:func:`nastran_real`). Returns the path."""
     text = dmig_text(se, k_name=k_name, m_name=m_name, node_ids=node_ids, first_scalar_id=first_scalar_id,
                      frame=frame, title=title, field_width=field_width)
-    out = _atomic_write(path, lambda fh: fh.write(text.encode("ascii", "replace")))
+    out = atomic_write(path, lambda fh: fh.write(text.encode("ascii", "replace")))
     log.info("wrote DMIG %s, %s (%d boundary DOFs, %d SPOINTs) to %s", k_name, m_name, se.n_boundary,
              se.n_modes, out)
     return out

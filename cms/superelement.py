@@ -23,11 +23,13 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import errno
 import logging
 import os
 import tempfile
 import zipfile
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -145,28 +147,42 @@ _HEX = 64
 
 def write_sealed_npz(path: str | os.PathLike, arrays: dict) -> None:
     """Write ``arrays`` as an ``.npz`` whose zip comment seals the file with its SHA-256:
-    to a unique temporary file in the same directory, fsynced, then ``os.replace``d."""
+    to a unique temporary file in the same directory, fsynced, then ``os.replace``d
+    (:func:`atomic_write`; the directory is created if missing)."""
     buf = io.BytesIO()
     np.savez(buf, **arrays)
     with zipfile.ZipFile(buf, "a") as zf:
         zf.comment = _SEAL + b"0" * _HEX       # placeholder of the final length
     body = buf.getvalue()[:-_HEX]
     data = body + hashlib.sha256(body).hexdigest().encode()
-    path = os.fspath(path)
-    directory = os.path.dirname(os.path.abspath(path))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=directory)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    atomic_write(path, lambda fh: fh.write(data))
+
+
+def atomic_write(path, write) -> Path:
+    """Call ``write(binary file)`` on a temporary file in ``path``'s folder, fsync it and move it
+    onto ``path`` (0o644). A missing or unwritable folder raises an OSError naming the folder;
+    on any failure the temporary file is removed and ``path`` is untouched."""
+    path = Path(path)
+    folder = path.parent
+    if not folder.is_dir():
+        raise FileNotFoundError(errno.ENOENT, f"cannot write {path.name}: no such folder", str(folder))
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    except OSError as exc:
+        raise type(exc)(exc.errno, f"cannot write {path.name} into this folder: {exc.strerror}",
+                        str(folder)) from exc
+    try:
+        os.chmod(tmp, 0o644)                     # mkstemp makes it 0600
         with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
+            write(fh)
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600
         os.replace(tmp, path)
     except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        Path(tmp).unlink(missing_ok=True)
         raise
+    return path
 
 
 def read_sealed_npz(path: str | os.PathLike) -> dict:
