@@ -64,16 +64,33 @@ def spring_rows(model, W: np.ndarray) -> np.ndarray:
     return G[keep] / norms[keep, None]
 
 
-def rigid_body_count(model) -> int:
-    """Number of independent zero-energy motions (rigid-body modes) of ``model``."""
+def _null_space(model):
+    """(``W``, ``V``): the zero-motion basis and the columns ``V`` (n_w x n_rigid) of its
+    coefficients that no spring row strains (right singular vectors of the normalised rows
+    below :data:`STRUCT_RTOL`; a coordinate no spring touches is one on its own)."""
     W = zero_motion_basis(model)
     if W.shape[1] == 0:
-        return 0
+        return W, np.zeros((0, 0))
     G = spring_rows(model, W)
     if G.shape[0] == 0:
-        return W.shape[1]
+        return W, np.eye(W.shape[1])
     cn = np.linalg.norm(G, axis=0)
-    G = G[:, cn > 0] / cn[cn > 0]
-    s = np.linalg.svd(G, compute_uv=False)
+    on = cn > 0
+    _, s, Vt = np.linalg.svd(G[:, on] / cn[on], full_matrices=True)
     rank = int(np.sum(s > STRUCT_RTOL * s[0])) if len(s) and s[0] > 0 else 0
-    return W.shape[1] - rank
+    V = np.zeros((W.shape[1], int(on.sum()) - rank + int((~on).sum())))
+    V[np.flatnonzero(on), :int(on.sum()) - rank] = Vt[rank:].T / cn[on][:, None]
+    V[np.flatnonzero(~on), int(on.sum()) - rank:] = np.eye(int((~on).sum()))
+    return W, V
+
+
+def rigid_body_count(model) -> int:
+    """Number of independent zero-energy motions (rigid-body modes) of ``model``."""
+    return _null_space(model)[1].shape[1]
+
+
+def rigid_body_modes(model) -> np.ndarray:
+    """(n_q x n_rigid): a basis of the rigid-body modes of ``model`` on q, from its structure
+    (not mass-normalised): every motion in it strains no spring and no flexible body."""
+    W, V = _null_space(model)
+    return W @ V

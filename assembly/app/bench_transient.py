@@ -68,7 +68,7 @@ def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]
     from ..modal import SMALL_DENSE
     from ..scene_time import Simulation
     n = model.K.shape[0]
-    M, C, K = model_matrices(model)
+    M, K, C, _ = model_matrices(model)
     solver = _Solver(_effective(M, C, K, dt, scheme_of(scene.simulation or Simulation())))
     b = np.random.default_rng(0).standard_normal(n)
 

@@ -19,6 +19,8 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 * ``motion:BODY[:INTERFACE]:x|y|z|rx|ry|rz|spin``: the motion (m, rad; global axes; ``spin``
   about the body's own axis) at the same point an input of that body would act on -- the
   work-conjugate of that input, so ``H`` between such pairs is reciprocal;
+* ``acceleration:BODY[:INTERFACE]:x|..|spin``: the second time derivative of that motion
+  (m/s^2, rad/s^2);
 * ``torque:SHAFT``: the section torque of a shaft element, ``(k + i omega c) e`` of its
   strain rows, taken about body1's axis (positive when body1 is twisted ahead of body2, as
   the static report, :mod:`assembly.reactions`); a beam shaft of several elements: its
@@ -36,7 +38,11 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
   after the solve into the peak von Mises stress over one cycle
   (:func:`von_mises_peak`); a real amplitude, its phase reported as 0.
 
-Internal loads come from the element springs and dampers, never from accelerations. Unknown
+Internal loads (section loads) come from the element springs and dampers, never from
+accelerations, plus each element's share of the scene's ``[damping]``
+(:mod:`assembly.dynamics.damping`: Rayleigh beta as the element's ``beta k``; modal ratios
+and alpha distributed mode by mode in proportion to the element's strain), so that every
+body's balance holds with them. Unknown
 names raise :class:`assembly.errors.SceneError` naming the argument and listing what exists.
 """
 from __future__ import annotations
@@ -69,6 +75,12 @@ class Channel:
     k_row: np.ndarray
     c_row: Optional[np.ndarray] = None
     group: Optional[str] = None     # a stress component: the von Mises output it feeds
+    #: a section load (an element's force or a stress): it carries its share of the scene's
+    #: damping (:mod:`assembly.dynamics.damping`) and vanishes in every rigid-body mode
+    section: bool = False
+    #: 0: the output is ``(k_row + i omega c_row) q``; 2: its second time derivative (an
+    #: ``acceleration:`` output: the ``motion:`` rows applied to q'')
+    derivative: int = 0
 
 
 def _body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[str]]:
@@ -142,13 +154,15 @@ def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
     """The output rows of ``name`` (one channel; a bearing without a direction: one per
     direction, named ``force:BEARING:d``)."""
     kind, _, rest = name.partition(":")
-    if kind == "motion" and rest:
+    if kind in ("motion", "acceleration") and rest:
         where, _, what = rest.rpartition(":")
         if what not in MOTIONS or not where:
-            raise SceneError(arg, name, f"motion output: motion:BODY[:INTERFACE]:{'|'.join(MOTIONS)}")
+            raise SceneError(arg, name, f"{kind} output: {kind}:BODY[:INTERFACE]:{'|'.join(MOTIONS)}")
         body, iface = _body_point(model, where, arg, name)
         unit = "m" if what in AXES else "rad"
-        return [Channel(name, unit, _point_vector(model, body, iface, _unit_wrench(model, body, what)))]
+        order = 2 if kind == "acceleration" else 0
+        return [Channel(name, unit + ("/s^2" if order else ""),
+                        _point_vector(model, body, iface, _unit_wrench(model, body, what)), derivative=order)]
     if kind == "stress" and rest:
         return _stress_channels(model, rest, arg, name)
     elements = {el.name: el for el in model.elements}
@@ -164,7 +178,8 @@ def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
         if el is not None and el.kind == "mesh":
             return [_element_channel(model, el, np.ones(1), name, "N")]
         return _bearing_channels(model, rest, elements, arg, name)
-    raise SceneError(arg, name, "outputs are motion:BODY[:INTERFACE]:DOF, torque:SHAFT, force:MESH, "
+    raise SceneError(arg, name, "outputs are motion:BODY[:INTERFACE]:DOF, acceleration:BODY[:INTERFACE]:DOF, "
+                                "torque:SHAFT, force:MESH, "
                                 "force:BEARING[:x|y|z|rx|ry|rz], stress:BODY:X,Y,Z")
 
 
@@ -190,7 +205,8 @@ def _stress_channels(model, rest: str, arg: str, name: str) -> list[Channel]:
         raise SceneError(arg, name, f"the point lies {dist:.4g} m from the nearest FE node of {body!r} "
                                     f"({', '.join(f'{v:.4g}' for v in node)}): off the body")
     T = model.T[model.body_slice(body), :].toarray()
-    return [Channel(f"{name}:s_{c}", "Pa", r @ T, None, group=name) for c, r in zip(VOIGT_NAMES, rows)]
+    return [Channel(f"{name}:s_{c}", "Pa", r @ T, None, group=name, section=True)
+            for c, r in zip(VOIGT_NAMES, rows)]
 
 
 def von_mises_peak(S: np.ndarray) -> np.ndarray:
@@ -253,7 +269,7 @@ def _element_channel(model, el, weights: np.ndarray, name: str, unit: str) -> Ch
     E = _strain_rows(model, el)
     k_row = (weights * el.k) @ E
     c_row = None if el.c is None else (weights * el.c) @ E
-    return Channel(name, unit, k_row, c_row)
+    return Channel(name, unit, k_row, c_row, section=True)
 
 
 def _strain_rows(model, el) -> np.ndarray:

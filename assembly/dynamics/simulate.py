@@ -1,7 +1,7 @@
 """A time-domain run of a scene: ``flexgear simulate``'s model, loads, start and outputs.
 
 The assembled model (any fidelity; flexible bodies by their Craig-Bampton reduction, or
-unreduced with ``full_fe``) with its damping (:func:`assembly.dynamics.frf.damping_on_q`),
+unreduced with ``full_fe``) with its damping (:func:`assembly.dynamics.damping.damping_on_q`),
 the nonlinear meshes (:mod:`assembly.dynamics.mesh_contact`), the generator, brake and
 gearbox friction (:mod:`assembly.dynamics.drive_torques`) and the ``[simulation]`` loads
 (:mod:`assembly.dynamics.load_series`) are integrated by
@@ -17,7 +17,11 @@ centrifugal and gyroscopic terms are left out (the usual lumped-parameter drivet
 Park et al., Lin & Parker). Outputs are :mod:`assembly.dynamics.frf_channels`' names, plus
 ``speed:BODY`` (rad/s about the body's own axis); a nonlinear mesh's ``force:MESH`` is its
 contact force, ``stress:BODY:X,Y,Z`` the von Mises stress (Pa) of the six back-expanded
-components at each instant.
+components at each instant. A section load (``torque:``, ``force:``, ``stress:``) carries
+its share of the scene's ``[damping]`` as the frequency response does,
+``k_e B_e G q'`` (:mod:`assembly.dynamics.damping`; a nonlinear mesh: its contact force
+plus the share of its mean spring ``k0``, the spring the damping matrix was built with), so
+that each body's balance ``M q'' + C q' + K q + U nu = f`` holds with the recorded loads.
 """
 from __future__ import annotations
 
@@ -36,9 +40,12 @@ from ..drivetrain import chain_ends, rigid_mode
 from ..errors import MechanismError, SceneError
 from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
+from ..nullity import rigid_body_count
 from ..scene_time import Simulation
+from .damping import damping_matrix, damping_on_q, every_mode, needs_modes, section_share
 from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
 from .integrators import generalized_alpha, hht, newmark
+from .frf import UNDAMPED_ZETA
 from .load_series import constant, ramp, read_csv, read_openfast_out
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
@@ -146,28 +153,29 @@ def _rigid_mode(model, reference: str, path: str):
 
 
 def model_matrices(model):
-    """(M, C, K) of a run on q: dense for a reduced model, sparse above DENSE_INVERSE_MAX
-    DOFs (C: :func:`_damping`)."""
+    """(M, C, K, G) of a run on q: dense for a reduced model, sparse above
+    DENSE_INVERSE_MAX DOFs (C: :func:`run_damping`; G: the section loads' share of the
+    scene damping, :func:`assembly.dynamics.damping.section_share`)."""
     sparse = model.K.shape[0] > DENSE_INVERSE_MAX
     M, K = (model.M, model.K) if sparse else (model.M.toarray(), model.K.toarray())
-    return M, _damping(model), K
+    return (M, K, *run_damping(model))
 
 
-def _damping(model):
-    """Damping on q: dense for a reduced model; the unreduced model's element dampers and
-    Rayleigh beta (sparse)."""
-    from .damping import damping_matrix
-    from .frf import _all_modes, damping_on_q
+def run_damping(model):
+    """(C, G) on q: dense for a reduced model; the unreduced model's element dampers and
+    Rayleigh beta (sparse C, scalar G). One modal basis serves both, so that the section
+    loads' shares add up to the damping force integrated."""
     d = model.scene.damping
     n = model.K.shape[0]
     if n <= DENSE_INVERSE_MAX:
-        needs = d is not None and (d.rayleigh_alpha or d.modal)
-        return damping_on_q(model, _all_modes(model) if needs else None)
-    if d is not None and (d.rayleigh_alpha or d.modal):
+        modes = every_mode(model) if needs_modes(model) else None
+        return damping_on_q(model, modes), section_share(model, modes)
+    if needs_modes(model):
         raise SceneError("damping", d, f"modal ratios and Rayleigh alpha need every mode: the model has {n} "
                                        "DOFs; use element dampers or rayleigh_beta")
     C = damping_matrix(model)
-    return C + d.rayleigh_beta * model.K if d is not None and d.rayleigh_beta else C
+    C = C + d.rayleigh_beta * model.K if d is not None and d.rayleigh_beta else C
+    return C, section_share(model)
 
 
 def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=None):
@@ -232,7 +240,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     model = model if model is not None else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
     n = model.K.shape[0]
-    M, C, K = model_matrices(model)
+    M, K, C, G = model_matrices(model)
     speed = sim.speed if speed is None else speed
     reference = sim.reference
     if reference is None:
@@ -292,6 +300,10 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
         else:
             chans.extend(output_channels(model, name))
     Ok, Oc = output_rows(chans) if chans else (np.zeros((0, n)), np.zeros((0, n)))
+    Os = _scene_share(Ok, chans, G)
+    acc = np.array([c.derivative == 2 for c in chans], bool)
+    Oa, Ok, Oc, Os = Ok[acc], Ok[~acc], Oc[~acc] + Os[~acc], Os[~acc]
+    chans = [c for c in chans if c.derivative != 2] + [c for c in chans if c.derivative == 2]
     mesh_idx = {f"force:{mi.name}": j for j, mi in enumerate(meshes.info)}
     swap = [(i, mesh_idx[c.name]) for i, c in enumerate(chans) if c.name in mesh_idx]
     Sv = np.array(list(speed_rows.values())).reshape(len(speed_rows), n)
@@ -299,11 +311,11 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     def observe(q, v, a, nu):
         y = Ok @ q + Oc @ v
         for i, j in swap:
-            y[i] = meshes.last_force[j]
-        return np.concatenate([y, Sv @ v])
+            y[i] = meshes.last_force[j] + Os[i] @ v
+        return np.concatenate([y, Oa @ a, Sv @ v])
 
     freqs, shaft_hz, side_hz = _mesh_frequencies(model, scene, v0)
-    warnings = step_warnings(dt, freqs, meshes, scene.band)
+    warnings = step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
     if sim.brake is not None and torques is not None and torques.i_brake is not None:
         # below the stick speed the brake is a damper T/stick on the braked body: the trapezoidal
         # rule keeps its decay positive only for dt < 2 J stick / T (J: the body's own inertia)
@@ -335,6 +347,38 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     if not complete:
         raise Diverged(str(stopped), result)
     return result
+
+
+def _scene_share(Ok: np.ndarray, chans: list, G) -> np.ndarray:
+    """The damper rows of the scene-damping share of each output (zero but for section loads):
+    ``Ok G`` (module notes)."""
+    out = np.zeros_like(Ok)
+    sec = np.array([c.section for c in chans], bool)
+    if G is not None and sec.any():
+        out[sec] = Ok[sec] @ G if np.ndim(G) else G * Ok[sec]
+    return out
+
+
+def undamped_band(model, M, K, C, band_hz: float) -> list:
+    """A warning naming the elastic modes up to ``band_hz`` (of a reduced, dense model) that
+    no damper or ratio damps: a run started or driven at them rings without decay. Only the
+    modes below the band are solved (a dense subset solve)."""
+    if sp.issparse(K) or K.shape[0] == 0 or not band_hz > 0:
+        return []
+    r = rigid_body_count(model)
+    lam, Phi = sla.eigh(K, M, subset_by_value=(-np.inf, (2 * np.pi * band_hz) ** 2))
+    if lam.size <= r:
+        return []
+    lam, Phi = lam[r:], Phi[:, r:]
+    fr = np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi)
+    c = np.einsum("ij,ij->j", Phi, C @ Phi)                            # phi' C phi (C >= 0; phi' M phi = 1)
+    zeta = c / (2 * 2 * np.pi * np.maximum(fr, 1e-300))
+    bad = np.flatnonzero(zeta < UNDAMPED_ZETA)
+    if not bad.size:
+        return []
+    names = ", ".join(f"{r + i + 1} ({fr[i]:.6g} Hz)" for i in bad[:8]) + (" ..." if bad.size > 8 else "")
+    return [f"{bad.size} mode(s) in the band (to {band_hz:g} Hz) have no damping: {names}; they ring without "
+            "decay (add element dampers or a [damping] table)"]
 
 
 def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
