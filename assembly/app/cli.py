@@ -281,6 +281,7 @@ def cmd_frf(args) -> int:
     """``flexgear frf``: frequency response from one input to outputs: a summary, ``--json``,
     or files in ``--out``."""
     from ..dynamics.frf import frequency_response
+    from ..errors import SceneError
     from ..model import assemble
     from ..schema import load_scene
     from .frf import frequencies, frf_json, frf_to_dir, summary_text
@@ -293,8 +294,16 @@ def cmd_frf(args) -> int:
         raise UsageError(f"--modes-hz = {args.modes_hz}: must be a frequency > 0 Hz (inf: every mode)")
     path = scene_file(args)
     scene = load_scene(path)
-    r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
-                           modes_hz=args.modes_hz)
+    try:
+        r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
+                               modes_hz=args.modes_hz)
+    except SceneError as exc:
+        if exc.path != "modes_hz":
+            raise
+        raise UsageError(f"--modes-hz = {exc.value!r}: {exc.reason}") from None
+    if args.json or args.out is not None:        # the summary lists them itself
+        for w in r.warnings:
+            print(f"flexgear: warning: {w}", file=sys.stderr)
     return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log), lambda: frf_json(r, scene.name),
                  f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs", lambda: summary_text(r, scene.name))
 
@@ -305,9 +314,8 @@ def _emit(args, to_dir, as_json, done: str, summary, indent: int | None = 1) -> 
     ``summary()``."""
     if args.out is not None:
         to_dir()
-    if args.json:
-        json.dump(as_json(), sys.stdout, indent=indent)
-        sys.stdout.write("\n")
+    if args.json:   # strict JSON: a non-finite number is a bug upstream, never a bare NaN on stdout
+        sys.stdout.write(json.dumps(as_json(), indent=indent, allow_nan=False) + "\n")
     elif args.out is not None:
         print(f"{done} -> {Path(args.out) / 'index.html'}")
     else:
@@ -326,8 +334,8 @@ def _add_frf(sub) -> None:
                         "pair along the line of action)")
     p.add_argument("--output", required=True, action="append", metavar="OUT",
                    help="torque:SHAFT, force:MESH, force:BEARING[:x..rz], motion:BODY[:INTERFACE]:x..rz|spin, "
-                        "stress:BODY:X,Y,Z (von Mises at a point of a flexible body, m) "
-                        "(repeat for more)")
+                        "acceleration:BODY[:INTERFACE]:x..rz|spin, stress:BODY:X,Y,Z (von Mises at a point of a "
+                        "flexible body, m) (repeat for more); section loads carry their share of every damping")
     p.add_argument("--fmin", type=float, default=0.1, help="lowest frequency, Hz (default 0.1)")
     p.add_argument("--fmax", type=float, default=1000.0, help="highest frequency, Hz (default 1000)")
     p.add_argument("--points", type=int, default=2000, help="frequencies (default 2000)")
@@ -388,7 +396,8 @@ def _add_simulate(sub) -> None:
     p.add_argument("--dt", type=float, required=True, metavar="DT", help="time step, s")
     p.add_argument("--output", action="append", metavar="OUT",
                    help="as flexgear frf's outputs (torque:SHAFT, force:MESH, force:BEARING[:dir], "
-                        "motion:BODY[:INTERFACE]:dof, stress:BODY:X,Y,Z), speed:BODY (rad/s) and stress:POINT "
+                        "motion:/acceleration:BODY[:INTERFACE]:dof, stress:BODY:X,Y,Z), speed:BODY (rad/s) and "
+                        "stress:POINT "
                         "(simulation.points) (repeat for more; default: every named point and nonlinear mesh)")
     p.add_argument("--speed", type=float, default=None, metavar="RAD_S",
                    help="starting speed of the rotor (rad/s; default simulation.speed)")

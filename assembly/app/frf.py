@@ -41,7 +41,8 @@ def frf_json(r: FRF, scene: str = "") -> dict:
     return {"scene": scene, "input": r.input, "method": r.method, "frequency_hz": r.frequency_hz.tolist(),
             "outputs": {k: {"magnitude": np.abs(h).tolist(), "phase_deg": np.degrees(np.angle(h)).tolist()}
                         for k, h in r.outputs.items()},
-            "units": {"frequency": "Hz", **r.units}, "natural_hz": r.natural_hz.tolist()}
+            "units": {"frequency": "Hz", **r.units}, "natural_hz": r.natural_hz.tolist(),
+            "warnings": list(r.warnings)}
 
 
 def write_csv(r: FRF, path) -> Path:
@@ -67,17 +68,20 @@ def summary_text(r: FRF, scene: str) -> str:
     for k, h in r.outputs.items():
         j = int(np.argmax(np.abs(h)))
         lines.append(f"  {k}: max |H| {abs(h[j]):.6g} {r.units[k]} at {r.frequency_hz[j]:.6g} Hz")
+    lines += [f"  warning: {w}" for w in r.warnings]
     return "\n".join(lines)
 
 
 def _index(r: FRF, scene: str, plots: list) -> str:
     e = html.escape
     figs = "\n".join(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots)
+    warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
+    warn = f"<p><b>Warnings</b></p><ul>{warn}</ul>" if warn else ""
     return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: FRF</title></head><body>"
             f"<h1>{e(scene)}: frequency response from {e(r.input)}</h1>"
             f"<p>{len(r.frequency_hz)} points, {r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz, {e(r.method)}; "
             f'dotted lines: undamped natural frequencies. Data: <a href="frf.csv">frf.csv</a>, '
-            f'<a href="frf.json">frf.json</a>.</p>\n{figs}\n</body></html>\n')
+            f'<a href="frf.json">frf.json</a>.</p>\n{warn}{figs}\n</body></html>\n')
 
 
 def frf_to_dir(r: FRF, out_dir, scene: str, scene_source: str = "", log: bool = False) -> dict:
@@ -93,7 +97,7 @@ def frf_to_dir(r: FRF, out_dir, scene: str, scene_source: str = "", log: bool = 
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "frf results"):
             write_csv(r, work / "frf.csv")
-            (work / "frf.json").write_text(json.dumps(frf_json(r, scene), indent=1), encoding="utf-8")
+            (work / "frf.json").write_text(json.dumps(frf_json(r, scene), indent=1, allow_nan=False), encoding="utf-8")
             for n, p in plots:
                 plot_bode(r.frequency_hz, r.outputs[n], work / p, title=f"{scene}: {r.input} -> {n}",
                           ylabel=r.units[n], natural_hz=r.natural_hz, logx=log)
