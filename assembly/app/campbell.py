@@ -8,13 +8,13 @@ table on stdout, one JSON object (``--json``), or ``--out DIR`` with ``campbell.
 from __future__ import annotations
 
 import csv
-import json
 import logging
 import sys
 import time
 from pathlib import Path
 
 from ..dynamics.campbell import Campbell
+from . import strict_json
 
 log = logging.getLogger(__name__)
 
@@ -96,7 +96,7 @@ def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_
         with writing(out_dir, work, "campbell results"):
             write_plot(c, work / "campbell.png", rated_rpm)
             write_csv(c, work / "crossings.csv")
-            (work / "campbell.json").write_text(json.dumps(campbell_json(c, rated_rpm), indent=1), encoding="utf-8")
+            (work / "campbell.json").write_text(strict_json.dumps(campbell_json(c, rated_rpm), indent=1), encoding="utf-8")
             info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source), files=list(FILES),
                         n_crossings=len(c.crossings), time_s=round(time.perf_counter() - t0, 4),
                         python=sys.version.split()[0])

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import logging
 import signal
 import sys
@@ -105,8 +104,7 @@ def cmd_modes(args) -> int:
     scene = load_scene(scene_file(args))
     res = solve_modes(assemble(scene))
     if args.json:
-        json.dump(modes_json(res), sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        _print_json(modes_json(res))
     else:
         print(modes_table(res, title=f"{scene.name}  ({args.scene})", all_modes=args.all))
     return 0
@@ -120,9 +118,8 @@ def cmd_compare(args) -> int:
     scene = load_scene(scene_file(args))
     c = compare(scene, n_rows=args.modes, flexible_components=True)
     if args.json:
-        json.dump({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
-                   "pairs": c.rows, "timings": c.timings}, sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        _print_json({"scene": scene.name, "units": {"frequency": "Hz"}, "frequencies_hz": c.frequencies(),
+                     "pairs": c.rows, "timings": c.timings})
     else:
         print(f"{scene.name}  ({args.scene})")
         print(comparison_table(c))
@@ -144,8 +141,7 @@ def cmd_static(args) -> int:
         raise SceneError("loads", [], "the scene has no load case: add a [load] table or [[loads]] tables")
     reports = [static_report(st) for st in solve_static_cases(scene, None, model=assemble(scene))]
     if args.json:
-        json.dump(static_json(scene.name, reports), sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        _print_json(static_json(scene.name, reports))
     else:
         print(static_text(reports, title=f"{scene.name}  ({args.scene})"))
     return 0
@@ -267,8 +263,7 @@ def cmd_campbell(args) -> int:
     if args.out is not None:
         campbell_to_dir(c, args.out, args.rated_rpm, path)
     if args.json:
-        json.dump(campbell_json(c, args.rated_rpm), sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        _print_json(campbell_json(c, args.rated_rpm))
     elif args.out is not None:
         print(f"{c.scene}: {len(c.orders)} orders, {len(c.crossings)} crossings -> "
               f"{Path(args.out) / 'campbell.png'}")
@@ -314,13 +309,20 @@ def _emit(args, to_dir, as_json, done: str, summary, indent: int | None = 1) -> 
     ``summary()``."""
     if args.out is not None:
         to_dir()
-    if args.json:   # strict JSON: a non-finite number is a bug upstream, never a bare NaN on stdout
-        sys.stdout.write(json.dumps(as_json(), indent=indent, allow_nan=False) + "\n")
+    if args.json:
+        _print_json(as_json(), indent)
     elif args.out is not None:
         print(f"{done} -> {Path(args.out) / 'index.html'}")
     else:
         print(summary())
     return 0
+
+
+def _print_json(obj, indent: int | None = 1) -> None:
+    """One strict JSON object on stdout (:mod:`assembly.app.strict_json`: a non-finite
+    number is an error naming it, never a bare NaN)."""
+    from .strict_json import dumps
+    sys.stdout.write(dumps(obj, indent=indent) + "\n")
 
 
 def _add_frf(sub) -> None:
@@ -378,8 +380,7 @@ def cmd_simulate(args) -> int:
         except Diverged as exc:
             where = write_partial(exc.partial, args.out if args.out is not None else ".", scene.name)
             if args.json:
-                json.dump(exc.partial.as_json(), sys.stdout)
-                sys.stdout.write("\n")
+                _print_json(exc.partial.as_json(), None)
             print(f"flexgear: error: run stopped: {exc}; what was computed (to t = "
                   f"{exc.partial.time_s[-1]:.6g} s) is in {where}", file=sys.stderr)
             return 1

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import csv
 import html
-import json
 import sys
 import time
 from pathlib import Path
@@ -20,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dynamics.frf import FRF
+from . import strict_json
 from .html_report import figure
 
 
@@ -97,7 +97,7 @@ def frf_to_dir(r: FRF, out_dir, scene: str, scene_source: str = "", log: bool = 
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "frf results"):
             write_csv(r, work / "frf.csv")
-            (work / "frf.json").write_text(json.dumps(frf_json(r, scene), indent=1, allow_nan=False), encoding="utf-8")
+            (work / "frf.json").write_text(strict_json.dumps(frf_json(r, scene), indent=1), encoding="utf-8")
             for n, p in plots:
                 plot_bode(r.frequency_hz, r.outputs[n], work / p, title=f"{scene}: {r.input} -> {n}",
                           ylabel=r.units[n], natural_hz=r.natural_hz, logx=log)

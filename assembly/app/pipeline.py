@@ -24,7 +24,6 @@ Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``, ``energy_by_mo
 from __future__ import annotations
 
 import csv
-import json
 import logging
 import os
 import sys
@@ -48,6 +47,7 @@ from ..scene import DISPLAY_BAND_FACTOR, Scene
 from ..schema import load_scene
 from ..reactions import static_report
 from ..static import solve_static_cases
+from . import strict_json
 from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
@@ -213,7 +213,7 @@ def step_tables(ctx: RunContext, bar) -> None:
                      ctx.add_file("energy_by_mode.csv", "kinetic and strain energy shares of every mode per stage, "
                                   "body, bearing, mesh and shaft (CSV)"))
     with open(ctx.add_file("modes.json", "frequencies, classes, energy shares and shapes (JSON)"), "w") as fh:
-        json.dump(modes_json(res), fh, indent=1)
+        fh.write(strict_json.dumps(modes_json(res), indent=1))
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
         modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     if ctx.comparison:
@@ -407,7 +407,7 @@ def step_static(ctx: RunContext, bar) -> None:
     write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
                                                                    "checks (CSV; N, N m)"))
     with open(ctx.add_file("static.json", "static load cases: forces, reactions, checks (JSON; N, N m)"), "w") as fh:
-        json.dump(static_json(ctx.scene.name, ctx.static_reports), fh, indent=1)
+        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports), indent=1))
     ctx.add_file("static_table.txt", "static load cases (text)").write_text(
         static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     for r in ctx.static_reports:

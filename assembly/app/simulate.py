@@ -17,7 +17,6 @@ folder, and the command ends with the reason and exit code 1.
 from __future__ import annotations
 
 import html
-import json
 import sys
 import time
 from pathlib import Path
@@ -25,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dynamics.simulate import SimulationResult
+from . import strict_json
 from .html_report import figure
 
 #: Mesh harmonics marked on the spectra.
@@ -89,7 +89,7 @@ def write_h5(r: SimulationResult, path, scene: str, facts: dict | None = None) -
             g.create_dataset(k.replace("/", "|"), data=y).attrs["unit"] = r.units[k]
         f.attrs["scene"] = scene
         f.attrs["complete"] = r.complete
-        f.attrs["summary"] = json.dumps(facts if facts is not None else summary(r, scene))
+        f.attrs["summary"] = strict_json.dumps(facts if facts is not None else summary(r, scene))
     return Path(path)
 
 
@@ -140,7 +140,7 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
             write_h5(r, work / "simulation.h5", scene, s)
-            (work / "summary.json").write_text(json.dumps(s, indent=1), encoding="utf-8")
+            (work / "summary.json").write_text(strict_json.dumps(s, indent=1), encoding="utf-8")
             for i, (k, y) in enumerate(r.outputs.items()):
                 unit = r.units[k]
                 p = f"trace_{i + 1:02d}.png"
