@@ -21,9 +21,10 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.load_series import (Series, brake_torque, constant, efficiency_factor, make_series,
-                                           ramp, read_csv, read_openfast_out)
+from assembly.dynamics.load_series import (Series, brake_torque, constant, efficiency_factor, file_history,
+                                           make_series, ramp, range_warning, read_csv, read_openfast_out)
 from assembly.errors import SceneError
+from tests.support.openfast_files import out_text
 
 FIELD = "simulation.loads[0].table"
 
@@ -183,20 +184,9 @@ def test_read_csv_refuses_unreadable_file(tmp_path):
 # ---------------------------------------------------------------- OpenFAST .out
 
 OF_FIELD = "simulation.loads[0].openfast"
-OF_HEAD = ("\n"
-           "Predictions were generated on 04-Mar-2024 at 10:12:31 using OpenFAST, compiled as a 64-bit "
-           "application using double precision at commit v3.5.2\n"
-           " linked with  NWTC Subroutine Library; ElastoDyn; InflowWind; AeroDyn; ServoDyn\n"
-           "\n"
-           "Description from the FAST input file: NREL 5.0 MW Baseline Wind Turbine (Onshore)\n"
-           "\n")
-
-
 def _out(tmp_path, names, units, rows, name="run.out"):
-    body = "\t".join(names) + "\n" + "\t".join(units) + "\n"
-    body += "".join("\t".join(f"{v:10.4E}" if isinstance(v, float) else str(v) for v in r) + "\n" for r in rows)
     p = tmp_path / name
-    p.write_text(OF_HEAD + body)
+    p.write_text(out_text(names, units, rows))
     return p
 
 
@@ -229,7 +219,11 @@ def test_openfast_unit_table(tmp_path, unit, si, factor):
 
 BAD_OUT = {
     "unknown unit": (["Time", "GenTq"], ["(s)", "(lbf-ft)"], [(0.0, 1.0), (1.0, 2.0)], "run.out",
-                     "'GenTq' has unit '(lbf-ft)'"),
+                     "'GenTq' has unit (lbf-ft), which flexgear does not read"),
+    "time unit": (["Time", "GenTq"], ["(min)", "(kN-m)"], [(0.0, 1.0), (1.0, 2.0)], "run.out",
+                  "'Time' has unit (min)"),
+    "time not a time": (["Time", "GenTq"], ["(rpm)", "(kN-m)"], [(0.0, 1.0), (1.0, 2.0)], "run.out",
+                        "the first channel 'Time' has unit (rpm): not a time"),
     "missing column": (["Time", "RotTorq", "RotSpeed"], ["(s)", "(kN-m)", "(rpm)"], [(0.0, 1.0, 2.0)], "run.out",
                        "no channel 'GenTq'; the file has Time, RotTorq, RotSpeed"),
     "non-monotonic": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.2, 2.0), (0.1, 3.0)], "run.out",
@@ -237,7 +231,9 @@ BAD_OUT = {
     "repeated time": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.0, 2.0)], "run.out",
                       "does not increase"),
     "text cell": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.1, "abc")], "run.out",
-                  "'abc' is not a number"),
+                  "line 10, channel 'GenTq': 'abc' is not a number"),
+    "nan row": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.1, "NaN")], "run.out",
+                "value nan at line 10 is not finite"),
     "short row": (["Time", "GenTq"], ["(s)", "(kN-m)"], [(0.0, 1.0), (0.1,)], "run.out", "1 values, 2 channels"),
     "unit count": (["Time", "GenTq"], ["(s)"], [(0.0, 1.0)], "run.out", "2 channel names but 1 units"),
     "no data": (["Time", "GenTq"], ["(s)", "(kN-m)"], [], "run.out", "no data rows"),
@@ -253,10 +249,10 @@ def test_openfast_refuses_bad_files(tmp_path, case):
     assert str(err.value).startswith(OF_FIELD + " = ") and words in str(err.value)
 
 
-def test_openfast_refuses_binary_missing_and_headerless(tmp_path):
+def test_openfast_refuses_damaged_binary_missing_and_headerless(tmp_path):
     b = tmp_path / "run.outb"
-    b.write_bytes(b"\x02\x00\x05\x00\x00\x00" + bytes(range(256)))
-    cases = [(b, "OutFileFmt = 1"), (tmp_path / "absent.out", "file not found")]
+    b.write_bytes(b"\x02\x00\x05\x00\x00\x00" + bytes(range(256)))      # FileFmtID 2, 5 channels, then noise
+    cases = [(b, "truncated"), (tmp_path / "absent.out", "file not found")]
     h = tmp_path / "headerless.out"
     h.write_text("0.0 1.0\n0.1 2.0\n")
     cases.append((h, "no channel line starting with 'Time'"))
@@ -264,6 +260,109 @@ def test_openfast_refuses_binary_missing_and_headerless(tmp_path):
         with pytest.raises(SceneError) as err:
             read_openfast_out(path, "RotTorq", field=OF_FIELD)
         assert OF_FIELD in str(err.value) and words in str(err.value)
+
+
+COLUMN = "simulation.loads[0].column"
+
+
+@pytest.mark.parametrize("unit,expect,words", [
+    ("(kW)", "N m", "unit (kW) is a power, not a torque"),
+    ("(W)", "N m", "unit (W) is a power, not a torque"),
+    ("(rpm)", "N m", "unit (rpm) is an angular speed, not a torque"),
+    ("(deg)", "N m", "unit (deg) is an angle, not a torque"),
+    ("(m/s)", "N m", "unit (m/s) is a speed, not a torque"),
+    ("(-)", "N m", "unit (-) is dimensionless, not a torque"),
+    ("(kN)", "N m", "unit (kN) is a force, not a torque"),
+    ("(kN-m)", "N", "unit (kN-m) is a torque, not a force"),
+])
+def test_openfast_channel_of_the_wrong_kind_is_refused_naming_the_column(tmp_path, unit, expect, words):
+    p = _out(tmp_path, ["Time", "Chan"], ["(s)", unit], [(0.0, 1.0), (1.0, 2.0)])
+    with pytest.raises(SceneError) as err:
+        read_openfast_out(p, "Chan", field=OF_FIELD, expect=expect, column_field=COLUMN)
+    assert str(err.value) == f"{COLUMN} = 'Chan': {words}"
+
+
+@pytest.mark.parametrize("unit,expect,factor", [
+    ("(N-m)", "N m", 1.0), ("(kN-m)", "N m", 1e3), ("(MN-m)", "N m", 1e6), ("(N·m)", "N m", 1.0),
+    ("(kN·m)", "N m", 1e3), ("(N)", "N", 1.0), ("(kN)", "N", 1e3), ("(MN)", "N", 1e6)])
+def test_openfast_channel_of_the_right_kind_is_converted(tmp_path, unit, expect, factor):
+    p = _out(tmp_path, ["Time", "Chan"], ["(s)", unit], [(0.0, 2.5), (1.0, -4.0)])
+    s = read_openfast_out(p, "Chan", field=OF_FIELD, expect=expect, column_field=COLUMN)
+    np.testing.assert_allclose(s.values, np.array([2.5, -4.0]) * factor, rtol=1e-15)   # SI prefixes
+    assert s.unit == expect
+
+
+# ---------------------------------------------------------------- file histories: window, offset, range
+
+class Src:
+    """A table's file keys, as TimeLoad and Generator carry them."""
+
+    def __init__(self, **kw):
+        self.__dict__.update({"table": None, "openfast": None, "column": None, "time_column": "time", "scale": 1.0,
+                              "time_offset": 0.0, "time_window": None, **kw})
+
+
+def _ramp_file(tmp_path):
+    # y = 100 + 10 t at t = 0, 1, ..., 10 s: linear, so any interpolated value is 100 + 10 t exactly
+    rows = [(float(t), 100.0 + 10.0 * t) for t in range(11)]
+    return _out(tmp_path, ["Time", "GenTq"], ["(s)", "(kN-m)"], rows)
+
+
+def test_time_window_cuts_and_interpolates_the_ends(tmp_path):
+    _ramp_file(tmp_path)
+    s = file_history(Src(openfast="run.out", column="GenTq", time_window=(2.5, 7.25)), "simulation.generator",
+                     tmp_path, "N m")
+    np.testing.assert_allclose(s.time_s, [2.5, 3, 4, 5, 6, 7, 7.25])
+    np.testing.assert_allclose(s.values, (100.0 + 10.0 * s.time_s) * 1e3, rtol=1e-14)
+    assert s(0.0) == pytest.approx(125e3) and s(9.0) == pytest.approx(172.5e3)       # ends held
+
+
+def test_time_offset_moves_file_time_to_run_time(tmp_path):
+    _ramp_file(tmp_path)
+    s = file_history(Src(openfast="run.out", column="GenTq", time_offset=4.0, time_window=(4.0, 9.0), scale=-2.0),
+                     "simulation.loads[0]", tmp_path, "N m")
+    # run time t is file time t + 4; scale after the kN-m -> N m conversion
+    for t in (0.0, 0.3, 2.0, 5.0):
+        assert s(t) == pytest.approx(-2.0 * 1e3 * (100.0 + 10.0 * (t + 4.0)), rel=1e-14)
+    assert "time_offset 4 s" in s.origin and "run.out" in s.origin and "GenTq" in s.origin
+
+
+def test_csv_history_takes_window_and_offset_too(tmp_path):
+    (tmp_path / "t.csv").write_text("time,T\n0,0\n10,1000\n", encoding="utf-8")
+    s = file_history(Src(table="t.csv", column="T", time_offset=-1.0, time_window=(2.0, 4.0)), "p", tmp_path, "N m")
+    np.testing.assert_allclose(s.time_s, [3.0, 5.0])
+    np.testing.assert_allclose(s.values, [200.0, 400.0])
+
+
+@pytest.mark.parametrize("window,words", [((5.0, 5.0), "start < end"), ((6.0, 2.0), "start < end"),
+                                          ((-1.0, 5.0), "from 0 to 10 s"), ((2.0, 10.5), "from 0 to 10 s")])
+def test_bad_time_window_is_refused(tmp_path, window, words):
+    _ramp_file(tmp_path)
+    with pytest.raises(SceneError) as err:
+        file_history(Src(openfast="run.out", column="GenTq", time_window=window), "simulation.loads[2]", tmp_path,
+                     "N m")
+    assert str(err.value).startswith("simulation.loads[2].time_window = ") and words in str(err.value)
+
+
+def test_openfast_history_refuses_a_time_column(tmp_path):
+    _ramp_file(tmp_path)
+    with pytest.raises(SceneError, match=r"^simulation.loads\[0\].time_column = 't': "):
+        file_history(Src(openfast="run.out", column="GenTq", time_column="t"), "simulation.loads[0]", tmp_path, "N m")
+
+
+def test_range_warning_names_both_ranges(tmp_path):
+    _ramp_file(tmp_path)
+    s = file_history(Src(openfast="run.out", column="GenTq", time_offset=-1.0), "simulation.loads[0]", tmp_path,
+                     "N m")                                    # rows at run time 1 .. 11 s
+    assert range_warning(s, 11.0) == ("simulation.loads[0] (run.out, channel GenTq, time_offset -1 s): the run (0 "
+                                      "to 11 s) leaves the data's time range (1 to 11 s of run time); its first "
+                                      "value is held from 0 to 1 s")
+    w = range_warning(s, 12.5)
+    assert "first value is held from 0 to 1 s and its last value is held from 11 to 12.5 s" in w
+    inside = file_history(Src(openfast="run.out", column="GenTq"), "simulation.loads[0]", tmp_path, "N m")
+    assert range_warning(inside, 10.0) is None and range_warning(inside, 10.0 + 1e-12) is None
+    assert range_warning(inside, 10.001) is not None
+    assert range_warning(constant(1.0, "c", "N m"), 50.0) is None          # a constant has no range
 
 
 # ---------------------------------------------------------------- HSS brake
