@@ -24,6 +24,17 @@ _BEARING_DAMPERS = {
     "c_tilt_y": "Damper about local y, with `c_tilt_x` instead of `c_tilt` (Nejad et al. 2016: c_gamma).",
 }
 
+#: The keys of a history read from a file, shared by `[[simulation.loads]]` and the generator.
+_FILE_HISTORY = {
+    "table": "CSV file (relative to the scene file) with a header row.",
+    "openfast": "OpenFAST output, text (.out, FAST v7/v8 too) or binary (.outb); converted to SI by its units.",
+    "column": "The column or channel to read (e.g. `RtAeroMxh`); a channel's unit must fit the quantity.",
+    "time_column": "Time column of the CSV file (default `time`).",
+    "scale": "Factor on a table's or file's values, after the conversion to SI (default 1).",
+    "time_offset": "Shift of the file's time: run time = file time - time_offset (s, default 0).",
+    "time_window": "[t0, t1]: the part of the file read (s, the file's time; default all).",
+}
+
 #: class name -> {field name -> one-line description}.
 FIELDS: dict[str, dict[str, str]] = {
     "Scene": {
@@ -277,20 +288,18 @@ FIELDS: dict[str, dict[str, str]] = {
         "end_value": "A ramp's end value (with `t_end`).",
         "t_start": "Ramp start (s, default 0).",
         "t_end": "Ramp end (s); a step is a ramp of one time step.",
-        "table": "CSV file (relative to the scene file) with a header row.",
-        "openfast": "OpenFAST text output (.out); converted to SI by its units row.",
-        "column": "The column or channel to read (e.g. `RotTorq`).",
-        "time_column": "Time column of the CSV file (default `time`).",
-        "scale": "Factor on a table's or file's values (default 1).",
+        **_FILE_HISTORY,
     },
     "Generator": {
         "body": "Body the generator acts on (default the body of role 'generator').",
-        "law": "'constant' (default) or 'pi' (rated torque with a PI speed controller).",
+        "law": "'constant' (default), 'pi' (rated torque with a PI speed controller) or 'table' (a "
+               "recorded torque from `table` or `openfast`, e.g. OpenFAST's GenTq: positive brakes).",
         "torque": "Constant torque, or the PI's torque at rated speed (N m).",
         "rated_speed": "PI set point: the generator body's speed (rad/s).",
         "kp": "PI proportional gain (N m s/rad).",
         "ki": "PI integral gain (N m/rad).",
         "max_torque": "PI torque limit (N m, default 1.1 x torque).",
+        **_FILE_HISTORY,
     },
     "Brake": {
         "torque": "Full brake torque (N m; ElastoDyn HSSBrTqF).",

@@ -66,10 +66,14 @@ class TimeLoad:
       a ramp of one time step);
     * ``table``: a CSV file (path relative to the scene file) with a header row, the time
       column ``time_column`` (s) and the value column ``column``;
-    * ``openfast``: an OpenFAST text output file (``.out``), channel ``column`` (e.g.
-      ``RotTorq``), converted to SI by its units row (kN-m -> N m).
+    * ``openfast``: an OpenFAST output file, text (``.out``, FAST v7/v8 too) or binary
+      (``.outb``), channel ``column`` (e.g. ``RtAeroMxh``), converted to SI by its unit
+      (kN-m -> N m); a torque or moment needs a torque channel, a force a force channel.
 
-    ``scale`` multiplies a table's or file's values (e.g. -1 for the other sense)."""
+    ``scale`` multiplies a table's or file's values after the conversion to SI (e.g. -1 for
+    the other sense). ``time_window = [t0, t1]`` (s, the file's time) keeps that part of a
+    file; ``time_offset`` (s) moves it: run time = file time - time_offset. Outside the
+    file's rows the first / last value is held, and the run warns."""
 
     body: str
     kind: Literal["torque", "force", "moment"] = "torque"
@@ -84,23 +88,37 @@ class TimeLoad:
     column: Optional[str] = None
     time_column: str = "time"
     scale: float = quantity("", 1.0)
+    time_offset: float = quantity("s", 0.0)
+    time_window: Optional[tuple[float, float]] = quantity("s", None)
 
 
 @dataclass(frozen=True)
 class Generator:
     """The generator's electromagnetic torque on ``body`` (default the body of role
-    "generator"), always opposing its rotation sense at the start. ``law`` "constant":
-    ``torque`` (N m); "pi": ``torque`` + ``kp`` (omega - ``rated_speed``) + ``ki`` x the
-    integral of (omega - ``rated_speed``) dt, clipped to [0, ``max_torque``] (omega: the
-    body's speed, rad/s, in its starting sense; default max: 1.1 x ``torque``)."""
+    "generator"), a positive torque opposing its rotation sense at the start. ``law``
+    "constant": ``torque`` (N m); "pi": ``torque`` + ``kp`` (omega - ``rated_speed``) +
+    ``ki`` x the integral of (omega - ``rated_speed``) dt, clipped to [0, ``max_torque``]
+    (omega: the body's speed, rad/s, in its starting sense; default max: 1.1 x ``torque``);
+    "table": a recorded torque history read as a load's (``table`` or ``openfast``,
+    ``column``, ``time_column``, ``scale``, ``time_offset``, ``time_window``; e.g.
+    OpenFAST's ``GenTq``, whose positive value brakes the generator as here, and a negative
+    value drives it). From standstill (``speed = 0``) the sense is the one the generator
+    turns in when the reference rotor turns positively about its own axis."""
 
     body: Optional[str] = None
-    law: Literal["constant", "pi"] = "constant"
+    law: Literal["constant", "pi", "table"] = "constant"
     torque: float = quantity("N m", 0.0, ge=0.0)
     rated_speed: Optional[float] = quantity("rad/s", None, gt=0.0)
     kp: float = quantity("N m s/rad", 0.0, ge=0.0)
     ki: float = quantity("N m/rad", 0.0, ge=0.0)
     max_torque: Optional[float] = quantity("N m", None, gt=0.0)
+    table: Optional[str] = None
+    openfast: Optional[str] = None
+    column: Optional[str] = None
+    time_column: str = "time"
+    scale: float = quantity("", 1.0)
+    time_offset: float = quantity("s", 0.0)
+    time_window: Optional[tuple[float, float]] = quantity("s", None)
 
 
 @dataclass(frozen=True)

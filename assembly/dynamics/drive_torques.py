@@ -7,9 +7,10 @@ parts, zero force: they only carry the shaft torque to the friction law). Forces
 enter the balance as ``M q'' + ... + U nu = f``, so a positive ``nu`` brakes a positive
 rotation:
 
-* generator, sense s (+1/-1, the generator's starting sense): ``nu = s T``, T constant or
+* generator, sense s (+1/-1, the generator's starting sense): ``nu = s T``, T constant,
   ``clip(T0 + kp e + ki I, 0, T_max)`` with e = s omega - omega_rated and I = int e dt
-  (trapezoidal, so the step's tangent is kp + ki dt / 2);
+  (trapezoidal, so the step's tangent is kp + ki dt / 2), or a recorded history T(t) (law
+  "table", e.g. OpenFAST's GenTq: positive brakes, negative drives);
 * brake (ElastoDyn's HSS brake, Jonkman 2009): ``nu = T_b(t) clip(omega / omega_stick, -1,
   1)``: the full ramped torque against the motion, proportional to speed below the stick
   speed, so it stops the shaft and never drives it backwards;
@@ -30,11 +31,12 @@ from .transient import Nonlinear
 class ShaftTorques(Nonlinear):
     """Generator, brake and gearbox friction (module notes). ``generator``/``brake``: the
     scene tables or None; rows on q; ``sense``: the generator's starting sense (+1/-1);
-    ``inertia``: the generator's polar inertia (kg m^2); ``dt`` (s) the run's step."""
+    ``inertia``: the generator's polar inertia (kg m^2); ``dt`` (s) the run's step;
+    ``history``: the torque T(t) of a generator of law "table" (a callable of t, N m)."""
 
     def __init__(self, n: int, dt: float, generator=None, r_gen=None, sense: float = 1.0, brake=None, r_brake=None,
-                 efficiency: float = 1.0, lss_rows=None, inertia: float = 0.0):
-        cols, self.dt = [], dt
+                 efficiency: float = 1.0, lss_rows=None, inertia: float = 0.0, history=None):
+        cols, self.dt, self.history = [], dt, history
         self.gen, self.brake, self.eta, self.sense, self.J = generator, brake, efficiency, sense, inertia
         self.i_gen = self.i_brake = self.i_lss = None
         if generator is not None or efficiency < 1.0:
@@ -51,13 +53,15 @@ class ShaftTorques(Nonlinear):
         self.lss_torque = 0.0
         self.last = {"generator": 0.0, "brake": 0.0, "friction": 0.0}
 
-    def _generator(self, xd):
-        """(nu, d nu / d omega, error) of the generator at the row speeds ``xd``."""
+    def _generator(self, t, xd):
+        """(nu, d nu / d omega, error) of the generator at time ``t`` and the row speeds ``xd``."""
         g = self.gen
         if g is None:
             return 0.0, 0.0, 0.0
         if g.law == "constant":
             return self.sense * g.torque, 0.0, 0.0
+        if g.law == "table":
+            return self.sense * self.history(t), 0.0, 0.0
         e = self.sense * xd[self.i_gen] - g.rated_speed
         e_prev = e if self.error is None else self.error
         T = g.torque + g.kp * e + g.ki * (self.integral + 0.5 * self.dt * (e_prev + e))
@@ -79,7 +83,7 @@ class ShaftTorques(Nonlinear):
         m = self.U.shape[1]
         nu, dc = np.zeros(m), np.zeros(m)
         if self.i_gen is not None:
-            g, slope, _ = self._generator(xd)
+            g, slope, _ = self._generator(t, xd)
             nu[self.i_gen] += g + self.friction
             dc[self.i_gen] += slope
         if self.i_brake is not None:
@@ -89,7 +93,7 @@ class ShaftTorques(Nonlinear):
         return nu, np.zeros(m), dc
 
     def commit(self, t, x, xd):
-        g, _, e = self._generator(xd)
+        g, _, e = self._generator(t, xd)
         if self.gen is not None and self.gen.law == "pi":
             e_prev = e if self.error is None else self.error
             self.integral += 0.5 * self.dt * (e_prev + e)

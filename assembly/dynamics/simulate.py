@@ -44,9 +44,9 @@ from ..nullity import rigid_body_count
 from ..scene_time import Simulation
 from .damping import damping_matrix, damping_on_q, every_mode, needs_modes, section_share
 from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
-from .integrators import generalized_alpha, hht, newmark
+from .integrators import check_step, generalized_alpha, hht, newmark
 from .frf import UNDAMPED_ZETA
-from .load_series import constant, ramp, read_csv, read_openfast_out
+from .load_series import constant, file_history, generator_history, ramp, range_warning
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
 from .transient import DENSE_INVERSE_MAX, Diverged, Stack, integrate, tangent
@@ -103,19 +103,14 @@ def scheme_of(sim: Simulation):
 def load_history(ld, path: str, base_dir: Path):
     """The :class:`assembly.dynamics.load_series.Series` of a ``[[simulation.loads]]`` entry."""
     unit = "N m" if ld.kind != "force" else "N"
-    sources = [k for k in ("table", "openfast") if getattr(ld, k) is not None]
-    if len(sources) > 1:
-        raise SceneError(f"{path}.openfast", ld.openfast, "give either table or openfast, not both")
-    if sources:
-        if ld.column is None:
-            raise SceneError(f"{path}.column", None, f"missing: the column of the {sources[0]} file to read")
-        if ld.end_value is not None:
-            raise SceneError(f"{path}.end_value", ld.end_value, f"a {sources[0]} file gives the history itself")
-        file = base_dir / getattr(ld, sources[0])
-        if ld.table is not None:
-            return read_csv(file, ld.column, ld.time_column, ld.scale, field=f"{path}.table")
-        s = read_openfast_out(file, ld.column, field=f"{path}.openfast")
-        return type(s)(s.time_s, ld.scale * s.values, s.name, s.unit)
+    if ld.end_value is not None and (ld.table is not None or ld.openfast is not None):
+        raise SceneError(f"{path}.end_value", ld.end_value, "a table or openfast file gives the history itself")
+    s = file_history(ld, path, base_dir, unit)
+    if s is not None:
+        return s
+    for key in ("time_offset", "time_window"):
+        if getattr(ld, key):
+            raise SceneError(f"{path}.{key}", getattr(ld, key), "applies to a table or openfast file only")
     if ld.end_value is not None or ld.t_end is not None:
         if ld.end_value is None or ld.t_end is None:
             missing = "end_value" if ld.end_value is None else "t_end"
@@ -256,17 +251,17 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
                                                     "body of role 'rotor') and one rigid-body mode" +
                          (f": {why}" if why else ""))
     v0 = speed * phi if speed else np.zeros(n)
-    # loads (a constant generator torque among them)
+    # loads (a generator of constant or recorded torque among them)
     meshes = Meshes(model, sim.consistent)
-    torques, generator_load = _shaft_torques(model, scene, sim, dt, v0)
+    torques, generator_load = _shaft_torques(model, scene, sim, dt, v0, base_dir, phi if reference else None)
     vecs, hist = [], []
     for i, ld in enumerate(sim.loads):
         path = f"simulation.loads[{i}]"
         hist.append(load_history(ld, path, base_dir))
         vecs.append(load_vector(model, ld, path))
     if generator_load is not None:
-        hist.append(constant(1.0, "generator", "N m"))
-        vecs.append(generator_load)
+        vecs.append(generator_load[0])
+        hist.append(generator_load[1])
     V = np.array(vecs).T if vecs else np.zeros((n, 0))
 
     def force(t):
@@ -316,6 +311,8 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
 
     freqs, shaft_hz, side_hz = _mesh_frequencies(model, scene, v0)
     warnings = step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
+    recorded = [*hist, *([torques.history] if torques is not None and torques.history is not None else [])]
+    warnings += [w for w in (range_warning(h, check_step(dt, t_end) * dt) for h in recorded) if w]
     if sim.brake is not None and torques is not None and torques.i_brake is not None:
         # below the stick speed the brake is a damper T/stick on the braked body: the trapezoidal
         # rule keeps its decay positive only for dt < 2 J stick / T (J: the body's own inertia)
@@ -381,21 +378,27 @@ def undamped_band(model, M, K, C, band_hz: float) -> list:
             "decay (add element dampers or a [damping] table)"]
 
 
-def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
-    """(the generator / brake / friction part or None, a load vector or None): a constant
-    generator torque alone is a plain load (its vector on q), needing no nonlinear part."""
+def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray, base_dir=Path("."), phi=None):
+    """(the generator / brake / friction part or None, (load vector, history) or None): a
+    generator of a constant or recorded torque alone is a plain load (its vector on q times
+    the torque), needing no nonlinear part. The generator's sense is its starting sense; from
+    standstill, for a recorded torque, the sense it turns in when the reference turns
+    positively (``phi``)."""
     gen, brake, eta = sim.generator, sim.brake, sim.gearbox_efficiency
     if gen is None and brake is None and eta >= 1.0:
         return None, None
     if gen is not None and gen.law == "pi" and gen.rated_speed is None:
         raise SceneError("simulation.generator.rated_speed", None, "missing: the PI law needs the generator's "
                                                                    "rated speed (rad/s)")
+    history = generator_history(gen, "simulation.generator", base_dir) if gen is not None else None
 
     g_body = _table_body(model, scene, gen, "simulation.generator")
     r_gen = spin_row(model, g_body)
-    sense = float(np.sign(r_gen @ v0)) or 1.0
-    if gen is not None and gen.law == "constant" and brake is None and eta >= 1.0:
-        return None, -sense * gen.torque * r_gen
+    sense = float(np.sign(r_gen @ v0)) or (float(np.sign(r_gen @ phi)) if history is not None and phi is not None
+                                           else 0.0) or 1.0
+    if gen is not None and gen.law != "pi" and brake is None and eta >= 1.0:
+        torque = history if history is not None else constant(gen.torque, "generator", "N m")
+        return None, (-sense * r_gen, torque)
     r_brake = spin_row(model, _brake_body(model, scene, sim)) if brake is not None else None
     lss = None
     if eta < 1.0:
@@ -409,7 +412,7 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray):
         s_rot = float(np.sign(spin_row(model, rotor) @ v0)) or 1.0
         lss = [s_rot * ch.k_row, s_rot * (ch.c_row if ch.c_row is not None else np.zeros_like(ch.k_row))]
     J = _polar_inertia(model, g_body)
-    return ShaftTorques(model.K.shape[0], dt, gen, r_gen, sense, brake, r_brake, eta, lss, J), None
+    return ShaftTorques(model.K.shape[0], dt, gen, r_gen, sense, brake, r_brake, eta, lss, J, history), None
 
 
 def _table_body(model, scene, table, path: str) -> str:

@@ -184,3 +184,134 @@ def test_a_run_that_leaves_every_bound_stops_with_a_named_partial_result():
     assert not p.complete and np.all(np.isfinite(p.y))
     assert p.time_s[-1] < math.sqrt(2) + 0.05                 # stops at the blow-up, not at t_end
     assert "t = " in str(e.value) and ("x" in str(e.value) or "Newton" in str(e.value))
+
+
+# ---------------------------------------------------------------- OpenFAST files in a run
+
+def _gentq_file(tmp_path, gentq_knm, name="gen.outb", t_end=1.0, file_id=3):
+    """An OpenFAST output (binary of ``file_id``, or text for a ``.out`` name) with a constant
+    GenTq (kN-m), and RotTorq, GenPwr and RotSpeed beside it."""
+    from tests.support.openfast_files import out_text, outb_bytes
+    t = np.linspace(0.0, t_end, 11)
+    data = np.column_stack([np.full(11, gentq_knm), np.full(11, 1.2), np.full(11, 5.0), np.full(11, 12.1)])
+    names, units = ["Time", "GenTq", "RotTorq", "GenPwr", "RotSpeed"], ["(s)", "(kN-m)", "(kN-m)", "(kW)", "(rpm)"]
+    if name.endswith(".out"):
+        (tmp_path / name).write_text(out_text(names, units, np.column_stack([t, data]).tolist()), encoding="utf-8")
+    else:
+        (tmp_path / name).write_bytes(outb_bytes(names, units, t, data, file_id))
+    return name
+
+
+@pytest.mark.parametrize("file_id", [2, 3])
+def test_recorded_generator_torque_balances_the_rotor_torque_times_the_ratio(tmp_path, file_id):
+    # GenTq = T x RATIO (kN-m in the file) against a rotor torque T: the chain keeps its speed and
+    # the mesh carries T / r1 (the closed form of the constant-law test above), from a binary file
+    T = 1200.0
+    name = _gentq_file(tmp_path, T * RATIO / 1e3, file_id=file_id)
+    s = scene_from_dict(pair({"speed": 10.0, "loads": [{"body": "rotor", "value": T}],
+                              "generator": {"law": "table", "openfast": name, "column": "GenTq"}}))
+    r = simulate(s, 0.01, 1e-4, ["force:m", "speed:rotor", "speed:generator"], base_dir=tmp_path)
+    # int16 packing (FileFmtID 2) of a constant channel is exact to its float32 offset's rounding
+    rtol = 1e-9 if file_id == 3 else 3 * 2 ** -24
+    np.testing.assert_allclose(r.outputs["force:m"], T / R1, rtol=rtol)
+    np.testing.assert_allclose(r.outputs["speed:rotor"], 10.0, rtol=rtol)
+    np.testing.assert_allclose(r.outputs["speed:generator"], -10.0 / RATIO, rtol=rtol)
+    assert not [w for w in r.warnings if "time range" in w]               # the file covers the run
+
+
+@pytest.mark.parametrize("speed", [10.0, 0.0], ids=["turning", "standstill"])
+@pytest.mark.parametrize("gentq", [2.0, -1.5], ids=["generating", "motoring"])
+def test_recorded_generator_torque_sign(tmp_path, speed, gentq):
+    # OpenFAST's GenTq > 0 brakes the generator's positive rotation (ElastoDyn: the generator DOF
+    # sees -(GenTrq + HSSBrTrq) |GBRatio|), < 0 drives it. Referred to the rotor, Tg / RATIO opposes
+    # the rotor's rotation: alpha = (T - Tg / RATIO) / (J1 + J2 / RATIO^2) exactly (inertia relief).
+    # From standstill the positive sense is the one a positive rotor speed gives the generator.
+    T, Tg = 1000.0, gentq * 1e3
+    name = _gentq_file(tmp_path, gentq)
+    s = scene_from_dict(pair({"speed": speed, "loads": [{"body": "rotor", "value": T}],
+                              "generator": {"law": "table", "openfast": name, "column": "GenTq"}}))
+    r = simulate(s, 0.02, 1e-4, ["speed:rotor"], base_dir=tmp_path)
+    alpha = (T - Tg / RATIO) / (J1 + J2 / RATIO ** 2)
+    np.testing.assert_allclose(r.outputs["speed:rotor"][-1], speed + alpha * r.time_s[-1], rtol=1e-9)
+
+
+def test_recorded_generator_torque_with_gearbox_friction(tmp_path):
+    # the nonlinear path (gearbox efficiency): the rotor must supply T_gen / (RATIO eta), as the
+    # constant-law test above, with T_gen read from a CSV table
+    eta, Tg, w0, t_end = 0.95, 300.0, 10.0, 0.2
+    (tmp_path / "gen.csv").write_text(f"time,GenTq_Nm\n0,{Tg}\n1,{Tg}\n", encoding="utf-8")
+    J_eq = 50.0 + J1 + J2 / RATIO ** 2
+    d = _quill_pair({"speed": w0, "loads": [{"body": "hub", "value": Tg / (RATIO * eta)}],
+                     "generator": {"law": "table", "table": "gen.csv", "column": "GenTq_Nm"},
+                     "gearbox_efficiency": eta})
+    d["bodies"] = [{k: v for k, v in b.items() if v is not None} for b in d["bodies"]]
+    r = simulate(scene_from_dict(d), t_end, 1e-4, ["speed:hub", "torque:lss"], base_dir=tmp_path)
+    missing = Tg * (1 / eta - 1) / RATIO / J_eq * t_end
+    assert abs(r.outputs["speed:hub"][-1] - w0) < 1e-2 * missing
+    np.testing.assert_allclose(r.outputs["torque:lss"].mean(), Tg / (RATIO * eta), rtol=1e-3)
+
+
+def test_run_longer_than_the_file_warns(tmp_path):
+    # rows 0 .. 0.005 s, a run to 0.01 s: the last row is held for the second half, and said so
+    T = 1200.0
+    name = _gentq_file(tmp_path, 1.2, name="run.out", t_end=0.005)
+    s = scene_from_dict(pair({"speed": 10.0, "loads": [{"body": "rotor", "openfast": name, "column": "RotTorq"}],
+                              "generator": {"torque": T * RATIO}}))
+    r = simulate(s, 0.01, 1e-4, ["force:m"], base_dir=tmp_path)
+    assert ("simulation.loads[0] (run.out, channel RotTorq): the run (0 to 0.01 s) leaves the data's time range "
+            "(0 to 0.005 s of run time); its last value is held from 0.005 to 0.01 s") in r.warnings
+    np.testing.assert_allclose(r.outputs["force:m"], T / R1, rtol=1e-9)
+
+
+def test_run_beyond_the_files_time_range_warns(tmp_path, caplog):
+    # rows at file time 0 .. 1 s; time_offset 0.995 puts them at run time -0.995 .. 0.005 s
+    T = 1200.0
+    name = _gentq_file(tmp_path, T * RATIO / 1e3)
+    s = scene_from_dict(pair({"speed": 10.0, "loads": [{"body": "rotor", "value": T}],
+                              "generator": {"law": "table", "openfast": name, "column": "GenTq",
+                                            "time_offset": 0.995}}))
+    with caplog.at_level("WARNING"):
+        r = simulate(s, 0.01, 1e-4, ["force:m"], base_dir=tmp_path)
+    want = ("simulation.generator (gen.outb, channel GenTq, time_offset 0.995 s): the run (0 to 0.01 s) leaves the "
+            "data's time range (-0.995 to 0.005 s of run time); its last value is held from 0.005 to 0.01 s")
+    assert [w for w in r.warnings if "time range" in w] == [want]
+    assert want in caplog.text
+    np.testing.assert_allclose(r.outputs["force:m"], T / R1, rtol=1e-9)    # the held value is the same
+
+
+@pytest.mark.parametrize("column, kind, words", [
+    ("GenPwr", "torque", "simulation.loads[0].column = 'GenPwr': unit (kW) is a power, not a torque"),
+    ("RotSpeed", "torque", "simulation.loads[0].column = 'RotSpeed': unit (rpm) is an angular speed, not a torque"),
+    ("Time", "moment", "simulation.loads[0].column = 'Time': unit (s) is a time, not a torque"),
+    ("RotTorq", "force", "simulation.loads[0].column = 'RotTorq': unit (kN-m) is a torque, not a force")])
+def test_openfast_channel_of_another_kind_is_refused_in_a_run(tmp_path, column, kind, words):
+    name = _gentq_file(tmp_path, 1.0, name="run.out")
+    s = scene_from_dict(pair({"speed": 1.0, "loads": [{"body": "rotor", "openfast": name, "column": column,
+                                                       "kind": kind, "direction": [1.0, 0.0, 0.0]}]}))
+    with pytest.raises(SceneError) as e:
+        simulate(s, 0.001, 1e-4, ["force:m"], base_dir=tmp_path)
+    assert str(e.value) == words
+
+
+FILE_BAD = [
+    ({"generator": {"law": "table", "openfast": "gen.outb", "column": "GenTq", "torque": 5.0}},
+     "simulation.generator.torque = 5.0: not used by law = 'table'"),
+    ({"generator": {"law": "table"}}, "simulation.generator.openfast = None: missing"),
+    ({"generator": {"torque": 5.0, "openfast": "gen.outb"}}, "simulation.generator.openfast = 'gen.outb': not used "
+                                                             "by law = 'constant'"),
+    ({"generator": {"law": "table", "openfast": "gen.outb", "column": "GenPwr"}},
+     "simulation.generator.column = 'GenPwr': unit (kW) is a power, not a torque"),
+    ({"loads": [{"body": "rotor", "value": 1.0, "time_offset": 2.0}]}, "simulation.loads[0].time_offset = 2.0"),
+    ({"loads": [{"body": "rotor", "openfast": "gen.outb", "column": "GenTq", "time_window": [0.5]}]},
+     "simulation.loads[0].time_window = [0.5]: must have exactly 2 entries"),
+    ({"loads": [{"body": "rotor", "openfast": "gen.outb", "column": "GenTq", "time_window": [0.5, 3.0]}]},
+     "simulation.loads[0].time_window = [0.5, 3.0]: reaches beyond the file's rows, which run from 0 to 1 s"),
+]
+
+
+@pytest.mark.parametrize("sim, words", FILE_BAD, ids=[w.split(":")[0] for _, w in FILE_BAD])
+def test_bad_file_history_keys_name_the_field(tmp_path, sim, words):
+    _gentq_file(tmp_path, 1.0)
+    with pytest.raises(SceneError) as e:
+        simulate(scene_from_dict(pair({"speed": 1.0, **sim})), 0.001, 1e-4, ["force:m"], base_dir=tmp_path)
+    assert str(e.value).startswith(words), str(e.value)
