@@ -17,7 +17,9 @@ reads it (:mod:`assembly.app.study_file`, :mod:`assembly.app.study_spec`).
 from __future__ import annotations
 
 import difflib
+import json
 import math
+import re
 
 from ..errors import SceneError
 
@@ -71,7 +73,8 @@ def check_keys(table: dict, keys: dict, where: str, header: str) -> None:
     table's field path ("" at the top level); ``header``: how the table is written in the
     file (``[[parameters]]``, ``[frf]``), named when a top-level key was written into it."""
     for key, v in table.items():
-        field = f"{where}.{key}" if where else key
+        shown = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)   # TOML's quoted key, one line
+        field = f"{where}.{shown}" if where else shown
         if key not in keys:
             raise SceneError(field, v, unknown_reason(key, keys, where, header))
         if not _fits(keys[key], v):
