@@ -196,6 +196,7 @@ def pair_dir(tmp_path_factory):
     return d
 
 
+@pytest.mark.slow       # about 6-10 s on two busy cores
 @settings(max_examples=examples(150), deadline=None)
 @given(case=malformed())
 def test_malformed_study_files_are_read_or_refused_by_field(pair_dir, case):
