@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import logging
 import os
+import time
 from typing import Callable
 
 from ..errors import SceneError
@@ -69,9 +70,11 @@ def _client(mode: str, address: str | None, workers: int | None):
     if mode == "scheduler":
         if not address:
             raise SceneError("--scheduler", address, "needs the scheduler's address, e.g. tcp://host:8786")
+        deadline = time.monotonic() + CONNECT_TIMEOUT_S
         try:
-            return Client(address, timeout=f"{CONNECT_TIMEOUT_S}s")
-        except (OSError, TimeoutError, ValueError) as exc:
+            handshake(address, CONNECT_TIMEOUT_S)
+            return Client(address, timeout=f"{max(deadline - time.monotonic(), 0.5):.3f}s")
+        except Exception as exc:  # noqa: BLE001 -- whatever the address gives back, it is no scheduler
             raise SchedulerUnreachable("--scheduler", address, f"no Dask scheduler answered within "
                                        f"{CONNECT_TIMEOUT_S} s ({type(exc).__name__}: "
                                        f"{str(exc).splitlines()[0] if str(exc) else 'no answer'})") from None
@@ -93,6 +96,25 @@ def _client(mode: str, address: str | None, workers: int | None):
         config.__exit__(None, None, None)
         raise
     return _Closing(Client(cluster), cluster, config, environ)
+
+
+def handshake(address: str, timeout: float) -> None:
+    """Open a connection to ``address`` and complete Dask's handshake within ``timeout`` s,
+    then close it. ``distributed.Client(address, timeout=...)`` bounds the TCP connect but
+    waits for the handshake's reply without limit, so a port that accepts and never answers
+    would hang it. Runs on an event loop of its own (in a thread), whatever loop the caller
+    has; raises what the connection raised, TimeoutError when nothing answered in time."""
+    import asyncio
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed.comm import connect
+
+    async def shake():
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    with ThreadPoolExecutor(1) as pool:
+        pool.submit(asyncio.run, shake()).result()
 
 
 def _restore(environ: dict) -> None:

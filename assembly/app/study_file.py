@@ -34,7 +34,12 @@
 
 Shipped studies are in ``assembly/studies`` and may be named without a folder. Every problem
 raises :class:`assembly.errors.SceneError` naming the study field (``frf.fmax``,
-``parameters[0].path``) and the value, before any variant runs.
+``parameters[0].path``) and the value, before any variant runs: every key of every table is
+checked by name and TOML type (:mod:`assembly.app.study_keys`); the ``[frf]`` input and
+outputs and the ``[simulate]`` outputs are looked up once on the base scene's assembled model
+(a name the base scene has but a variant lacks, say a planet's mesh when the planet count
+drops, makes that variant an error row); a run of more than :data:`MAX_STEPS` steps
+(``t_end / dt``) is refused.
 """
 from __future__ import annotations
 
@@ -44,12 +49,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import SceneError
+from .study_keys import check_study
 from .study_spec import Variant, variants
 
 STUDY_DIR = Path(__file__).resolve().parents[1] / "studies"
 ANALYSES = ("modes", "compare", "frf", "simulate")
 STATS = ("mean", "rms", "min", "max", "peak")
-KEYS = {"name", "scene", "analysis", "keep", "frf", "simulate", "design", "parameters"}
+#: Most time steps (t_end / dt) of one variant's run. A step costs at least Python's fixed
+#: ~200 us (about 5000 steps/s at best on the reduced 5 MW drivetrain, docs/benchmarks.md), so
+#: 1e8 steps are some 6 hours per variant; more is a typo (t_end = 1e6 for 1e0) or a run no
+#: study can wait for.
+MAX_STEPS = 10 ** 8
 
 
 @dataclass
@@ -88,9 +98,8 @@ def read_study(path) -> Study:
         raise SceneError("study", str(p), f"cannot read: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise SceneError("study", str(p), f"not a valid TOML file: {exc}") from None
-    unknown = sorted(set(data) - KEYS)
-    if unknown:
-        raise SceneError(unknown[0], data[unknown[0]], f"not a study key; a study has: {sorted(KEYS)}")
+    check_study(data)
+    title = data.get("name", p.stem)
     scene_name = data.get("scene")
     if not isinstance(scene_name, str) or not scene_name:
         raise SceneError("scene", scene_name, "the scene file to vary (relative to the study file, or a shipped one)")
@@ -105,36 +114,42 @@ def read_study(path) -> Study:
             raise SceneError(other, data[other], f"a [{other}] table needs analysis = {other!r}")
     settings = _settings(analysis, data.get(analysis, {}))
     keep = _keep(analysis, data.get("keep", {}))
-    vs = variants(scene, {"parameters": data.get("parameters"), "design": _table(data, "design")})
+    vs = variants(scene, {k: data[k] for k in ("parameters", "design") if k in data})
     names = list(vs[0].params)
-    title = data.get("name", p.stem)
-    if not isinstance(title, str):
-        raise SceneError("name", title, "must be text")
+    check_names(scene, analysis, settings)
     return Study(title, str(Path(scene_path).resolve()), analysis, settings, keep, vs, str(p), names)
 
 
-def _table(data: dict, key: str) -> dict:
-    t = data.get(key, {})
-    if not isinstance(t, dict):
-        raise SceneError(key, t, "must be a table")
-    return t
+def check_names(scene, analysis: str, settings: dict) -> None:
+    """The ``[frf]`` input and outputs, or the ``[simulate]`` outputs, looked up on ``scene``'s
+    assembled model once, before any variant runs (SceneError at ``frf.outputs[j]`` ...)."""
+    if analysis not in ("frf", "simulate") or (analysis == "simulate" and settings["outputs"] is None):
+        return
+    from ..model import assemble
+    model = assemble(scene, full_fe=settings.get("unreduced", False))
+    if analysis == "frf":
+        from ..dynamics.frf_channels import input_channel, output_channels
+        input_channel(model, settings["input"], "frf.input")
+        for j, name in enumerate(settings["outputs"]):
+            output_channels(model, name, f"frf.outputs[{j}]")
+        return
+    from ..dynamics.simulate import recorded_channels
+    points = scene.simulation.points if scene.simulation is not None else ()
+    for j, name in enumerate(settings["outputs"]):
+        recorded_channels(model, points, [name], f"simulate.outputs[{j}]")
 
 
 def _keep(analysis: str, keep) -> dict:
-    if not isinstance(keep, dict):
-        raise SceneError("keep", keep, "must be a table")
     allowed = {"modes": {"modes"}, "compare": {"modes"}, "frf": set(), "simulate": {"stats"}}[analysis]
     for k in keep:
         if k not in allowed:
             raise SceneError(f"keep.{k}", keep[k], f"not kept by analysis {analysis!r}"
                              + (f" (it keeps: {sorted(allowed)})" if allowed else " (it keeps each output's peak)"))
     out = {"modes": 10, "stats": ["peak", "mean"], **keep}
-    n = out["modes"]
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise SceneError("keep.modes", n, "must be an integer >= 1")
-    st = out["stats"]
-    if not isinstance(st, list) or not st or any(s not in STATS for s in st):
-        raise SceneError("keep.stats", st, f"must be a non-empty list of {list(STATS)}")
+    if out["modes"] < 1:
+        raise SceneError("keep.modes", out["modes"], "must be an integer >= 1")
+    if any(s not in STATS for s in out["stats"]):
+        raise SceneError("keep.stats", out["stats"], f"must be a non-empty list of {list(STATS)}")
     return out
 
 
@@ -154,29 +169,24 @@ def _names(t: dict, key: str, where: str, required: bool) -> list | None:
     return v
 
 
-def _settings(analysis: str, t) -> dict:
-    """The analysis's own settings, checked (Hz, s)."""
-    if not isinstance(t, dict):
-        raise SceneError(analysis, t, "must be a table")
-    known = {"modes": set(), "compare": set(),
-             "frf": {"input", "outputs", "fmin", "fmax", "points", "log", "method", "modes_hz"},
-             "simulate": {"t_end", "dt", "outputs", "speed", "unreduced"}}[analysis]
-    for k in t:
-        if k not in known:
-            raise SceneError(f"{analysis}.{k}", t[k], f"not a setting of {analysis}; it has: {sorted(known)}")
+def _settings(analysis: str, t: dict) -> dict:
+    """The analysis's own settings, checked (Hz, s; keys and types by :func:`check_keys`)."""
     if analysis == "frf":
-        if not isinstance(t.get("input"), str):
-            raise SceneError("frf.input", t.get("input"), "the input, e.g. 'torque:rotor'")
+        from ..dynamics.frf import METHODS
+        if "input" not in t:
+            raise SceneError("frf.input", None, "missing: the input, e.g. 'torque:rotor'")
         s = {"input": t["input"], "outputs": _names(t, "outputs", "frf", True),
              "fmin": _number(t, "fmin", "frf", 1.0), "fmax": _number(t, "fmax", "frf"),
              "points": t.get("points", 400), "log": t.get("log", False), "method": t.get("method", "modal"),
              "modes_hz": None if t.get("modes_hz") is None else _number(t, "modes_hz", "frf")}
-        if isinstance(s["points"], bool) or not isinstance(s["points"], int) or s["points"] < 2:
+        if s["points"] < 2:
             raise SceneError("frf.points", s["points"], "must be an integer >= 2")
         if not s["fmin"] < s["fmax"]:
             raise SceneError("frf.fmax", s["fmax"], f"must be above fmin = {s['fmin']} Hz")
-        if not isinstance(s["log"], bool):
-            raise SceneError("frf.log", s["log"], "must be true or false")
+        if s["method"] not in METHODS:
+            raise SceneError("frf.method", s["method"], f"must be one of {list(METHODS)}")
+        if s["modes_hz"] is not None and s["method"] != "modal":
+            raise SceneError("frf.modes_hz", s["modes_hz"], "the modal cutoff is read by method = 'modal' only")
         return s
     if analysis == "simulate":
         s = {"t_end": _number(t, "t_end", "simulate"), "dt": _number(t, "dt", "simulate"),
@@ -184,7 +194,9 @@ def _settings(analysis: str, t) -> dict:
              "speed": None if t.get("speed") is None else _number(t, "speed", "simulate", positive=False)}
         if s["dt"] >= s["t_end"]:
             raise SceneError("simulate.dt", s["dt"], f"must be below t_end = {s['t_end']} s")
-        if not isinstance(s["unreduced"], bool):
-            raise SceneError("simulate.unreduced", s["unreduced"], "must be true or false")
+        steps = s["t_end"] / s["dt"]
+        if steps > MAX_STEPS:
+            raise SceneError("simulate.dt", s["dt"], f"t_end / dt = {steps:.3g} steps per variant; at most "
+                                                     f"{MAX_STEPS:.0e} (a larger dt or a shorter t_end)")
         return s
     return {}

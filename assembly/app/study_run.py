@@ -4,9 +4,9 @@
 analysis, its settings and what to keep) and returns a plain dict, so the same function
 runs in-process or in a distributed worker. It runs with one BLAS thread (as a Dask worker
 does), so a variant gives the same bits wherever it runs. A variant that fails (a value the
-scene refuses, a mechanism, a solve that fails its checks, a run that diverges) is a row
-with ``status = "error"`` and the one-line message, never an exception: one bad variant
-does not stop a study.
+scene refuses, a mechanism, a solve that fails its checks, a run that diverges, a result
+that is not finite: NaN or inf in any column) is a row with ``status = "error"`` and the
+one-line message and no results, never an exception: one bad variant does not stop a study.
 
 Results per analysis (:mod:`assembly.app.study_file` gives the settings):
 
@@ -26,6 +26,7 @@ and the worker process (``pid``).
 from __future__ import annotations
 
 import logging
+import math
 import os
 import time
 from pathlib import Path
@@ -57,7 +58,7 @@ def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", ke
     t0, before = time.perf_counter(), dict(STATS)
     try:
         with threadpool_limits(1), (cache_root(cache_dir) if cache_dir else contextlib.nullcontext()):
-            row.update(_results(scene_source, variant, analysis, keep, settings or {}))
+            row.update(finite(_results(scene_source, variant, analysis, keep, settings or {})))
     except user_errors() as exc:
         row.update(status="error", error=str(exc).splitlines()[0])
     except Exception as exc:  # noqa: BLE001 -- a study reports every failure as its variant's row
@@ -68,6 +69,17 @@ def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", ke
     row.update(time_s=time.perf_counter() - t0, reductions_reused=STATS["hits"] - before["hits"],
                reductions_built=STATS["misses"] - before["misses"], pid=os.getpid())
     return row
+
+
+def finite(results: dict) -> dict:
+    """``results``, or SceneError naming the first result that is NaN or infinite: such a
+    row is a failed variant, never an "ok" row with a number that is none."""
+    bad = [k for k, v in results.items() if isinstance(v, float) and not math.isfinite(v)]
+    if bad:
+        from ..errors import SceneError
+        raise SceneError(bad[0], results[bad[0]], f"the variant's result is not finite (NaN or inf in {len(bad)} of its "
+                                                  f"{len(results)} results); none is kept")
+    return results
 
 
 def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, settings: dict) -> dict:

@@ -20,10 +20,14 @@ independent uniform points); the sampled designs take ``bounds`` and a ``seed``,
 gives the same variants every time.
 
 Values are checked against the field they go to when the study is read: a number for a
-number (an integer field such as a planet count takes whole numbers; a sampled design
-rounds to them), text for text, true/false for a switch. Problems raise :class:`assembly.errors.SceneError`
-naming the study field (``parameters[1].path``) and, for a path the scene does not have, the
-nearest one it has.
+number (never nan; an integer field such as a planet count takes whole numbers; a sampled
+design rounds to them), text for text, true/false for a switch. Every key of a parameter
+and design table is checked (:mod:`assembly.app.study_keys`): a key they do not have, or
+one that is not read (``log`` without ``bounds``, ``samples`` or ``seed`` of a grid), is
+refused. The number of variants is computed from what is written (a range's n, the grid's
+product, ``samples``) and refused above :data:`MAX_VARIANTS` before any list of values is
+made. Problems raise :class:`assembly.errors.SceneError` naming the study field
+(``parameters[1].path``) and, for a path the scene does not have, the nearest one it has.
 """
 from __future__ import annotations
 
@@ -38,9 +42,12 @@ import numpy as np
 from ..edit import get_value, value_kind
 from ..errors import SceneError
 from ..schema import to_dict
+from .study_keys import DESIGN, PARAMETER, TABLE, TABLES, check_keys
 
 DESIGNS = ("grid", "lhs", "random")
-#: Most variants one study may expand to (a guard against a typo such as n = 1e6).
+#: Most variants one study may expand to (a guard against a typo such as n = 1e6). The count
+#: is computed from the numbers written (a range's n, the product of the parameters' counts,
+#: samples) before any value list is made.
 MAX_VARIANTS = 100_000
 
 
@@ -124,6 +131,8 @@ def check_types(kinds: list[str], path: str, values, field: str, scale: bool) ->
         where = f"{field}.values[{j}]" if listed else f"{field}.bounds"
         if scale and (kinds - {"number", "int"} or _kind(v) not in ("int", "number")):
             raise SceneError(where, v, "scale = true multiplies a number field by a number")
+        if _kind(v) == "number" and math.isnan(v) and kinds & {"number", "int"}:
+            raise SceneError(where, v, f"{path} takes a number, not nan")
         for k in kinds:
             ok = {"bool": _kind(v) == "bool", "text": _kind(v) == "text",
                   "int": _kind(v) == "int" or (_kind(v) == "number" and float(v).is_integer()),
@@ -152,15 +161,20 @@ def parameter_values(p: dict, field: str, design: str) -> list | tuple:
             raise SceneError(f"{field}.{key}", v, f"a {design} design samples between bounds = [low, high]")
     elif key == "bounds":
         raise SceneError(f"{field}.bounds", v, "a grid design takes values, range or log_range")
+    if "log" in p and key != "bounds":
+        raise SceneError(f"{field}.log", p["log"], "log applies to bounds = [low, high] of a sampled design; "
+                                                   "a grid takes log_range = [start, stop, n]")
     if key == "values":
         if not isinstance(v, list) or not v:
             raise SceneError(f"{field}.values", v, "must be a non-empty list")
+        if len(v) > MAX_VARIANTS:
+            raise SceneError(f"{field}.values", f"[{len(v)} values]", f"a study has at most {MAX_VARIANTS} variants")
         return v
     if not isinstance(v, list) or len(v) != (2 if key == "bounds" else 3):
         raise SceneError(f"{field}.{key}", v, "[start, stop, n]" if key != "bounds" else "[low, high]")
     if key == "bounds":
         lo, hi = (_number(x, f"{field}.bounds") for x in v)
-        log = bool(p.get("log", False))
+        log = p.get("log", False)
         if not lo < hi or (log and lo <= 0):
             raise SceneError(f"{field}.bounds", v, "needs low < high" + (" and low > 0 (log)" if log else ""))
         return lo, hi, log
@@ -168,6 +182,8 @@ def parameter_values(p: dict, field: str, design: str) -> list | tuple:
     n = v[2]
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise SceneError(f"{field}.{key}", v, "n (the third entry) must be an integer >= 1")
+    if n > MAX_VARIANTS:      # refused before linspace/geomspace make n values
+        raise SceneError(f"{field}.{key}", v, f"n = {n} values; a study has at most {MAX_VARIANTS} variants")
     if key == "log_range":
         if not (a > 0 and b > 0):
             raise SceneError(f"{field}.log_range", v, "start and stop must be > 0")
@@ -178,16 +194,26 @@ def parameter_values(p: dict, field: str, design: str) -> list | tuple:
 def variants(scene, study: dict) -> list[Variant]:
     """The variants of ``study`` (a dict: ``parameters`` list, optional ``design`` table with
     ``kind``, ``samples``, ``seed``) on ``scene``, module notes."""
+    if not isinstance(study, dict):
+        raise SceneError("study", study, "must be a dict with parameters (a list of tables) and design (a table)")
+    check_keys(study, {"parameters": TABLES, "design": TABLE}, "", "")
     params = study.get("parameters")
     if not isinstance(params, list) or not params:
         raise SceneError("parameters", params, "a study needs at least one [[parameters]] table")
     design = study.get("design", {})
+    check_keys(design, DESIGN, "design", "[design]")
     kind = design.get("kind", "grid")
     if kind not in DESIGNS:
         raise SceneError("design.kind", kind, f"must be one of {list(DESIGNS)}")
+    for key in ("samples", "seed") if kind == "grid" else ():
+        if key in design:
+            raise SceneError(f"design.{key}", design[key], "a grid design runs every combination of the "
+                                                           "parameters' values; samples and seed are for kind = "
+                                                           "'lhs' or 'random'")
     paths, values, names, scales, ints = [], [], [], [], []
     for i, p in enumerate(params):
-        if not isinstance(p, dict) or "path" not in p:
+        check_keys(p, PARAMETER, f"parameters[{i}]", "[[parameters]]")
+        if "path" not in p:
             raise SceneError(f"parameters[{i}].path", None, "missing: the scene field to vary")
         given = p["path"] if isinstance(p["path"], list) and p["path"] else [p["path"]]
         ps = [q for j, g in enumerate(given)
@@ -197,8 +223,6 @@ def variants(scene, study: dict) -> list[Variant]:
             raise SceneError(f"parameters[{i}].name", name, "a parameter with several paths needs a name, unique "
                                                              "and not variant, status or error")
         scale = p.get("scale", False)
-        if not isinstance(scale, bool):
-            raise SceneError(f"parameters[{i}].scale", scale, "must be true or false")
         vals = parameter_values(p, f"parameters[{i}]", kind)
         kinds = [value_kind(scene, q) for q in ps]
         check_types(kinds, ps[0], vals, f"parameters[{i}]", scale)

@@ -282,18 +282,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     if outputs is None:
         outputs = [*points, *(f"force:{mi.name}" for mi in meshes.info)]
     names = list(dict.fromkeys(outputs))
-    chans, speed_rows = [], {}
-    for name in names:
-        if name.startswith("speed:"):
-            body, _ = _body_point(model, name[6:], "--output", name)
-            speed_rows[name] = spin_row(model, body)
-        elif name in points:
-            i, p = points[name]
-            where = f"stress:{p.body}:" + ",".join(f"{v:.17g}" for v in p.point)
-            chans.extend(dataclasses.replace(c, name=f"{name}:{c.name.rsplit(':', 1)[1]}", group=name)
-                         for c in output_channels(model, where, f"simulation.points[{i}]"))
-        else:
-            chans.extend(output_channels(model, name))
+    chans, speed_rows = recorded_channels(model, sim.points, names)
     Ok, Oc = output_rows(chans) if chans else (np.zeros((0, n)), np.zeros((0, n)))
     Os = _scene_share(Ok, chans, G)
     acc = np.array([c.derivative == 2 for c in chans], bool)
@@ -376,6 +365,27 @@ def undamped_band(model, M, K, C, band_hz: float) -> list:
     names = ", ".join(f"{r + i + 1} ({fr[i]:.6g} Hz)" for i in bad[:8]) + (" ..." if bad.size > 8 else "")
     return [f"{bad.size} mode(s) in the band (to {band_hz:g} Hz) have no damping: {names}; they ring without "
             "decay (add element dampers or a [damping] table)"]
+
+
+def recorded_channels(model, points, names, arg: str = "--output") -> tuple[list, dict]:
+    """The channels and the speed rows (``speed:BODY``) that record ``names``: a named stress
+    point of ``points`` (``simulation.points``) or an output of
+    :func:`assembly.dynamics.frf_channels.output_channels`; SceneError at ``arg`` for a name
+    the model does not have."""
+    named = {f"stress:{p.name}": (i, p) for i, p in enumerate(points)}
+    chans, speed_rows = [], {}
+    for name in names:
+        if name.startswith("speed:"):
+            body, _ = _body_point(model, name[6:], arg, name)
+            speed_rows[name] = spin_row(model, body)
+        elif name in named:
+            i, p = named[name]
+            where = f"stress:{p.body}:" + ",".join(f"{v:.17g}" for v in p.point)
+            chans.extend(dataclasses.replace(c, name=f"{name}:{c.name.rsplit(':', 1)[1]}", group=name)
+                         for c in output_channels(model, where, f"simulation.points[{i}]"))
+        else:
+            chans.extend(output_channels(model, name, arg))
+    return chans, speed_rows
 
 
 def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray, base_dir=Path("."), phi=None):

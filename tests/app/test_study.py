@@ -169,7 +169,7 @@ def test_cli_writes_the_table_plots_and_index(pair, capsys):
     ('scene = "kahraman_beta20"\n', "parameters = None", "at least one"),
     ('scene = "no_such_scene.toml"\n[[parameters]]\npath = "a"\nvalues = [1]\n', "no_such_scene", ""),
     ('scene = "kahraman_beta20"\nanalysis = "fft"\n', "analysis = 'fft'", "modes"),
-    ('scene = "kahraman_beta20"\nanlysis = "modes"\n', "anlysis = 'modes'", "not a study key"),
+    ('scene = "kahraman_beta20"\nanlysis = "modes"\n', "anlysis = 'modes'", "unknown key (did you mean 'analysis'?)"),
     ('scene = "kahraman_beta20"\nanalysis = "frf"\n[frf]\ninput = "torque:pinion"\noutputs = ["force:pinion-wheel"]\n'
      'fmax = -5.0\n[[parameters]]\npath = "bearings[0].k_radial"\nvalues = [1e8]\n', "frf.fmax = -5.0", "> 0"),
 ])

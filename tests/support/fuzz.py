@@ -20,3 +20,10 @@ def number_paths(node, names, prefix=()):
     elif isinstance(node, list):
         for i, v in enumerate(node):
             yield from number_paths(v, names, prefix + (i,))
+
+
+def at(tree, path):
+    """The node of a TOML tree at ``path`` (a tuple of keys and indices)."""
+    for step in path:
+        tree = tree[step]
+    return tree
