@@ -172,7 +172,7 @@ def _names(t: dict, key: str, where: str, required: bool) -> list | None:
 def _settings(analysis: str, t: dict) -> dict:
     """The analysis's own settings, checked (Hz, s; keys and types by :func:`check_keys`)."""
     if analysis == "frf":
-        from ..dynamics.frf import METHODS
+        from ..dynamics.frf import METHODS, cutoff_check
         if "input" not in t:
             raise SceneError("frf.input", None, "missing: the input, e.g. 'torque:rotor'")
         s = {"input": t["input"], "outputs": _names(t, "outputs", "frf", True),
@@ -187,6 +187,11 @@ def _settings(analysis: str, t: dict) -> dict:
             raise SceneError("frf.method", s["method"], f"must be one of {list(METHODS)}")
         if s["modes_hz"] is not None and s["method"] != "modal":
             raise SceneError("frf.modes_hz", s["modes_hz"], "the modal cutoff is read by method = 'modal' only")
+        if s["modes_hz"] is not None:
+            try:                                          # a cutoff that cannot be accurate, before any variant
+                cutoff_check(s["modes_hz"], s["fmax"])
+            except SceneError as exc:
+                raise SceneError("frf.modes_hz", exc.value, exc.reason) from None
         return s
     if analysis == "simulate":
         s = {"t_end": _number(t, "t_end", "simulate"), "dt": _number(t, "dt", "simulate"),

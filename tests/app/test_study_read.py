@@ -196,6 +196,19 @@ def test_keys_that_would_not_be_read_are_refused(pair):
     refused(pair, data, "frf.method = 'exact': must be one of ['modal', 'direct']")
 
 
+def test_a_modal_cutoff_below_twice_fmax_is_refused_before_any_variant(pair, capsys):
+    # the residual term of a mode just above the cutoff is off by x^2 / (1 - x) of its static
+    # share, x = (fmax / cutoff)^2 (tests/assembly/test_frf_edges.py): 8.3 % at 2 x fmax, and the
+    # series diverges below fmax; such a cutoff is refused as flexgear frf --modes-hz refuses it
+    data = copy.deepcopy(BASES["frf"])
+    for cutoff in (500.0, 1000.0, 1599.0):                         # fmax = 800 Hz
+        data["frf"]["modes_hz"] = cutoff
+        refused(pair, data, f"frf.modes_hz = {cutoff!r}: below 2 x the highest frequency asked (800 Hz)")
+    cli_refused(pair, data, "frf.modes_hz = 1599.0", capsys)
+    data["frf"]["modes_hz"] = 1600.0
+    assert read_study(write(pair, data)).variants
+
+
 # ---- 3. a top-level key written below a table header -------------------------------------------
 
 MISPLACED = [('scene = "pair.toml"', "parameters[0].scene = 'pair.toml'"),
