@@ -172,7 +172,7 @@ def _names(t: dict, key: str, where: str, required: bool) -> list | None:
 def _settings(analysis: str, t: dict) -> dict:
     """The analysis's own settings, checked (Hz, s; keys and types by :func:`check_keys`)."""
     if analysis == "frf":
-        from ..dynamics.frf import METHODS, cutoff_check
+        from ..dynamics.frf import MAX_FREQUENCY_HZ, METHODS, cutoff_check
         if "input" not in t:
             raise SceneError("frf.input", None, "missing: the input, e.g. 'torque:rotor'")
         s = {"input": t["input"], "outputs": _names(t, "outputs", "frf", True),
@@ -183,6 +183,8 @@ def _settings(analysis: str, t: dict) -> dict:
             raise SceneError("frf.points", s["points"], "must be an integer >= 2")
         if not s["fmin"] < s["fmax"]:
             raise SceneError("frf.fmax", s["fmax"], f"must be above fmin = {s['fmin']} Hz")
+        if not s["fmax"] < MAX_FREQUENCY_HZ:
+            raise SceneError("frf.fmax", s["fmax"], "its angular frequency squared overflows a double")
         if s["method"] not in METHODS:
             raise SceneError("frf.method", s["method"], f"must be one of {list(METHODS)}")
         if s["modes_hz"] is not None and s["method"] != "modal":

@@ -94,6 +94,8 @@ CUTOFF_FACTOR = 30.0
 #: highest frequency asked: at 2x its residual term is off by 8.3 % of its static share
 #: (module notes), and the series diverges as the frequency reaches the mode.
 MIN_CUTOFF_RATIO = 2.0
+#: Frequencies from this one up (Hz) have an angular frequency squared that overflows a double.
+MAX_FREQUENCY_HZ = 0.25 * float(np.sqrt(np.finfo(float).max)) / np.pi
 #: A cutoff whose residual-term bound at the highest frequency asked exceeds this draws a
 #: warning (the bound is 1.2e-6 at the default cutoff, 1e-3 at 5.6 x fmax).
 CUTOFF_WARN = 1e-3
@@ -137,7 +139,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         raise SceneError("method", method, f"must be one of {list(METHODS)}")
     if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise SceneError("frequency_hz", f.tolist()[:4], "frequencies must be finite and >= 0 Hz")
-    if not f.max() < 0.25 * np.sqrt(np.finfo(float).max) / np.pi:          # (2 pi f)^2 overflows
+    if not f.max() < MAX_FREQUENCY_HZ:
         raise SceneError("frequency_hz", float(f.max()), "its angular frequency squared overflows a double: no "
                                                           "response can be computed there")
     if modes_hz is None:

@@ -207,6 +207,9 @@ def test_a_modal_cutoff_below_twice_fmax_is_refused_before_any_variant(pair, cap
     cli_refused(pair, data, "frf.modes_hz = 1599.0", capsys)
     data["frf"]["modes_hz"] = 1600.0
     assert read_study(write(pair, data)).variants
+    data["frf"].pop("modes_hz")
+    data["frf"]["fmax"] = 1e308                                      # (2 pi f)^2 overflows a double
+    refused(pair, data, "frf.fmax = 1e+308: its angular frequency squared overflows")
 
 
 # ---- 3. a top-level key written below a table header -------------------------------------------
