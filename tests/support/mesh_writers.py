@@ -133,10 +133,11 @@ def ctetra_lines(eid: int, nodes, style: str, strip: bool = True) -> list:
 
 
 def nastran_deck(points, tets, grid_style="free", tet_style="small-blank", rng: random.Random | None = None,
-                 extra: list | None = None, header: bool = True) -> str:
+                 extra: list | None = None, header: bool = True, flipped=None) -> str:
     """A bulk deck of ``points`` (GRID 1..n) and ``tets`` (VTK order = Nastran's): every card
-    in the given styles, or each drawn from ``rng`` (then with comments, blank lines and
-    left-handed numbering mixed in); ``extra``: lines added before ENDDATA."""
+    in the given styles, or each drawn from ``rng`` (then with comments and blank lines mixed
+    in); ``flipped``: which tetrahedra are written left-handed (G2 and G3 swapped); ``extra``:
+    lines added before ENDDATA."""
     lines = ["$ written by flexgear's tests", "SOL 103", "CEND", "BEGIN BULK"] if header else []
     for i, p in enumerate(points):
         style = rng.choice(["free", "large"]) if rng else grid_style
@@ -146,7 +147,7 @@ def nastran_deck(points, tets, grid_style="free", tet_style="small-blank", rng: 
     styles = ["free-plus", "free-blank", "small-plus", "small-blank", "large"]
     for e, t in enumerate(np.asarray(tets) + 1):
         style = rng.choice(styles) if rng else tet_style
-        if rng and rng.random() < 0.5:   # Nastran takes either handedness
+        if flipped is not None and flipped[e]:   # Nastran takes either handedness
             t = renumbered(t, (0, 2, 1, 3))
         lines += ctetra_lines(e + 1, t, style, strip=not rng or rng.random() < 0.7)
     lines += list(extra or [])
