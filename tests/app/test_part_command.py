@@ -24,6 +24,7 @@ from assembly.errors import SceneError
 from assembly.part_check import check_body_part, check_part
 from assembly.schema import load_scene
 from assembly.scene import FlexOptions
+from fe_components.gmsh_session import gmsh_model
 from fe_components.part_file import PartFile, PartFileError
 from tests.support.mesh_writers import kuhn_box
 
@@ -35,25 +36,19 @@ RHO = 7850.0                 # kg/m^3: steel, the default material
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
-    import gmsh
-
     d = tmp_path_factory.mktemp("part-cmd")
     pts, tets = kuhn_box(BAR, (5, 1, 1))
     meshio.write(d / "bar.vtu", meshio.Mesh(pts, [("tetra", tets)]))
-    shell = np.array([[0, 1, 2]]) + 0   # a triangle of nodes 0, 1, 2: not a face of the box's tetrahedra
+    # a triangle on the x = 0 face across the diagonal the tetrahedra split it along (0-3): a
+    # shell the tetrahedra do not have as a face (node = 4 i + 2 j + k)
     meshio.write(d / "bar_shell.vtu", meshio.Mesh(pts, [("tetra", tets), ("triangle", np.array([[0, 1, 2]]))]))
-    assert shell.shape == (1, 3)
     # two bars side by side that do not touch: two loose pieces in one file
     pts2 = np.vstack([pts, pts + (0.0, 0.05, 0.0)])
     meshio.write(d / "two_bars.vtu", meshio.Mesh(pts2, [("tetra", np.vstack([tets, tets + len(pts)]))]))
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("box") as gmsh:
         gmsh.model.occ.addBox(0, 0, 0, *BOX_MM)
         gmsh.model.occ.synchronize()
         gmsh.write(str(d / "box.step"))
-    finally:
-        gmsh.finalize()
     scene = d / "scene.toml"
     scene.write_text(f'''name = "one part"
 [[bodies]]
@@ -225,3 +220,17 @@ def test_api_errors_name_the_field(files):
     assert err.value.path == "n_elastic"
     with pytest.raises(PartFileError):
         check_part(PartFile(str(files / "bar.vtu"), units="mm"))
+
+
+def test_scene_commands_say_what_was_left_out(files, tmp_path):
+    """``flexgear modes`` on a scene whose part file holds a shell besides its tetrahedra:
+    the table on stdout, one WARNING line on stderr naming the file and what was left out."""
+    scene = files / "scene_shell.toml"
+    scene.write_text((files / "scene.toml").read_text().replace('file = "bar.vtu"', 'file = "bar_shell.vtu"'))
+    p = subprocess.run([sys.executable, "-m", "assembly.app.cli", "modes", str(scene)], capture_output=True, text=True,
+                       env={**os.environ, "FLEXGEAR_CACHE_DIR": str(tmp_path)}, cwd=REPO, timeout=300)
+    assert p.returncode == 0, p.stderr
+    (line,) = p.stderr.splitlines()
+    assert line.startswith("WARNING fe_components.part_geometry: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
+                           "(surface); lifted to P2"), line
+    assert "Left out of the model (only tetrahedra are read): 1 triangle (surface)" in line

@@ -24,6 +24,7 @@ from assembly.schema import SCENE_DIR, from_dict
 from assembly.scene import Body, FlexOptions
 from cms.eigen import free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
+from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
 from fe_components.part_file import InterfaceRule, PartFile, PartFileError
 from fe_components.part_geometry import part_geometry
@@ -52,14 +53,7 @@ def _to_file(points, axis, origin=ORIGIN) -> np.ndarray:
 def part_mesh(tmp_path_factory):
     """A part with no symmetry about its axis (a 80 x 50 x 30 mm block with a 12 mm hole off
     its centre, along z), meshed P2 by gmsh, and its end faces z = 0 and z = 30 mm."""
-    import gmsh
-
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("block")
+    with gmsh_model("block") as gmsh:
         occ = gmsh.model.occ
         block = occ.addBox(-0.03, -0.02, 0.0, 0.08, 0.05, 0.03)
         hole = occ.addCylinder(0.025, 0.01, 0.0, 0.0, 0.0, 0.03, 0.006)
@@ -71,10 +65,8 @@ def part_mesh(tmp_path_factory):
         gmsh.model.mesh.generate(3)
         path = tmp_path_factory.mktemp("frame") / "block.msh"
         gmsh.write(str(path))
-        gmsh.model.remove()
-    finally:
-        if own:
-            gmsh.finalize()
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 1)   # gmsh's defaults back, should the session go on
+        gmsh.option.setNumber("Mesh.ElementOrder", 1)
     m = meshio.read(path)
     return m.points, np.concatenate([c.data for c in m.cells if c.type == "tetra10"])
 
@@ -165,17 +157,13 @@ def test_step_box_about_an_oblique_axis(tmp_path):
     angle = math.acos((np.trace(R) - 1) / 2)
     w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (2 * math.sin(angle))
     path = tmp_path / "box.step"
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("box") as gmsh:
         occ = gmsh.model.occ
         v = occ.addBox(0, 0, 0, *(1e3 * np.array(BOX)))   # mm: gmsh's STEP declares mm
         occ.rotate([(3, v)], 0, 0, 0, *w, angle)
         occ.translate([(3, v)], *(1e3 * np.array(ORIGIN)))
         occ.synchronize()
         gmsh.write(str(path))
-    finally:
-        gmsh.finalize()
     part = PartFile(str(path), axis=OBLIQUE, origin=ORIGIN)
     geo = part_geometry(part)
     a, b, c = BOX
@@ -195,22 +183,16 @@ def test_carrier_turned_onto_y_keeps_its_pins(tmp_path):
     """The shipped STEP carrier turned so that its axis is the file's y (about x by -90 deg:
     z -> y), its pin rules turned with it, read with axis = y: the interface masters come out
     where the z carrier has them (the stage's pin check reads them), to 1e-9 of its size."""
-    import gmsh
-
     from tests.fe_components.test_part_physics import carrier_part
 
     src = SCENE_DIR / "parts" / "carrier_windows.step"
     path = tmp_path / "carrier_y.step"
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("carrier-y") as gmsh:
         gmsh.option.setString("Geometry.OCCTargetUnit", "MM")
         ents = gmsh.model.occ.importShapes(str(src))
         gmsh.model.occ.rotate(ents, 0, 0, 0, 1, 0, 0, -math.pi / 2)
         gmsh.model.occ.synchronize()
         gmsh.write(str(path))
-    finally:
-        gmsh.finalize()
     ref = part_geometry(carrier_part())
     # z -> y is the documented frame's z -> y for axis y: x stays x, local y is -z of the file
     R = frame((0.0, 1.0, 0.0))

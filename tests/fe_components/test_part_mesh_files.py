@@ -137,6 +137,8 @@ def files(tmp_path_factory):
                                   if b.type == "triangle6" and i is not None and len(i)]) for name in group_nodes}
     out.med = d / "cylinder.med"
     write_med(out.med, m.points, med_order(m.points, tets), ends)
+    out.med_nodes = d / "cylinder_node_groups.med"   # the groups as MED groups of nodes
+    write_med(out.med_nodes, m.points, med_order(m.points, tets), nodes=nsets)
     # Nastran decks as other tools write them (tests/support/mesh_writers.py)
     for attr, suffix, grid, tet in (("bdf_free", "bdf", "free", "free-plus"), ("bdf_free_blank", "bdf", "free",
                                     "free-blank"), ("bdf_blank", "bdf", "free", "small-blank"),
@@ -191,6 +193,7 @@ P2_FORMATS = {
     "bdf": ("bdf", "m", plane_rules),
     "bdf-ctetra": ("bdf_ctetra", "m", plane_rules),
     "med": ("med", "m", group_rules),
+    "med-node-groups": ("med_nodes", "m", group_rules),
     "bdf-free-plus": ("bdf_free", "m", plane_rules),
     "bdf-free-blank": ("bdf_free_blank", "m", plane_rules),
     "bdf-small-blank": ("bdf_blank", "m", plane_rules),
@@ -338,7 +341,7 @@ def test_first_order_file_gives_an_order_1_model(fmt, files, tmp_path):
     assert fe.checks == {}  # no exact geometry to check a mesh file against
 
 
-@pytest.mark.parametrize("fmt", ["med", "bdf-free-plus", "bdf-free-blank", "bdf-small-blank", "nas-small-plus",
+@pytest.mark.parametrize("fmt", ["med", "med-node-groups", "bdf-free-plus", "bdf-free-blank", "bdf-small-blank", "nas-small-plus",
                                  "bdf-large"])
 def test_med_and_nastran_give_the_gmsh_files_model(fmt, models):
     """The MED file (MED's node order, read in it) and every Nastran style give the model of

@@ -22,6 +22,7 @@ from assembly.errors import SceneError
 from assembly.schema import SCENE_DIR, from_dict
 from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
+from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
 from fe_components.part_file import PartFile, PartFileError
 from fe_components.part_geometry import P1_STIFFER, part_geometry
@@ -41,28 +42,17 @@ def _free_free(fe, n_elastic=4) -> np.ndarray:
 def gmsh_pair(tmp_path_factory):
     """The beam meshed once by gmsh (linear), written as P1, then made second order with
     straight edges by gmsh itself and written as P2: the same elements."""
-    import gmsh
-
     d = tmp_path_factory.mktemp("gmsh-pair")
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("beam")
+    with gmsh_model("beam") as gmsh:
         gmsh.model.occ.addBox(0, 0, 0, *BEAM)
         gmsh.model.occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", 0.01)   # m: coarse, one element through the thickness
-        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.model.mesh.generate(3)
         gmsh.write(str(d / "p1.msh"))
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)   # midside nodes on the straight edges
         gmsh.model.mesh.setOrder(2)
         gmsh.write(str(d / "p2.msh"))
-        gmsh.model.remove()
-    finally:
-        if own:
-            gmsh.finalize()
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)   # gmsh's default back, should the session go on
     return d / "p1.msh", d / "p2.msh"
 
 

@@ -50,11 +50,11 @@ def med_order(points, tets) -> np.ndarray:
     return out
 
 
-def write_med(path, points, tets_med, faces=None) -> None:
+def write_med(path, points, tets_med, faces=None, nodes=None) -> None:
     """A MED file (meshio's HDF5 writer, which keeps the connectivity as given) of the
-    tetrahedra ``tets_med`` (already in MED's order) and optionally face groups: ``faces``
+    tetrahedra ``tets_med`` (already in MED's order) and optionally face groups, ``faces``
     {group name: triangles (3 or 6 nodes)}, each group one family (MED's element families are
-    negative)."""
+    negative), or node groups, ``nodes`` {group name: node indices} (positive families)."""
     ctype = "tetra10" if tets_med.shape[1] == 10 else "tetra"
     cells, tags, families = [(ctype, np.asarray(tets_med))], [np.zeros(len(tets_med), int)], {}
     tri = {}
@@ -64,8 +64,16 @@ def write_med(path, points, tets_med, faces=None) -> None:
     for n, blocks in tri.items():
         cells.append(("triangle6" if n == 6 else "triangle", np.vstack([t for t, _ in blocks])))
         tags.append(np.concatenate([np.full(len(t), fam) for t, fam in blocks]))
-    m = meshio.Mesh(points, cells, cell_data={"cell_tags": tags})
+    point_data, node_families = {}, {}
+    if nodes:
+        ptags = np.zeros(len(points), int)
+        for k, (name, idx) in enumerate(nodes.items()):
+            ptags[np.asarray(idx)] = k + 1
+            node_families[k + 1] = [name]
+        point_data["point_tags"] = ptags
+    m = meshio.Mesh(points, cells, cell_data={"cell_tags": tags}, point_data=point_data)
     m.cell_tags = families
+    m.point_tags = node_families
     meshio.write(path, m, file_format="med")
 
 
