@@ -91,6 +91,8 @@ def check_part(part, flex: FlexOptions = FlexOptions(), n_elastic: int = 6, cach
 
     if not isinstance(part, PartFile):
         raise SceneError("component", type(part).__name__, "must be a part read from a file (kind = 'file')")
+    if not isinstance(flex, FlexOptions):
+        raise SceneError("flex", type(flex).__name__, "must be FlexOptions (how the part is meshed)")
     if isinstance(n_elastic, bool) or not isinstance(n_elastic, int) or not 1 <= n_elastic <= 100:
         raise SceneError("n_elastic", n_elastic, "must be an integer in 1..100")
     caches = CacheDirs() if caches is None else caches

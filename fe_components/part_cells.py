@@ -124,6 +124,11 @@ class CellCount:
         return self.kind.startswith("boundary")
 
 
+def counts_text(cells) -> str:
+    """``56 triangle6 (surface), 3 CBAR (beam)`` of :class:`CellCount` s."""
+    return ", ".join(f"{c.count} {c.name} ({c.kind})" for c in cells)
+
+
 def dropped_cells(blocks, boundary: np.ndarray) -> tuple[CellCount, ...]:
     """What the part leaves out of the (type, cells in solid node numbers) ``blocks`` that
     are not tetrahedra: per type, the cells on the solid's boundary (tags) and the others."""
@@ -172,7 +177,7 @@ class ReadSummary:
         """One line: ``read 1234 tetra10; dropped 56 triangle6 (surface), 3 CBAR (beam)``."""
         parts = [f"read {self.n_solid} {self.solid}"]
         if self.dropped:
-            parts.append("dropped " + ", ".join(f"{c.count} {c.name} ({c.kind})" for c in self.dropped))
+            parts.append("dropped " + counts_text(self.dropped))
         if self.loose_nodes:
             parts.append(f"{self.loose_nodes} nodes in no tetrahedron left out")
         if self.renumbered:

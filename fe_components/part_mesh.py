@@ -156,8 +156,8 @@ def _read(part: PartFile) -> MeshPart:
         named[key] = ("nodes", remap[np.asarray(idx, dtype=np.int64)])
     others = [(t, remap[np.asarray(c, np.int64)]) for t, c in fc.blocks if t != ctype and len(c)]
     summary = ReadSummary(name, ctype, len(cells), dropped_cells(others, boundary_faces(cells)[:, :3]) + fc.cards,
-                          len(fc.points) - len(used), renumbered, part.order == 2 and ctype == "tetra",
-                          part.order == 1)
+                          loose_nodes=len(fc.points) - len(used), renumbered=renumbered,
+                          lifted=part.order == 2 and ctype == "tetra", linear_ok=part.order == 1)
     if summary.lifted:
         pts, cells = lift_to_p2(pts, cells)
     return MeshPart(pts, cells, "tetra10" if summary.lifted else ctype, named, summary)

@@ -101,6 +101,8 @@ def _vec(v) -> str:
 
 def report_text(c) -> str:
     """The check as a report (SI units)."""
+    from fe_components.part_cells import counts_text
+
     m = c.material
     kind = "CAD, meshed by gmsh" if c.source == "cad" else "mesh file"
     size = "element size" if c.source == "cad" else "median edge"
@@ -111,10 +113,10 @@ def report_text(c) -> str:
     if c.read is not None:
         lines.append(f"  read: {c.read.text()}")
         if c.read.left_out:
-            lines.append("  left out of the model: " + ", ".join(f"{d.count} {d.name} ({d.kind})"
-                                                               for d in c.read.left_out))
+            lines.append(f"  left out of the model: {counts_text(c.read.left_out)}")
     if c.order == 1:
-        lines.append("  linear tetrahedra: too stiff in bending; a mesh file's order = 2 (--order 2) lifts it to P2")
+        lines.append("  linear tetrahedra: too stiff in bending; P2 is flex order = 2 for a CAD part, order = 2 "
+                     "(--order 2) for a mesh file")
     lines += ["", "mass properties (local axes; inertia about the centre of mass)"]
     cad = c.cad is not None
     lines.append((f"  {'':<22} {'FE':>16}" + (f" {'CAD (exact)':>16}  rel. diff" if cad else "")).rstrip())

@@ -218,6 +218,9 @@ def test_api_errors_name_the_field(files):
     with pytest.raises(SceneError) as err:
         check_part(PartFile(str(files / "bar.vtu"), units="m"), n_elastic=0)
     assert err.value.path == "n_elastic"
+    with pytest.raises(SceneError) as err:
+        check_part(PartFile(str(files / "bar.vtu"), units="m"), {"mesh_size": 0.01})
+    assert err.value.path == "flex"
     with pytest.raises(PartFileError):
         check_part(PartFile(str(files / "bar.vtu"), units="mm"))
 

@@ -355,3 +355,17 @@ def test_med_and_nastran_give_the_gmsh_files_model(fmt, models):
     np.testing.assert_allclose(f[N_RIGID:], f_ref[N_RIGID:], rtol=1e-9)
     assert fe.read.n_solid == len(ref.mesh.t.T) and fe.read.solid == "tetra10"
 
+
+
+def test_linear_file_lifted_keeps_its_node_groups(files, tmp_path):
+    """The P1 Abaqus file with its groups as *NSET of corner nodes, lifted to P2 (order = 2):
+    each group holds the same faces as the P2 file's (as many nodes: corners and one per face
+    edge), every node in its end plane, the corners the group's own."""
+    fe = build_component(PartFile(str(files.p1_inp), group_rules(), units="m", order=2), STEEL, cache_dir=tmp_path)
+    assert fe.order == 2 and fe.read.lifted
+    for name, z in (("end_a", 0.0), ("end_b", LENGTH)):
+        p = fe.nodes[fe.interfaces[name].nodes]
+        assert len(p) == len(files.group_nodes[name])
+        assert np.abs(p[:, 2] - z).max() < 1e-15
+        corners = cKDTree(p).query(files.group_corners[name])[0]
+        assert corners.max() < POS_TOL
