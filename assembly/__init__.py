@@ -23,7 +23,7 @@ _EXPORTS = {
     "get_value": "edit", "with_value": "edit", "with_values": "edit",
     "solve_modes": "modal", "assemble": "model", "load_scene": "schema", "scene_from_dict": "schema",
     "save_scene": "scene_toml", "scene_to_toml": "scene_toml", "Branch": "tracking", "track_modes": "tracking",
-    "stage_alone": "stage_alone",
+    "stage_alone": "stage_alone", "check_part": "part_check", "check_body_part": "part_check",
 }
 
 __all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "GearMesh", "LoadCase", "MechanismError",

@@ -154,6 +154,13 @@ FIELDS: dict[str, dict[str, str]] = {
         "units": "Length unit of the file's numbers: 'm', 'mm', 'cm', 'um', 'in', 'ft'. STEP: default the "
                  "unit the file declares; BREP: default 'mm'; a mesh file: required.",
         "volumes": "Several volumes in the file: 'refuse' (default) or 'fuse' them into one part (they must touch).",
+        "order": "A mesh file's element order: left out, the file's own (linear tetrahedra warn: too stiff in "
+                 "bending); 2 lifts a linear mesh to P2 (edge midpoints, straight edges); 1 keeps it linear "
+                 "without the warning. A CAD part is meshed at `flex.order`.",
+        "axis": "The part's rotation axis in the file's axes (default z); the part is read in the frame whose z "
+                "it is (x, y as a body's local axes: docs/user_parts.md).",
+        "origin": "The point of `axis` that becomes the part's local origin (m after the unit conversion, the "
+                  "file's axes; default the file's origin).",
     },
     "InterfaceRule": {
         "name": "Interface name the scene refers to (`pin_0`, `bearing_b`, ...).",
@@ -516,11 +523,14 @@ NOTES: dict[str, str] = {
     "CylinderParams": "Local origin: the end face `end_a`; the cylinder runs along +z to `end_b`.",
     "PartFile": (
         "The user's own part (`kind = \"file\"`): a STEP/BREP file meshed by gmsh, or a tetrahedral "
-        "volume mesh read by meshio, converted to metres on reading. Local origin and axes: the file's; "
-        "its rotation axis is its z. Refused with one line naming the file: an open shell, several "
-        "volumes (unless `volumes = 'fuse'`), loose faces, inverted or degenerate elements, a size "
-        "outside 1 mm to 100 m (wrong units), a master the part does not reach. A stage carrier's "
-        "`pin_<n>` must be at planet n. See docs/user_parts.md."),
+        "volume mesh (gmsh, Abaqus, Salome/Code_Aster MED, Nastran, VTK), converted to metres on reading. "
+        "Local origin and axes: the file's, or those `axis` and `origin` give; the rotation axis is the "
+        "local z. Interface rules are in the file's axes. Refused with one line naming the file: an open "
+        "shell, several volumes (unless `volumes = 'fuse'`), loose faces, inverted or degenerate "
+        "elements, other volume cells than tetrahedra, a size outside 1 mm to 100 m (wrong units), a "
+        "master the part does not reach. Other cells of a mesh file are dropped and reported. A stage "
+        "carrier's `pin_<n>` must be at planet n. Check a part alone: `flexgear part`. See "
+        "docs/user_parts.md."),
     "InterfaceRule": (
         "A face belongs to a rule when every sample of it does (within `tolerance`); each interface "
         "is coupled (RBE2 or RBE3) to a 6-DOF master node."),

@@ -72,6 +72,7 @@ class FEModel:
     mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
     timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly", "matrices"
     checks: dict[str, float] = field(default_factory=dict)  # self-checks, e.g. FE vs CAD mass (relative)
+    read: Any = None  # a mesh file's ReadSummary (fe_components.part_cells): what was read and dropped
     matrices: Callable[[], tuple] | None = field(default=None, repr=False, compare=False)  # -> (K, M)
 
     @functools.cached_property
@@ -160,6 +161,7 @@ def build_component(params, material: Material = STEEL, mesh_size: float | None 
     model.timings["mesh"] = t_mesh
     if isinstance(params, PartFile):
         model.checks.update(cad_mass_check(model, params))
+        model.read = part_geometry(params).read
     return model
 
 

@@ -19,7 +19,8 @@ import numpy as np
 
 from .gmsh_session import gmsh_model
 from .part_file import UNITS, PartFile, PartFileError
-from .part_geometry import Faces, PartGeometry, check_size, resolve_interfaces
+from .part_frame import PartFrame
+from .part_geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
 
 log = logging.getLogger(__name__)
 
@@ -53,7 +54,8 @@ def step_length_unit(path) -> tuple[str, float]:
 
 def load_solid(gmsh, part: PartFile) -> tuple[int, float, np.ndarray, np.ndarray]:
     """Import the part into the current gmsh model, checked to be one closed volume (fused
-    if allowed): ``(volume tag, metres per model unit, extent lo, hi in m)``. The CAD stays in its own numbers:
+    if allowed): ``(volume tag, metres per model unit, extent lo, hi in m in the part's local
+    frame)``. The CAD stays in its own numbers:
     OpenCASCADE's scaling (a general transformation) turns exact surfaces into B-spline
     approximations (0.6 % off in volume on the shipped carrier), so sizes, samples, mass
     properties and the mesh are scaled instead."""
@@ -98,20 +100,20 @@ def load_solid(gmsh, part: PartFile) -> tuple[int, float, np.ndarray, np.ndarray
     if loose:
         raise PartFileError("file", part.file, f"{name}: non-manifold: {len(loose)} face(s) bound no volume "
                                                "(loose or dangling faces); remove them in the CAD tool")
-    lo, hi = (factor * x for x in _extent(gmsh))
+    pts = PartFrame.of(part.axis, part.origin).points(factor * _extent_points(gmsh))
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
     check_size(part, lo, hi, factor * (metres / 1e-3 if is_step else 1.0), unit_text)
     return vols[0], factor, lo, hi
 
 
-def _extent(gmsh) -> tuple[np.ndarray, np.ndarray]:
-    """Tight bounding box (model units) of the model: OpenCASCADE's own boxes of curved solids are
-    loose (control points), so the extreme points of the curves are taken instead."""
+def _extent_points(gmsh) -> np.ndarray:
+    """Points (model units) along every curve of the model, whose box is the model's tight
+    bounding box: OpenCASCADE's own boxes of curved solids are loose (control points)."""
     pts = []
     for _, c in gmsh.model.getEntities(1):
         lo, hi = gmsh.model.getParametrizationBounds(1, c)
         pts.append(np.asarray(gmsh.model.getValue(1, c, np.linspace(lo[0], hi[0], 4 * CURVE_SAMPLES).tolist())))
-    pts = np.concatenate(pts).reshape(-1, 3)
-    return pts.min(axis=0), pts.max(axis=0)
+    return np.concatenate(pts).reshape(-1, 3)
 
 
 def face_samples(gmsh, tag: int) -> np.ndarray:
@@ -144,13 +146,16 @@ def cad_faces(gmsh, f: float) -> Faces:
 
 
 def _geometry(gmsh, part: PartFile) -> tuple[PartGeometry, float]:
-    """(the part in metres, metres per model unit)."""
+    """(the part in metres and its local frame, metres per model unit); the rules act on the
+    file's axes."""
     occ = gmsh.model.occ
     vol, f, lo, hi = load_solid(gmsh, part)
+    frame = PartFrame.of(part.axis, part.origin)
     faces = cad_faces(gmsh, f)
-    interfaces = resolve_interfaces(part, faces, {}, float(np.linalg.norm(hi - lo)))
-    return PartGeometry(lo, hi, occ.getMass(3, vol) * f ** 3, np.asarray(occ.getCenterOfMass(3, vol)) * f,
-                        np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3) * f ** 5, interfaces, "cad"), f
+    interfaces = in_frame(resolve_interfaces(part, faces, {}, float(np.linalg.norm(hi - lo))), frame)
+    return PartGeometry(lo, hi, occ.getMass(3, vol) * f ** 3, frame.points(np.asarray(occ.getCenterOfMass(3, vol)) * f),
+                        frame.tensor(np.asarray(occ.getMatrixOfInertia(3, vol)).reshape(3, 3) * f ** 5),
+                        interfaces, "cad"), f
 
 
 def read_part_geometry(part: PartFile) -> PartGeometry:
@@ -162,7 +167,8 @@ def read_part_geometry(part: PartFile) -> PartGeometry:
 
 def generate_part_mesh(part: PartFile, options, path) -> None:
     """Mesh the CAD part with ``options`` (:class:`~fe_components.meshing.MeshOptions`):
-    one physical volume ``solid`` and one physical surface group per interface; write ``path``."""
+    one physical volume ``solid`` and one physical surface group per interface, in metres and
+    the part's local frame; write ``path``."""
     from .meshing import mesh_volume
 
     with gmsh_model("part-mesh") as gmsh:
@@ -173,7 +179,8 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
             gmsh.model.addPhysicalGroup(2, [int(t) for t in itf.face_ids], name=itf.name)
         try:
             mesh_volume(gmsh, options, unit=f)
-            gmsh.model.mesh.affineTransform([f, 0, 0, 0, 0, f, 0, 0, 0, 0, f, 0])   # to metres
+            # to metres, in the part's local frame
+            gmsh.model.mesh.affineTransform(PartFrame.of(part.axis, part.origin).affine(f))
         except Exception as exc:  # gmsh raises plain Exception
             raise PartFileError("file", part.file, f"{part.path.name}: gmsh cannot mesh the part at size "
                                                    f"{options.size:g} m ({exc})") from None

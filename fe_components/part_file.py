@@ -26,8 +26,18 @@ each coupled (RBE2 or RBE3) to a 6-DOF master node:
 
 A face belongs to a rule when every sample point of it does (tolerance ``tolerance``, m;
 default 1e-5 of the part's size). The master is ``master`` if given, else the area centroid
-of the selected faces (for a cylinder rule: projected onto the axis). The part's rotation
-axis is its local z (as for every component): model the CAD part about z.
+of the selected faces (for a cylinder rule: projected onto the axis).
+
+The part's own frame: every component turns about its local z. A part modelled about
+another axis of its file gives ``axis`` (the file's rotation axis) and ``origin`` (a point
+of it, m after the unit conversion, the file's axes); the part is read in the frame of
+:mod:`fe_components.part_frame`. Rules, masters and ``origin`` are in the file's axes; the
+part's geometry (mesh, mass properties, interface masters) comes out in its local frame.
+
+``order`` (mesh files): left out, the file's elements as they are (linear tetrahedra with a
+warning: too stiff in bending); 2 lifts a linear mesh to P2 (a midside node at the middle of
+every edge: straight edges, the faceted geometry kept); 1 keeps a linear mesh linear (the
+warning acknowledged).
 """
 from __future__ import annotations
 
@@ -39,7 +49,7 @@ from pathlib import Path
 from typing import Literal, Optional
 
 from .errors import GeometryError
-from .fields import check_fields, quantity
+from .fields import check_fields, first_problem, quantity
 
 #: Length units a file may be in, and their size in metres.
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
@@ -49,7 +59,8 @@ CAD_SUFFIXES = (".step", ".stp", ".brep", ".brp")
 MESH_SUFFIXES = (".msh", ".inp", ".bdf", ".nas", ".vtu", ".vtk", ".med", ".xdmf")
 RULES = ("group", "cylinder", "plane", "box")
 #: Bump when reading or meshing a part file changes the mesh it gives (part of the cache key).
-PART_READER_VERSION = 2
+#: 3: MED node order, own Nastran reader, order, axis and origin.
+PART_READER_VERSION = 3
 #: A part smaller or larger than this (bounding-box diagonal, m) has the wrong units.
 SIZE_RANGE = (1e-3, 100.0)
 
@@ -140,6 +151,10 @@ class PartFile:
         model; a scene attaches springs to interfaces only).
     volumes : a file of several volumes is refused ("refuse", default) or fused into one
         part ("fuse": the volumes must touch).
+    order : a mesh file's element order: None (as in the file), 2 (lift a linear mesh to
+        P2) or 1 (keep a linear mesh linear); see the module docstring.
+    axis : the part's rotation axis in the file's axes (default z).
+    origin : the point of ``axis`` that becomes the local origin (m, the file's axes).
     content_sha256 : SHA-256 of the file's bytes, read on construction (the cache key).
     """
 
@@ -147,6 +162,9 @@ class PartFile:
     interfaces: tuple[InterfaceRule, ...] = ()
     units: Optional[str] = None
     volumes: Literal["refuse", "fuse"] = "refuse"
+    order: Optional[Literal[1, 2]] = None
+    axis: _POINT = quantity("", default=(0.0, 0.0, 1.0), abs_lt=1e6)
+    origin: _POINT = quantity(**_LEN, default=(0.0, 0.0, 0.0))
     content_sha256: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
@@ -169,6 +187,24 @@ class PartFile:
                                                f"give units (one of {list(UNITS)})")
         if self.volumes not in ("refuse", "fuse"):
             raise PartFileError("volumes", self.volumes, "must be 'refuse' or 'fuse'")
+        for f in ("axis", "origin"):
+            if isinstance(getattr(self, f), list):
+                object.__setattr__(self, f, tuple(getattr(self, f)))
+        for f in ("axis", "origin"):
+            v = getattr(self, f)
+            if not isinstance(v, tuple) or len(v) != 3:
+                raise PartFileError(f, v, f"{path.name}: must be 3 numbers (x, y, z)")
+        problem = first_problem(self)
+        if problem is not None:
+            raise PartFileError(problem[0], problem[1], f"{path.name}: {problem[2]}")
+        if math.hypot(*self.axis) == 0:
+            raise PartFileError("axis", self.axis, f"{path.name}: must be a non-zero vector (the part's rotation "
+                                                   "axis in the file's axes)")
+        if self.order is not None and (isinstance(self.order, bool) or self.order not in (1, 2)):
+            raise PartFileError("order", self.order, f"{path.name}: must be 1 or 2")
+        if self.order is not None and not self.is_mesh:
+            raise PartFileError("order", self.order, f"{path.name}: a CAD part is meshed at the body's flex order; "
+                                                     "order applies to mesh files")
         if not isinstance(self.interfaces, tuple):
             object.__setattr__(self, "interfaces", tuple(self.interfaces))
         seen = {}
@@ -205,7 +241,8 @@ class PartFile:
         """What identifies the part's geometry for the caches (:func:`params_digest`): the
         file's content (not its name or folder), the unit and the rules."""
         return {"content_sha256": self.content_sha256, "units": self.units, "volumes": self.volumes,
-                "interfaces": list(self.interfaces), "reader": PART_READER_VERSION}
+                "interfaces": list(self.interfaces), "order": self.order, "axis": self.axis,
+                "origin": self.origin, "reader": PART_READER_VERSION}
 
     def rule(self, name: str) -> tuple[int, InterfaceRule]:
         for i, r in enumerate(self.interfaces):

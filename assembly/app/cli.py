@@ -1,5 +1,5 @@
-"""``flexgear`` command line: modes, compare, static, run, study, campbell, frf, simulate, export, demo, reference,
-bench.
+"""``flexgear`` command line: modes, compare, static, run, study, campbell, frf, simulate, export, part, demo,
+reference, bench.
 
 Every subcommand is parsed here; every error the package raises on bad input ends in
 :func:`main`'s one handler: a single line on stderr naming the field or file and the
@@ -457,6 +457,35 @@ def _add_export(sub) -> None:
     s.set_defaults(func=cmd_export_superelement)
 
 
+def cmd_part(args) -> int:
+    """``flexgear part``: one part checked alone (mass properties, free-free modes, interfaces)."""
+    from .part import run
+    return run(args)
+
+
+def _add_part(sub) -> None:
+    p = sub.add_parser("part", help="check one part alone: mass properties (FE vs CAD), free-free modes, "
+                                    "interfaces, what its file held")
+    p.add_argument("target", metavar="FILE|SCENE", help="a part file (STEP, BREP, .msh, .inp, .bdf, .med, .vtu, ...) "
+                                                        "or a scene with a part-file body")
+    p.add_argument("--body", default=None, metavar="NAME", help="SCENE: the body whose part is checked (default: "
+                                                                "the only body with a part file)")
+    p.add_argument("--units", default=None, metavar="UNIT", help="FILE: length unit of its numbers (m, mm, ...)")
+    p.add_argument("--order", type=int, default=None, choices=(1, 2), help="FILE (a mesh): 2 lifts a linear mesh to P2")
+    p.add_argument("--axis", default=None, metavar="X,Y,Z", help="FILE: the part's rotation axis in the file's axes "
+                                                                 "(--axis=-1,0,0 when it starts with a minus)")
+    p.add_argument("--origin", default=None, metavar="X,Y,Z", help="FILE: a point of that axis (m, the file's axes)")
+    p.add_argument("--mesh-size", type=float, default=None, metavar="M", help="FILE (CAD): element size (m)")
+    p.add_argument("--modes", type=int, default=6, metavar="N", help="elastic modes listed (default 6)")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    p.add_argument("--quiet", "-q", action="store_true", help="do not announce the scene file")
+    p.set_defaults(func=cmd_part, check=lambda a: (_at_least(a.modes, "--modes", 1), a.modes <= 100 or _too_many(a.modes)))
+
+
+def _too_many(modes: int):
+    raise UsageError(f"--modes = {modes}: must be in 1..100")
+
+
 def cmd_demo(args) -> int:
     from ..modal import solve_modes
     from ..model import assemble
@@ -525,6 +554,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_frf(sub)
     _add_simulate(sub)
     _add_export(sub)
+    _add_part(sub)
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")
     m.add_argument("scene", help=SCENE_HELP)
     m.add_argument("--json", action="store_true", help="print one JSON object to stdout")

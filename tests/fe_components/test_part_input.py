@@ -10,10 +10,19 @@ meshio for mesh files, in m). Each class is checked on the Python side (the
 cache) and through the command line on a small scene (exit 2, one line on stderr naming
 the file, nothing new in the cache folder). A fuzz test feeds random interface-rule tables
 for the committed carrier_windows.step through the scene schema: each is refused naming a
-field, or read, or refused by the part reader; never any other exception."""
+field, or read, or refused by the part reader; never any other exception.
+
+Mesh files as other tools write them (classes of issue 26): MED files in VTK's order, Nastran
+decks breaking the format's rules (a GRID in another coordinate system, INCLUDE, a missing
+GRID, a CTETRA of 7 nodes, an over-long free-field line, a GRID twice, a bad number), other
+volume cells beside the tetrahedra, order = 1 on a quadratic file: refused as above. Fuzzed
+through the API and (one case in four) ``flexgear part``: MED files with random node orders
+(24), Nastran decks in random field formats and continuation styles (24), meshes with random
+extra cells (30), random part axes and origins (24)."""
 from __future__ import annotations
 
 import collections
+import itertools
 import json
 import math
 import os
@@ -168,6 +177,24 @@ def _mesh_files(d: Path) -> None:
         p, t = _tet10(shift)
         assert (_tet_volumes(p, t) > 0).all()  # the straight elements are fine
         meshio.write(d / name, meshio.Mesh(p, [("tetra10", t)]))
+    meshio.write(d / "cube_p2.vtu", meshio.Mesh(p10, [("tetra10", t10)]))
+    # MED written in VTK's node order (as meshio writes any mesh it did not read from MED)
+    meshio.write(d / "cube_vtk_order.med", meshio.Mesh(P, [("tetra", T)]), file_format="med")
+    wedge = np.array([[0, 1, 3, 4, 5, 7]])
+    meshio.write(d / "tets_and_wedge.vtu", meshio.Mesh(P, [("tetra", T), ("wedge", wedge)]))
+    grids = [f"GRID,{i + 1},,{x!r},{y!r},{z!r}" for i, (x, y, z) in enumerate(P.tolist())]
+    tetras = [f"CTETRA,{e + 1},1," + ",".join(str(n + 1) for n in t) for e, t in enumerate(T)]
+    decks = {
+        "grid_in_cp.bdf": grids[:3] + ["GRID,4,3,0.,0.1,0."] + grids[4:] + tetras,
+        "include.bdf": ["INCLUDE 'more.bdf'"] + grids + tetras,
+        "missing_grid.bdf": grids + tetras[:-1] + ["CTETRA,5,1,4,5,7,99"],
+        "seven_nodes.bdf": grids + tetras[:-1] + ["CTETRA,5,1,4,5,7,8,1,2", ",3"],
+        "long_free_line.bdf": grids + tetras[:-1] + ["CTETRA,5,1,4,5,7,8,,,,,,,,1"],
+        "grid_twice.bdf": grids + grids[:1] + tetras,
+        "not_a_number.bdf": grids[:-1] + ["GRID,8,,0.,0.1,1.0.1"] + tetras,
+    }
+    for name, lines in decks.items():
+        (d / name).write_text("BEGIN BULK\n" + "\n".join(lines) + "\nENDDATA\n")
 
 
 # ------------------------------------------------------------------ the classes of bad input
@@ -192,10 +219,11 @@ class Case:
     volumes: str | None = None
     rules: list = field(default_factory=lambda: BOX_ENDS)
     xfail: str | None = None  # a library bug the case finds (reported)
+    order: int | None = None
 
     def part(self, d: Path) -> PartFile:
         kw = {"volumes": self.volumes} if self.volumes else {}
-        return PartFile(str(d / self.file), rules(self.rules), units=self.units, **kw)
+        return PartFile(str(d / self.file), rules(self.rules), units=self.units, order=self.order, **kw)
 
 
 def rules(tables) -> tuple:
@@ -250,6 +278,27 @@ CASES = [
          rules=[{"name": "end_a", "select": "group", "group": "end_a"}, plane("end_b", BOX_M[0])]),
     Case("missing-file", "no_such_part.step", "file", ("cannot read", "No such file")),
     Case("unknown-suffix", "part.stl", "file", ("unknown file type '.stl'",)),
+    # mesh files from other tools: a format's rules broken, volume cells that cannot be a part
+    Case("med-in-vtk-order", "cube_vtk_order.med", "file",
+         ("5 of 5 tetrahedra are inverted", "read in MED's node order", "written in another order"), units="m",
+         rules=CUBE_ENDS),
+    Case("tets-and-wedge", "tets_and_wedge.vtu", "file", ("['tetra', 'wedge']", "only tetrahedra"), units="m",
+         rules=CUBE_ENDS),
+    Case("nastran-grid-in-cp", "grid_in_cp.bdf", "file", ("line 5: GRID 4", "coordinate system CP = 3",
+                                                          "export in it"), units="m", rules=CUBE_ENDS),
+    Case("nastran-include", "include.bdf", "file", ("line 2: INCLUDE is not read",), units="m", rules=CUBE_ENDS),
+    Case("nastran-missing-grid", "missing_grid.bdf", "file", ("CTETRA 5 names GRID 99",), units="m",
+         rules=CUBE_ENDS),
+    Case("nastran-seven-nodes", "seven_nodes.bdf", "file", ("CTETRA 5: 7 grid points", "4, or 10"), units="m",
+         rules=CUBE_ENDS),
+    Case("nastran-long-free-line", "long_free_line.bdf", "file", ("line 14: more than 10 comma-separated fields",),
+         units="m", rules=CUBE_ENDS),
+    Case("nastran-grid-twice", "grid_twice.bdf", "file", ("line 10: GRID 1 is defined twice",), units="m",
+         rules=CUBE_ENDS),
+    Case("nastran-not-a-number", "not_a_number.bdf", "file", ("line 9: '1.0.1' is not a number",), units="m",
+         rules=CUBE_ENDS),
+    Case("order-1-on-p2", "cube_p2.vtu", "order", ("holds quadratic tetrahedra (tetra10)", "leave order out"),
+         units="m", rules=CUBE_ENDS, order=1),
 ]
 
 
@@ -361,7 +410,7 @@ def _toml(value) -> str:
     return repr(float(value))
 
 
-def write_scene(d: Path, case_id: str, file: str, units=None, volumes=None, rules=()) -> Path:
+def write_scene(d: Path, case_id: str, file: str, units=None, volumes=None, rules=(), order=None) -> Path:
     """A scene of one flexible body read from ``file`` (relative to the scene's folder ``d``),
     held by a bearing at each of its first two interfaces."""
     lines = ['name = "part input check"', "band_hz = 3000.0", "", "[[bodies]]", 'name = "part"',
@@ -370,6 +419,8 @@ def write_scene(d: Path, case_id: str, file: str, units=None, volumes=None, rule
         lines.append(f"units = {_toml(units)}")
     if volumes:
         lines.append(f"volumes = {_toml(volumes)}")
+    if order:
+        lines.append(f"order = {order}")
     for r in rules:
         lines.append("[[bodies.component.interfaces]]")
         lines += [f"{k} = {_toml(v)}" for k, v in r.items()]
@@ -403,7 +454,7 @@ def _one_error_line(run) -> str:
 
 @pytest.mark.parametrize("case", CASE_PARAMS)
 def test_cli_refuses_a_bad_part_in_one_line(case, bad, tmp_path):
-    scene = write_scene(bad, case.id, case.file, case.units, case.volumes, case.rules)
+    scene = write_scene(bad, case.id, case.file, case.units, case.volumes, case.rules, case.order)
     run = run_cli(scene, tmp_path / "cache")
     line = _one_error_line(run)
     assert line.startswith(f"flexgear: error: bodies[0].component.{case.parameter} = "), line
@@ -571,3 +622,222 @@ def test_fuzz_interface_rules_on_the_carrier():
         outcomes["read"] += 1
     # the draw reaches every outcome (seeded: the same tables every run)
     assert set(outcomes) == {"refused by the schema", "refused by the reader", "read"}, outcomes
+
+
+# ------------------------------------------------------- fuzz: mesh files from other tools
+#: The cube's 5 tetrahedra, P1 and P2, as the fuzz's known mesh: volume CUBE^3, and the
+#: straight elements' mass properties as the reference every variant must reproduce.
+def _cube_mesh(order: int):
+    if order == 1:
+        return CUBE_CORNERS, CUBE_TETS
+    return _tet10(0.0)
+
+
+def _reference(order: int, d: Path):
+    """The cube read from a plain .vtu: what every variant of the fuzz must give."""
+    pts, tets = _cube_mesh(order)
+    path = _write(d, f"ref{order}.vtu", pts, [("tetra" if order == 1 else "tetra10", tets)])
+    return part_geometry(PartFile(path, units="m", order=1 if order == 1 else None))
+
+
+@pytest.fixture(scope="module")
+def fuzz_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("fuzz-files")
+
+
+def _write(d: Path, name: str, pts, cells, **kw) -> str:
+    path = d / name
+    meshio.write(path, meshio.Mesh(pts, cells, **kw))
+    return str(path)
+
+
+def _same_geometry(geo, ref, what) -> None:
+    """The part read is the reference cube: volume, centroid, inertia and box to 1e-12."""
+    assert geo.volume == pytest.approx(ref.volume, rel=1e-12), what
+    assert np.abs(geo.centroid - ref.centroid).max() < 1e-12 * CUBE, what
+    assert np.abs(geo.inertia_per_density - ref.inertia_per_density).max() \
+        < 1e-12 * np.abs(ref.inertia_per_density).max(), what
+
+
+def _cli_json(argv, capsys) -> dict:
+    """``flexgear part ... --json`` in this process: exit 0 and its JSON."""
+    from assembly.app.cli import main
+    code = main(["part", *map(str, argv), "--json", "--modes", "1"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    return json.loads(out.out)
+
+
+def _cli_refused(argv, capsys) -> str:
+    from assembly.app.cli import main
+    assert main(["part", *map(str, argv)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and err.startswith("flexgear: error: "), err
+    return err
+
+
+def test_fuzz_med_node_orders(fuzz_dir, capsys):
+    """MED files of the cube whose tetrahedra are numbered from random corners (the edge
+    nodes following): an even permutation of a MED element is the same element, read as the
+    cube; an odd one is the mirror image, refused as inverted, counted. P1 and P2; through the
+    Python API and (one in four) the command line."""
+    from tests.support.mesh_writers import med_order, renumbered, write_med
+
+    rng = random.Random(261)
+    perms = list(itertools.permutations(range(4)))
+    outcomes = collections.Counter()
+    for case in range(examples(24)):
+        order = rng.choice([1, 2])
+        pts, tets = _cube_mesh(order)
+        med = med_order(pts, tets)
+        odd = np.array([rng.random() < 0.15 for _ in med])
+        cells = np.array([renumbered(t, rng.choice([p for p in perms if _parity(p) == int(o)]))
+                          for t, o in zip(med, odd)])
+        path = fuzz_dir / f"med{case}.med"
+        write_med(path, pts, cells)
+        part = PartFile(str(path), units="m")
+        cli = case % 4 == 0
+        if odd.any():
+            with pytest.raises(PartFileError) as err:
+                part_geometry(part)
+            assert f"{odd.sum()} of 5 tetrahedra are inverted" in str(err.value), (case, str(err.value))
+            if cli:
+                assert f"{odd.sum()} of 5 tetrahedra are inverted" in _cli_refused([path, "--units", "m"], capsys)
+            outcomes["refused: mirrored elements"] += 1
+            continue
+        geo = part_geometry(part)
+        _same_geometry(geo, _reference(order, fuzz_dir), case)
+        assert geo.read.solid == ("tetra" if order == 1 else "tetra10") and geo.read.n_solid == 5
+        if cli:
+            j = _cli_json([path, "--units", "m", "--order", "2"], capsys)
+            assert j["fe"]["mass_kg"] == pytest.approx(7850.0 * CUBE ** 3, rel=1e-12) and j["n_rigid"] == 6
+        outcomes["read"] += 1
+    assert set(outcomes) == {"read", "refused: mirrored elements"}, outcomes
+
+
+def _parity(p) -> int:
+    """0 for an even permutation, 1 for an odd one."""
+    p, n = list(p), 0
+    for i in range(len(p)):
+        while p[i] != i:
+            j = p[i]
+            p[i], p[j] = p[j], p[i]
+            n += 1
+    return n % 2
+
+
+def test_fuzz_nastran_field_formats_and_continuations(fuzz_dir, capsys):
+    """Decks of the cube with every card in a random field format and continuation style
+    (GRID free or large with implicit exponents; CTETRA free with + or blank continuations,
+    small with markers or a blank first field after a stripped or padded line, large), comments
+    and blank lines between cards, random tetrahedra left-handed, with or without BEGIN BULK:
+    read as the cube, the left-handed ones counted as renumbered. API, and one in four through
+    the command line."""
+    from tests.support.mesh_writers import nastran_deck
+
+    rng = random.Random(262)
+    for case in range(examples(24)):
+        order = rng.choice([1, 2])
+        pts, tets = _cube_mesh(order)
+        flipped = [rng.random() < 0.4 for _ in tets]
+        path = fuzz_dir / f"deck{case}.{rng.choice(['bdf', 'nas'])}"
+        path.write_text(nastran_deck(pts, tets, rng=rng, flipped=flipped, header=rng.random() < 0.7))
+        geo = part_geometry(PartFile(str(path), units="m"))
+        _same_geometry(geo, _reference(order, fuzz_dir), case)
+        assert geo.read.renumbered == sum(flipped) and geo.read.n_solid == 5, case
+        if case % 4 == 0:
+            j = _cli_json([path, "--units", "m"], capsys)
+            assert j["read"]["renumbered"] == sum(flipped) and j["order"] == order
+
+
+#: Extra cells a file may hold, by what the reader must make of them: (meshio type, cells of
+#: the cube's 8 corners (0..7) or of the 3 extra nodes (8..10), kind in the summary).
+_EXTRA = [
+    ("triangle", [[0, 3, 1]], "boundary face"),        # the z = 0 face of tetrahedron 0 (0, 1, 3, 4)
+    ("triangle", [[8, 9, 10]], "surface"),              # a sheet of nodes of no tetrahedron
+    ("triangle", [[0, 1, 6]], "surface"),               # through the cube: no face of the 5 tetrahedra
+    ("quad", [[0, 1, 2, 3]], "surface"),                # the z = 0 square: no tetrahedron face is a quad
+    ("line", [[0, 1]], "boundary edge"),
+    ("line", [[0, 6]], "line"),                         # the cube's main diagonal: inside it
+    ("vertex", [[7]], "boundary node"),
+    ("vertex", [[9]], "point"),
+]
+
+
+def test_fuzz_extra_cells_are_counted(fuzz_dir, capsys):
+    """The P1 cube with random extra cells (boundary faces, edges and nodes, sheets, quads,
+    lines through it, points off it): the summary counts each kind exactly, warns if and only
+    if something besides boundary tags is left out; a volume cell other than a tetrahedron
+    added is refused. API, and one in four through the command line."""
+    rng = random.Random(263)
+    extra_pts = np.array([[0.5, 0.5, 2.0], [0.7, 0.5, 2.0], [0.5, 0.8, 2.0]]) * CUBE
+    pts = np.vstack([CUBE_CORNERS, extra_pts])
+    faces = collections.Counter(tuple(sorted(t[list(f)])) for t in CUBE_TETS
+                                for f in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)))
+    assert faces[(0, 1, 3)] == 1 and faces[(0, 1, 6)] == 0   # the table's claims: a boundary face, no face
+    outcomes = collections.Counter()
+    for case in range(examples(30)):
+        picks = [rng.choice(_EXTRA) for _ in range(rng.randint(0, 5))]
+        cells = [("tetra", CUBE_TETS)] + [(t, np.array(c)) for t, c, _ in picks]
+        volume = rng.random() < 0.15
+        if volume:
+            cells.append(rng.choice([("hexahedron", np.arange(8)[None]), ("wedge", np.array([[0, 1, 3, 4, 5, 7]])),
+                                     ("pyramid", np.array([[0, 1, 2, 3, 6]]))]))
+        path = _write(fuzz_dir, f"extra{case}.vtu", pts, cells)
+        if volume:
+            with pytest.raises(PartFileError) as err:
+                part_geometry(PartFile(path, units="m"))
+            assert "only tetrahedra" in str(err.value) and cells[-1][0] in str(err.value)
+            outcomes["refused"] += 1
+            continue
+        read = part_geometry(PartFile(path, units="m", order=1)).read
+        want = collections.Counter()
+        for t, c, kind in picks:
+            want[(t, kind)] += 1
+        got = {(c.name, c.kind): c.count for c in read.dropped}
+        assert got == dict(want), (case, picks, read.text())
+        assert bool(read.left_out) == any(not k.startswith("boundary") for _, _, k in picks)
+        assert read.loose_nodes == 3
+        if case % 4 == 0:
+            j = _cli_json([path, "--units", "m"], capsys)
+            assert {(d["name"], d["kind"]): d["count"] for d in j["read"]["dropped"]} == dict(want)
+        outcomes["left out" if read.left_out else "tags only"] += 1
+    assert set(outcomes) == {"refused", "left out", "tags only"}, outcomes
+
+
+def test_fuzz_part_axes(fuzz_dir, capsys):
+    """The P2 cube drawn about a random axis through a random origin of its file (random
+    directions, the near-x branch of the frame convention, axes along the file's own), read
+    with that axis and origin and plane rules written in the file's axes: the part of the z
+    original, to 1e-12 (volume, centroid, inertia, interface masters), and the rules find
+    the same faces. API, and one in four through the command line."""
+    from tests.fe_components.test_part_frame import frame
+
+    rng = random.Random(264)
+    pts, tets = _cube_mesh(2)
+    ref_rules = (InterfaceRule("end_a", "plane", point=(0.0, 0.0, 0.0), normal=(1.0, 0.0, 0.0)),
+                 InterfaceRule("end_b", "plane", point=(CUBE, 0.0, 0.0), normal=(1.0, 0.0, 0.0)))
+    ref = part_geometry(PartFile(_write(fuzz_dir, "axis_ref.vtu", pts, [("tetra10", tets)]), ref_rules, units="m"))
+    for case in range(examples(24)):
+        kind = rng.choice(["random", "near-x", "file axis"])
+        if kind == "random":
+            axis = tuple(rng.uniform(-1, 1) for _ in range(3))
+        elif kind == "near-x":
+            axis = (rng.choice([-1, 1]) * rng.uniform(0.95, 1.0), rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2))
+        else:
+            axis = tuple(rng.choice([-1.0, 1.0]) * e for e in rng.choice(np.eye(3).tolist()))
+        origin = tuple(rng.uniform(-0.5, 0.5) for _ in range(3))
+        R = frame(axis)
+        o = np.array(origin)
+        rules = tuple(InterfaceRule(r.name, "plane", point=tuple(o + R @ r.point), normal=tuple(R @ r.normal))
+                      for r in ref_rules)
+        path = _write(fuzz_dir, f"axis{case}.vtu", o + pts @ R.T, [("tetra10", tets)])
+        geo = part_geometry(PartFile(path, rules, units="m", axis=axis, origin=origin))
+        _same_geometry(geo, ref, (case, axis))
+        for a, b in zip(geo.interfaces, ref.interfaces):
+            assert np.array_equal(np.sort(a.face_ids), np.sort(b.face_ids)), (case, a.name)
+            assert np.abs(a.master - b.master).max() < 1e-12 * CUBE, (case, a.name)
+        if case % 4 == 0:
+            j = _cli_json([path, "--units", "m", "--axis=" + ",".join(map(repr, axis)),   # '=': a leading minus
+                           "--origin=" + ",".join(map(repr, origin))], capsys)
+            assert np.abs(np.array(j["fe"]["center_of_mass_m"]) - ref.centroid).max() < 1e-12 * CUBE

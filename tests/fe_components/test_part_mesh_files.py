@@ -3,10 +3,13 @@ groups. One P2 (tetra10) mesh of a cylinder, made here with gmsh (physical surfa
 "end_a", "end_b" and a physical volume), read as a user's part from every format it can be
 written in: gmsh .msh 4.1 (physical groups), Abaqus .inp written by meshio (groups as
 ``*ELSET`` of the end faces, or as ``*NSET`` of their nodes; also scaled to mm), .vtu (no
-groups: plane rules) and Nastran .bdf written by meshio (plane rules). Every format gives
-the same FE model: order 2, the groups' corner and midside nodes as the interfaces, the
-mass of the curved P2 cylinder and the same free-free frequencies. A P1 (tetra) file gives
-an order 1 model."""
+groups: plane rules), Nastran .bdf written by meshio (plane rules), Salome/Code_Aster .med
+in MED's own node order (the end faces as MED groups), and Nastran decks in every field
+format and continuation style (free field with ``+`` or blank continuations, small field with
+markers or a blank first field after a line stripped of its trailing blanks, large field).
+Every format gives the same FE model: order 2, the groups' corner and midside nodes as the
+interfaces, the mass of the curved P2 cylinder and the same free-free frequencies. A P1
+(tetra) file gives an order 1 model."""
 from __future__ import annotations
 
 import logging
@@ -23,6 +26,7 @@ from fe_components.fe_model import CAD_MASS_TOL, build_component
 from fe_components.material import STEEL
 from fe_components.meshing import read_mesh
 from fe_components.part_file import InterfaceRule, PartFile
+from tests.support.mesh_writers import med_order, nastran_deck, write_med
 
 R = 0.025            # m: cylinder radius (0.05 m diameter)
 LENGTH = 0.1         # m: cylinder length, z in [0, LENGTH]
@@ -128,6 +132,19 @@ def files(tmp_path_factory):
     assert "CTETRA_ " in text
     out.bdf_ctetra = d / "cylinder_ctetra.bdf"
     out.bdf_ctetra.write_text(text.replace("CTETRA_ ", "CTETRA  "))
+    # Salome / Code_Aster: MED's node order, the end faces as MED groups (families)
+    ends = {name: np.concatenate([b.data[i] for b, i in zip(m.cells, m.cell_sets[name])
+                                  if b.type == "triangle6" and i is not None and len(i)]) for name in group_nodes}
+    out.med = d / "cylinder.med"
+    write_med(out.med, m.points, med_order(m.points, tets), ends)
+    out.med_nodes = d / "cylinder_node_groups.med"   # the groups as MED groups of nodes
+    write_med(out.med_nodes, m.points, med_order(m.points, tets), nodes=nsets)
+    # Nastran decks as other tools write them (tests/support/mesh_writers.py)
+    for attr, suffix, grid, tet in (("bdf_free", "bdf", "free", "free-plus"), ("bdf_free_blank", "bdf", "free",
+                                    "free-blank"), ("bdf_blank", "bdf", "free", "small-blank"),
+                                    ("nas_plus", "nas", "large", "small-plus"), ("bdf_large", "bdf", "large", "large")):
+        setattr(out, attr, d / f"cylinder_{attr}.{suffix}")
+        getattr(out, attr).write_text(nastran_deck(m.points, tets, grid, tet))
     # P1: the same tetrahedra on their corner nodes only
     corners = np.unique(tets[:, :4])
     remap = np.full(len(m.points), -1)
@@ -140,6 +157,10 @@ def files(tmp_path_factory):
                                          point_sets={k: np.sort(p1_index.query(v)[1])
                                                      for k, v in group_corners.items()}))
     out.p1_bdf = _bdf(d / "cylinder_p1.bdf", p1_points, "tetra", p1_tets)
+    out.p1_med = d / "cylinder_p1.med"
+    write_med(out.p1_med, p1_points, med_order(p1_points, p1_tets))
+    out.p1_nas = d / "cylinder_p1.nas"
+    out.p1_nas.write_text(nastran_deck(p1_points, p1_tets, "large", "small-blank"))
     return out
 
 
@@ -171,19 +192,39 @@ P2_FORMATS = {
     "vtu": ("vtu", "m", plane_rules),
     "bdf": ("bdf", "m", plane_rules),
     "bdf-ctetra": ("bdf_ctetra", "m", plane_rules),
+    "med": ("med", "m", group_rules),
+    "med-node-groups": ("med_nodes", "m", group_rules),
+    "bdf-free-plus": ("bdf_free", "m", plane_rules),
+    "bdf-free-blank": ("bdf_free_blank", "m", plane_rules),
+    "bdf-small-blank": ("bdf_blank", "m", plane_rules),
+    "nas-small-plus": ("nas_plus", "m", plane_rules),
+    "bdf-large": ("bdf_large", "m", plane_rules),
 }
+
+
+class _Models(dict):
+    """format -> (FE model, its N_RIGID + N_ELASTIC lowest free-free frequencies, Hz), each
+    built when first asked for (a format that cannot be read fails its own tests only)."""
+
+    def __init__(self, files, cache):
+        super().__init__()
+        self.files, self.cache = files, cache
+
+    def __missing__(self, fmt):
+        attr, units, rules = P2_FORMATS[fmt]
+        fe = build_component(PartFile(str(getattr(self.files, attr)), rules(), units=units), STEEL,
+                             cache_dir=self.cache)
+        f = lowest_modes(fe.K, fe.M, N_RIGID + N_ELASTIC, sigma=free_free_shift(fe.K, fe.M)).frequencies_hz
+        self[fmt] = (fe, f)
+        return self[fmt]
+
+    def all(self):
+        return [(fmt, self[fmt]) for fmt in P2_FORMATS]
 
 
 @pytest.fixture(scope="module")
 def models(files, tmp_path_factory):
-    """format -> (FE model, its N_RIGID + N_ELASTIC lowest free-free frequencies, Hz)."""
-    cache = tmp_path_factory.mktemp("p2-cache")
-    out = {}
-    for fmt, (attr, units, rules) in P2_FORMATS.items():
-        fe = build_component(PartFile(str(getattr(files, attr)), rules(), units=units), STEEL, cache_dir=cache)
-        f = lowest_modes(fe.K, fe.M, N_RIGID + N_ELASTIC, sigma=free_free_shift(fe.K, fe.M)).frequencies_hz
-        out[fmt] = (fe, f)
-    return out
+    return _Models(files, tmp_path_factory.mktemp("p2-cache"))
 
 
 @pytest.mark.parametrize("fmt", list(P2_FORMATS))
@@ -261,7 +302,7 @@ def test_free_free_frequencies_agree_between_the_formats(models):
     """Same mesh, same model: the lowest elastic frequencies agree to 1e-9 (the only
     difference: the .bdf's 12-digit coordinates, 5e-13 relative)."""
     ref = None
-    for fmt, (_, f) in models.items():
+    for fmt, (_, f) in models.all():
         assert count_rigid_modes(f) == N_RIGID, (fmt, f[:N_RIGID + 1])
         elastic = f[N_RIGID:]
         if ref is None:
@@ -281,14 +322,14 @@ def test_millimetre_file_gives_the_same_model(models):
     np.testing.assert_allclose(f_mm[N_RIGID:], f_m[N_RIGID:], rtol=1e-9)
 
 
-@pytest.mark.parametrize("fmt", ["inp", "bdf"])
+@pytest.mark.parametrize("fmt", ["inp", "bdf", "med", "nas"])
 def test_first_order_file_gives_an_order_1_model(fmt, files, tmp_path):
     """A P1 (tetra) file: order 1, its interfaces the groups' corner nodes, its mass the
     straight elements' exactly (P1 elements are the straight tetrahedra)."""
     if fmt == "inp":
         part = PartFile(str(files.p1_inp), group_rules(), units="m")
     else:
-        part = PartFile(str(files.p1_bdf), plane_rules(), units="m")
+        part = PartFile(str(getattr(files, f"p1_{fmt}")), plane_rules(), units="m")
     fe = build_component(part, STEEL, cache_dir=tmp_path)
     assert fe.order == 1 and type(fe.mesh).__name__ == "MeshTet1"
     assert read_mesh(fe.mesh_file).cell_type == "tetra"
@@ -298,3 +339,33 @@ def test_first_order_file_gives_an_order_1_model(fmt, files, tmp_path):
     v_straight = _straight_volume(files.p1_points, files.p1_tets)
     assert fe.mass == pytest.approx(STEEL.rho * v_straight, rel=1e-12)
     assert fe.checks == {}  # no exact geometry to check a mesh file against
+
+
+@pytest.mark.parametrize("fmt", ["med", "med-node-groups", "bdf-free-plus", "bdf-free-blank", "bdf-small-blank", "nas-small-plus",
+                                 "bdf-large"])
+def test_med_and_nastran_give_the_gmsh_files_model(fmt, models):
+    """The MED file (MED's node order, read in it) and every Nastran style give the model of
+    the gmsh file itself: the same volume (mass), centre and inertia, and the same free-free
+    frequencies, to 1e-9 (the large-field decks keep 12 digits: 5e-13 relative)."""
+    fe, f = models[fmt]
+    ref, f_ref = models["msh"]
+    assert fe.mass == pytest.approx(ref.mass, rel=1e-9)
+    assert np.allclose(fe.center_of_mass, ref.center_of_mass, rtol=0, atol=1e-9 * LENGTH)
+    assert np.abs(fe.inertia - ref.inertia).max() < 1e-9 * np.abs(ref.inertia).max()
+    np.testing.assert_allclose(f[N_RIGID:], f_ref[N_RIGID:], rtol=1e-9)
+    assert fe.read.n_solid == len(ref.mesh.t.T) and fe.read.solid == "tetra10"
+
+
+
+def test_linear_file_lifted_keeps_its_node_groups(files, tmp_path):
+    """The P1 Abaqus file with its groups as *NSET of corner nodes, lifted to P2 (order = 2):
+    each group holds the same faces as the P2 file's (as many nodes: corners and one per face
+    edge), every node in its end plane, the corners the group's own."""
+    fe = build_component(PartFile(str(files.p1_inp), group_rules(), units="m", order=2), STEEL, cache_dir=tmp_path)
+    assert fe.order == 2 and fe.read.lifted
+    for name, z in (("end_a", 0.0), ("end_b", LENGTH)):
+        p = fe.nodes[fe.interfaces[name].nodes]
+        assert len(p) == len(files.group_nodes[name])
+        assert np.abs(p[:, 2] - z).max() < 1e-15
+        corners = cKDTree(p).query(files.group_corners[name])[0]
+        assert corners.max() < POS_TOL
