@@ -14,6 +14,7 @@ import json
 import logging
 import signal
 import sys
+from contextlib import nullcontext
 from pathlib import Path
 
 log = logging.getLogger("flexgear")
@@ -60,6 +61,13 @@ def _at_least(value: int, flag: str, low: int) -> int:
     if value < low:
         raise UsageError(f"{flag} = {value}: must be >= {low}")
     return value
+
+
+def holding_out(args):
+    """``--out`` checked and locked for the whole computation that fills it
+    (:func:`assembly.app.output.hold_output`); nothing without ``--out``."""
+    from .output import hold_output
+    return hold_output(args.out) if args.out is not None else nullcontext()
 
 
 def parse_modes(text: str) -> tuple:
@@ -263,9 +271,10 @@ def cmd_campbell(args) -> int:
         raise SceneError("--rated-rpm", args.rated_rpm, "must be a speed >= 0 rpm")
     path = scene_file(args)
     scene = load_scene(path)
-    c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
-    if args.out is not None:
-        campbell_to_dir(c, args.out, args.rated_rpm, path)
+    with holding_out(args):
+        c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
+        if args.out is not None:
+            campbell_to_dir(c, args.out, args.rated_rpm, path)
     if args.json:
         json.dump(campbell_json(c, args.rated_rpm), sys.stdout, indent=1)
         sys.stdout.write("\n")
@@ -293,10 +302,12 @@ def cmd_frf(args) -> int:
         raise UsageError(f"--modes-hz = {args.modes_hz}: must be a frequency > 0 Hz (inf: every mode)")
     path = scene_file(args)
     scene = load_scene(path)
-    r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
-                           modes_hz=args.modes_hz)
-    return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log), lambda: frf_json(r, scene.name),
-                 f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs", lambda: summary_text(r, scene.name))
+    with holding_out(args):
+        r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
+                               modes_hz=args.modes_hz)
+        return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log),
+                     lambda: frf_json(r, scene.name), f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs",
+                     lambda: summary_text(r, scene.name))
 
 
 def _emit(args, to_dir, as_json, done: str, summary, indent: int | None = 1) -> int:
@@ -344,14 +355,14 @@ def _add_frf(sub) -> None:
 
 def cmd_simulate(args) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
-    run that stops keeps its partial result (``partial_simulation.h5``) and exits with 1."""
+    run that stops keeps its partial result (:func:`_stopped`) and exits with 1."""
     from ..dynamics.integrators import check_step
     from ..dynamics.simulate import simulate
     from ..dynamics.transient import Diverged
     from ..errors import SceneError
     from ..schema import load_scene
     from .progress import Progress
-    from .simulate import sim_to_dir, summary_text, write_partial
+    from .simulate import sim_to_dir, summary_text
 
     try:
         n_steps = check_step(args.dt, args.t_end)
@@ -360,24 +371,48 @@ def cmd_simulate(args) -> int:
     path = scene_file(args)
     scene = load_scene(path)
     progress = Progress(enabled=False if args.quiet or args.json else None)
-    with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
-        def tick(step, total, t):
-            bar.update(step - bar.n)
-            bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+    with holding_out(args):
+        stopped = None
+        with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
+            def tick(step, total, t):
+                bar.update(step - bar.n)
+                bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+            try:
+                r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
+                             speed=args.speed, progress=tick, full_fe=args.unreduced)
+            except Diverged as exc:
+                stopped = exc
+        if stopped is not None:
+            return _stopped(args, stopped, scene.name, path)
+        return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
+                     f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
+                     lambda: summary_text(r, scene.name), indent=None)
+
+
+def _stopped(args, exc, scene_name: str, path: str) -> int:
+    """A run that stopped (``exc``: :class:`~assembly.dynamics.transient.Diverged`): its
+    partial result into ``--out`` as a complete one would go, marked partial
+    (:func:`~assembly.app.simulate.sim_to_dir`), else nowhere; ``--json`` or, without
+    ``--out``, the summary on stdout; the reason in one line on stderr; exit code 1."""
+    from .output import OutputDirError
+    from .simulate import h5_name, sim_to_dir, summary_text
+
+    p = exc.partial
+    kept = "is not kept: give --out DIR to keep it"
+    if args.out is not None:
         try:
-            r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
-                         speed=args.speed, progress=tick, full_fe=args.unreduced)
-        except Diverged as exc:
-            where = write_partial(exc.partial, args.out if args.out is not None else ".", scene.name)
-            if args.json:
-                json.dump(exc.partial.as_json(), sys.stdout)
-                sys.stdout.write("\n")
-            print(f"flexgear: error: run stopped: {exc}; what was computed (to t = "
-                  f"{exc.partial.time_s[-1]:.6g} s) is in {where}", file=sys.stderr)
-            return 1
-    return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
-                 f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
-                 lambda: summary_text(r, scene.name), indent=None)
+            sim_to_dir(p, args.out, scene_name, path)
+            kept = f"is in {Path(args.out) / h5_name(p)} (marked partial)"
+        except OutputDirError as err:
+            kept = f"could not be written: {err}"
+    if args.json:
+        json.dump(p.as_json(), sys.stdout)
+        sys.stdout.write("\n")
+    elif args.out is None:
+        print(summary_text(p, scene_name))
+    print(f"flexgear: error: run stopped: {exc}; the partial result (to t = {p.time_s[-1]:.6g} s) {kept}",
+          file=sys.stderr)
+    return 1
 
 
 def _add_simulate(sub) -> None:

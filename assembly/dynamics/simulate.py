@@ -326,7 +326,8 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
         stopped = exc
     values, units = _collect(run.y, chans, list(speed_rows))
     info = dict(run.info)
-    info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "losses_total": int(meshes.losses.sum())})
+    info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "dofs": n,
+                 "losses_total": int(meshes.losses.sum())})
     result = SimulationResult(run.time_s, values, units,
                               [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
                                 math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,
