@@ -28,6 +28,10 @@ Rules:
   path (hard link, or a copy where the file system refuses links) and never deleted; if the new
   run wrote a file of that name, it is refused in one line and the earlier result is kept.
   Files the manifest lists belong to flexgear and are replaced, edited or not.
+* **Single files.** Commands that write files rather than a folder (``export elastodyn``,
+  ``export superelement``) replace a file only if flexgear wrote it -- each recognises its own
+  earlier output by its format's marker (:func:`check_own_file`) -- and never write through a
+  symbolic link; anything else at that name is refused in one line and left as it is.
 * **One-line errors.** Every OSError of these operations -- creating folders, the lock, the work
   folder, writing results into it (:func:`writing`), the swap -- becomes an
   :class:`OutputDirError` ``--out P/X: <what failed>: <strerror>``; errors about other files
@@ -496,6 +500,31 @@ def staged_output(out_dir: Path):
             if isinstance(exc, OSError) and any(_is_inside(n, work) for n in _names(exc)):
                 raise _write_error(out_dir, work, exc, "results") from exc
             raise
+
+
+def check_own_file(path, ours, what: str, out=None) -> None:
+    """Raise :class:`OutputDirError` ``--out OUT: ...`` unless ``path`` may be (re)written:
+    missing, or a regular file -- not a symbolic link -- that ``ours(path)`` recognises as
+    flexgear's own earlier output (``what``: that kind of file, in words). ``out``: the
+    ``--out`` value to name (default ``path``)."""
+    path = Path(path)
+    flag = f"--out {out if out is not None else path}"
+    where = "" if out is None else f"{path}: "
+    try:
+        if path.is_symlink():
+            raise OutputDirError(f"{flag}: {where}is a symbolic link (to {os.readlink(path)}); flexgear does not "
+                                 "write through links: give the file itself")
+        if not os.path.lexists(path):
+            return
+        if not path.is_file():
+            raise OutputDirError(f"{flag}: {where}exists and is not a regular file")
+        mine = ours(path)
+    except OSError as exc:
+        raise OutputDirError(f"{flag}: {where}cannot read it to check that flexgear wrote it: "
+                             f"{exc.strerror or exc}") from exc
+    if not mine:
+        raise OutputDirError(f"{flag}: {where}exists and is not {what}; flexgear replaces only files it wrote: "
+                             "choose another name or move the file away")
 
 
 def write_manifest(folder: Path, manifest: dict) -> None:
