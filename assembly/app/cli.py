@@ -14,7 +14,7 @@ import json
 import logging
 import signal
 import sys
-from contextlib import nullcontext
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 log = logging.getLogger("flexgear")
@@ -61,6 +61,20 @@ def _at_least(value: int, flag: str, low: int) -> int:
     if value < low:
         raise UsageError(f"{flag} = {value}: must be >= {low}")
     return value
+
+
+@contextmanager
+def api_flags(flags: dict):
+    """A SceneError of an API argument named in ``flags`` (argument -> option, e.g. ``{"t_end":
+    "--t-end"}``) becomes a UsageError naming the option: the core names its arguments, the
+    command line its options. Other errors pass unchanged."""
+    from ..errors import SceneError
+    try:
+        yield
+    except SceneError as exc:
+        if exc.path in flags:
+            raise UsageError(f"{flags[exc.path]} = {exc.value!r}: {exc.reason}") from None
+        raise
 
 
 def holding_out(args):
@@ -272,7 +286,8 @@ def cmd_campbell(args) -> int:
     path = scene_file(args)
     scene = load_scene(path)
     with holding_out(args):
-        c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
+        with api_flags({"points": "--points", "harmonics": "--harmonics"}):
+            c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
         if args.out is not None:
             campbell_to_dir(c, args.out, args.rated_rpm, path)
     if args.json:
@@ -289,11 +304,14 @@ def cmd_campbell(args) -> int:
 def cmd_frf(args) -> int:
     """``flexgear frf``: frequency response from one input to outputs: a summary, ``--json``,
     or files in ``--out``."""
-    from ..dynamics.frf import frequency_response
+    from ..dynamics.frf import check_frf_size, frequency_response
     from ..model import assemble
     from ..schema import load_scene
     from .frf import frequencies, frf_json, frf_to_dir, summary_text
 
+    size = {"len(frequency_hz)": "--points"}
+    with api_flags(size):
+        check_frf_size(args.points, len(args.output))          # before the grid is built
     try:
         f = frequencies(args.fmin, args.fmax, args.points, args.log)
     except ValueError as exc:
@@ -303,8 +321,9 @@ def cmd_frf(args) -> int:
     path = scene_file(args)
     scene = load_scene(path)
     with holding_out(args):
-        r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
-                               modes_hz=args.modes_hz)
+        with api_flags(size):
+            r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
+                                   modes_hz=args.modes_hz)
         return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log),
                      lambda: frf_json(r, scene.name), f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs",
                      lambda: summary_text(r, scene.name))
@@ -356,18 +375,15 @@ def _add_frf(sub) -> None:
 def cmd_simulate(args) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
     run that stops keeps its partial result (:func:`_stopped`) and exits with 1."""
-    from ..dynamics.integrators import check_step
     from ..dynamics.simulate import simulate
-    from ..dynamics.transient import Diverged
-    from ..errors import SceneError
+    from ..dynamics.transient import Diverged, check_history
     from ..schema import load_scene
     from .progress import Progress
     from .simulate import sim_to_dir, summary_text
 
-    try:
-        n_steps = check_step(args.dt, args.t_end)
-    except SceneError as exc:
-        raise UsageError(f"--{exc.path.replace('_', '-')} = {exc.value!r}: {exc.reason}") from None
+    flags = {"dt": "--dt", "t_end": "--t-end"}
+    with api_flags(flags):          # the run's length against memory, before the scene is read
+        n_steps = check_history(args.dt, args.t_end, len(args.output or []))
     path = scene_file(args)
     scene = load_scene(path)
     progress = Progress(enabled=False if args.quiet or args.json else None)
@@ -378,8 +394,9 @@ def cmd_simulate(args) -> int:
                 bar.update(step - bar.n)
                 bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
             try:
-                r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
-                             speed=args.speed, progress=tick, full_fe=args.unreduced)
+                with api_flags(flags):
+                    r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
+                                 speed=args.speed, progress=tick, full_fe=args.unreduced)
             except Diverged as exc:
                 stopped = exc
         if stopped is not None:

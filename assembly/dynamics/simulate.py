@@ -42,7 +42,7 @@ from .integrators import generalized_alpha, hht, newmark
 from .load_series import constant, ramp, read_csv, read_openfast_out
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
-from .transient import DENSE_INVERSE_MAX, Diverged, Stack, integrate, tangent
+from .transient import DENSE_INVERSE_MAX, Diverged, Stack, check_history, integrate, tangent
 
 log = logging.getLogger(__name__)
 
@@ -226,8 +226,11 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     ``simulation.points`` and every nonlinear mesh's force). ``speed`` (rad/s) overrides
     ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
     A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
-    is the :class:`SimulationResult` so far (``complete`` False)."""
+    is the :class:`SimulationResult` so far (``complete`` False). A run whose history does not
+    fit the memory budget is refused (SceneError at ``t_end``) before anything is assembled or
+    allocated (:func:`assembly.dynamics.transient.check_history`)."""
     from ..model import assemble
+    check_history(dt, t_end, 0)                 # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
     model = model if model is not None else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
@@ -295,6 +298,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     mesh_idx = {f"force:{mi.name}": j for j, mi in enumerate(meshes.info)}
     swap = [(i, mesh_idx[c.name]) for i, c in enumerate(chans) if c.name in mesh_idx]
     Sv = np.array(list(speed_rows.values())).reshape(len(speed_rows), n)
+    check_history(dt, t_end, len(chans) + len(speed_rows), n, U.shape[1])   # the whole run, before it starts
 
     def observe(q, v, a, nu):
         y = Ok @ q + Oc @ v
