@@ -14,7 +14,6 @@ Scene: the two-gear torsional pair of tests/app/test_simulate_cli.py."""
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import os
 import signal
 import subprocess
@@ -28,6 +27,7 @@ import assembly.dynamics.simulate as sim_mod
 from assembly.app.cli import main
 from assembly.errors import SceneError
 from tests.app.test_simulate_cli import pair_file
+from tests.support.out_lock import HOLDER, held_elsewhere, is_locked, lock_path
 from tests.support.tiny_runs import stop_after
 from tests.support.unprivileged import run_unprivileged
 
@@ -47,34 +47,6 @@ def _argv(command: str, scene: str, out, args=None) -> list:
     return [command, scene, *(COMMANDS[command][0] if args is None else args), "--out", str(out), "-q"]
 
 
-def _lock_path(out):
-    return out.parent / f".{out.name}.lock"
-
-
-@contextlib.contextmanager
-def _held_elsewhere(out):
-    """The lock of ``out`` held as another process holds it (flock on its own open file)."""
-    fd = os.open(_lock_path(out), os.O_RDWR | os.O_CREAT, 0o666)
-    os.write(fd, b"pid 4242 on elsewhere")
-    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    try:
-        yield
-    finally:
-        os.close(fd)
-        os.unlink(_lock_path(out))
-
-
-def _is_locked(out) -> bool:
-    fd = os.open(_lock_path(out), os.O_RDWR)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        return False
-    except BlockingIOError:
-        return True
-    finally:
-        os.close(fd)
-
-
 def _one_error_line(err: str, *words) -> None:
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("flexgear: error: --out ") and all(w in lines[0] for w in words), err
@@ -92,13 +64,13 @@ def test_out_is_refused_before_the_computation(command, situation, tmp_path, cap
     elif situation == "foreign folder":
         out.mkdir()
         (out / "notes.txt").write_bytes(b"the user's")
-    with _held_elsewhere(out) if situation == "held lock" else contextlib.nullcontext():
+    with held_elsewhere(out) if situation == "held lock" else contextlib.nullcontext():
         t0 = time.perf_counter()
         rc = main(_argv(command, scene, out))
         wall = time.perf_counter() - t0
     assert rc == 2 and not called and wall < STARTUP_S, (rc, called, wall)
     _one_error_line(capsys.readouterr().err, str(out), {"foreign folder": "holds no earlier flexgear run",
-                                                        "held lock": "another flexgear run (pid 4242",
+                                                        "held lock": f"another flexgear run ({HOLDER.decode()})",
                                                         "a file": "is not a folder"}[situation])
     if situation == "a file":
         assert out.read_bytes() == b"the user's"
@@ -115,7 +87,7 @@ def test_a_long_simulation_is_refused_in_startup_time(situation, tmp_path, capsy
     if situation == "foreign folder":
         out.mkdir()
         (out / "notes.txt").write_text("mine")
-    with _held_elsewhere(out) if situation == "held lock" else contextlib.nullcontext(), _alarm(60):
+    with held_elsewhere(out) if situation == "held lock" else contextlib.nullcontext(), _alarm(60):
         t0 = time.perf_counter()
         assert main(_argv("simulate", scene, out, LONG)) == 2
         wall = time.perf_counter() - t0
@@ -161,7 +133,7 @@ def test_a_folder_this_user_cannot_write_is_refused_before_the_simulation(tmp_pa
 def _ends(how: str, command: str, real, out):
     """A computation that checks the lock is held, then ends ``how``."""
     def computation(*args, **kwargs):
-        assert _is_locked(out), "--out is not locked while the computation runs"
+        assert is_locked(out), "--out is not locked while the computation runs"
         if how == "success":
             return real(*args, **kwargs)
         if how == "user error":
@@ -194,8 +166,8 @@ def test_the_lock_is_held_through_the_computation_and_released_however_it_ends(c
     written = how in ("success", "stopped")
     assert out.is_dir() == written
     assert os.path.isdir(tmp_path / "a") == written   # a parent made for a failed run is removed again
-    assert not os.path.lexists(_lock_path(out))
+    assert not os.path.lexists(lock_path(out))
     if written:                                   # free again: another run may lock the folder
-        with _held_elsewhere(out):
+        with held_elsewhere(out):
             pass
     capsys.readouterr()

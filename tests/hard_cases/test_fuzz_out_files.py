@@ -20,7 +20,6 @@ a fraction of a second.
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import hashlib
 import os
 import random
@@ -33,6 +32,7 @@ from assembly.app.cli import main
 from assembly.app.output import MANIFEST, OutputDirError
 from tests.app.test_simulate_cli import pair_file
 from tests.support.fuzz import examples
+from tests.support.out_lock import held_elsewhere
 from tests.support.tiny_runs import stop_after, tiny_body
 
 SIM = ["--t-end", "0.002", "--dt", "1e-4", "--output", "force:m"]
@@ -146,20 +146,6 @@ def _earlier(command: str, out: Path, results: dict, body) -> None:
     _api("simulate" if command == "stopped" else command, out, results, body)
 
 
-@contextlib.contextmanager
-def _lock_held(out: Path):
-    """Another run's lock on ``out`` (an flock on ``.X.lock``, as a second process would hold)."""
-    path = out.parent / f".{out.name}.lock"
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
-    os.write(fd, b"pid 999999 on elsewhere")
-    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    try:
-        yield
-    finally:
-        os.close(fd)
-        os.unlink(path)
-
-
 def _expected(command: str, situation: str, files: dict) -> bool:
     """Whether the rules let the command write (True) or refuse it (False)."""
     if command == "elastodyn":              # --out is a file: only a missing one or an earlier fragment
@@ -231,7 +217,7 @@ def _case(command: str, situation: str, files: dict, api: bool, base: Path, resu
         out.chmod(0o555)
     before = _tree(base)
     try:
-        with _lock_held(out) if situation == "held" else contextlib.nullcontext():
+        with held_elsewhere(out) if situation == "held" else contextlib.nullcontext():
             if api:
                 try:
                     _api(command, out, results, body)
