@@ -29,7 +29,7 @@ Rules:
   run wrote a file of that name, it is refused in one line and the earlier result is kept.
   Files the manifest lists belong to flexgear and are replaced, edited or not.
 * **Single files.** Commands that write files rather than a folder (``export elastodyn``,
-  ``export superelement``) replace a file only if flexgear wrote it -- each recognises its own
+  ``export superelement``, ``reference``) replace a file only if flexgear wrote it -- each recognises its own
   earlier output by its format's marker (:func:`check_own_file`) -- and never write through a
   symbolic link; anything else at that name is refused in one line and left as it is.
 * **One-line errors.** Every OSError of these operations -- creating folders, the lock, the work
