@@ -11,6 +11,8 @@ of mass-normalised fixed-interface modes (Phi^T M_ii Phi = I) are in sqrt(kg) m,
 block of M is dimensionless and that of K is in (rad/s)^2.
 
 * :func:`write_npz` / :func:`read_npz`: every array of the export, values bit-exact.
+* :func:`is_export`: whether a file is one of these exports (npz ``format`` entry, or the
+  DMIG header's description line), for a writer that replaces only its own files.
 * :func:`write_dmig`: free-field (comma-separated) Nastran bulk data: GRID cards at the
   interface nodes, SPOINT cards for the modal coordinates and one symmetric real double
   precision DMIG matrix per K and M (IFO = 6, TIN = 2), upper triangle only, exact zeros
@@ -30,6 +32,7 @@ import logging
 import math
 import os
 import textwrap
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,6 +58,8 @@ LINE_WIDTH = 80              # Nastran bulk data line length
 GRID_FIELD = 21              # widest coordinate field of a GRID line that fits 80 characters (8-digit id)
 DMIG_HEADER = (0, 6, 2, 0, 0)  # field 3 "0", IFO = 6 symmetric, TIN = 2 real double, TOUT, POLAR
 SYMMETRY_RTOL = 1e-12        # largest |K - K'| / |K| accepted as a symmetric (IFO = 6) matrix
+DMIG_DESCRIPTION = "Nastran bulk data, free-field. Matrices"  # starts a comment line of every DMIG header
+HEADER_LINES = 50            # comment lines of a DMIG header searched for DMIG_DESCRIPTION
 
 
 # ---- DOF map ------------------------------------------------------------------------------
@@ -327,7 +332,7 @@ def _dmig_header(se, dm: DofMap, k_name: str, m_name: str, frame: str, title: st
     reals = ("the shortest decimal that reads back to the same binary64 (<= 17 digits)" if field_width is None
              else f"in at most {field_width} characters (the most significant digits that fit)")
     out = _comment(title or "flexgear superelement export (Craig-Bampton)")
-    out += _comment(f"Nastran bulk data, free-field. Matrices {k_name} (stiffness) and {m_name} (mass): DMIG, "
+    out += _comment(f"{DMIG_DESCRIPTION} {k_name} (stiffness) and {m_name} (mass): DMIG, "
                     f"IFO=6 symmetric, TIN=2 real double, upper triangle only, exact zeros dropped; reals "
                     f"written {reals}.")
     out += _comment(f"Use: include this file in the bulk data and put K2GG={k_name} and M2GG={m_name} in case "
@@ -358,6 +363,28 @@ def write_dmig(path, se, *, k_name: str = "KAAX", m_name: str = "MAAX", node_ids
     log.info("wrote DMIG %s, %s (%d boundary DOFs, %d SPOINTs) to %s", k_name, m_name, se.n_boundary,
              se.n_modes, out)
     return out
+
+
+def is_export(path) -> bool:
+    """Whether the file ``path`` was written by :func:`write_npz` (an npz whose ``format``
+    entry is :data:`FORMAT`, any version) or :func:`write_dmig` (a leading comment block with
+    the line starting ``$ DMIG_DESCRIPTION``). OSError if it cannot be read."""
+    with open(path, "rb") as fh:
+        zipped = fh.read(4) == b"PK\x03\x04"           # a zip archive: an npz?
+        fh.seek(0)
+        if zipped:
+            try:
+                with np.load(fh, allow_pickle=False) as z:  # reads the one entry asked for
+                    return "format" in z.files and str(z["format"]) == FORMAT
+            except (ValueError, EOFError, zipfile.BadZipFile):
+                return False
+        for _ in range(HEADER_LINES):
+            raw = fh.readline(LINE_WIDTH + 2)
+            if not raw.startswith(b"$"):
+                return False
+            if raw.startswith(f"$ {DMIG_DESCRIPTION} ".encode()):
+                return True
+    return False
 
 
 # ---- DMIG: reading back (the layout written above) -----------------------------------------

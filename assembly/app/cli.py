@@ -13,6 +13,7 @@ import importlib
 import logging
 import signal
 import sys
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 log = logging.getLogger("flexgear")
@@ -59,6 +60,27 @@ def _at_least(value: int, flag: str, low: int) -> int:
     if value < low:
         raise UsageError(f"{flag} = {value}: must be >= {low}")
     return value
+
+
+@contextmanager
+def api_flags(flags: dict):
+    """A SceneError of an API argument named in ``flags`` (argument -> option, e.g. ``{"t_end":
+    "--t-end"}``) becomes a UsageError naming the option: the core names its arguments, the
+    command line its options. Other errors pass unchanged."""
+    from ..errors import SceneError
+    try:
+        yield
+    except SceneError as exc:
+        if exc.path in flags:
+            raise UsageError(f"{flags[exc.path]} = {exc.value!r}: {exc.reason}") from None
+        raise
+
+
+def holding_out(args):
+    """``--out`` checked and locked for the whole computation that fills it
+    (:func:`assembly.app.output.hold_output`); nothing without ``--out``."""
+    from .output import hold_output
+    return hold_output(args.out) if args.out is not None else nullcontext()
 
 
 def parse_modes(text: str) -> tuple:
@@ -259,9 +281,11 @@ def cmd_campbell(args) -> int:
         raise SceneError("--rated-rpm", args.rated_rpm, "must be a speed >= 0 rpm")
     path = scene_file(args)
     scene = load_scene(path)
-    c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
-    if args.out is not None:
-        campbell_to_dir(c, args.out, args.rated_rpm, path)
+    with holding_out(args):
+        with api_flags({"points": "--points", "harmonics": "--harmonics"}):
+            c = campbell(scene, args.speed_range, args.reference, args.points, args.gyroscopic, args.harmonics)
+        if args.out is not None:
+            campbell_to_dir(c, args.out, args.rated_rpm, path)
     if args.json:
         _print_json(campbell_json(c, args.rated_rpm))
     elif args.out is not None:
@@ -275,12 +299,14 @@ def cmd_campbell(args) -> int:
 def cmd_frf(args) -> int:
     """``flexgear frf``: frequency response from one input to outputs: a summary, ``--json``,
     or files in ``--out``."""
-    from ..dynamics.frf import frequency_response
-    from ..errors import SceneError
+    from ..dynamics.frf import check_frf_size, frequency_response
     from ..model import assemble
     from ..schema import load_scene
     from .frf import frequencies, frf_json, frf_to_dir, summary_text
 
+    size = {"len(frequency_hz)": "--points"}
+    with api_flags(size):
+        check_frf_size(args.points, len(args.output))          # before the grid is built
     try:
         f = frequencies(args.fmin, args.fmax, args.points, args.log)
     except ValueError as exc:
@@ -289,18 +315,16 @@ def cmd_frf(args) -> int:
         raise UsageError(f"--modes-hz = {args.modes_hz}: must be a frequency > 0 Hz (inf: every mode)")
     path = scene_file(args)
     scene = load_scene(path)
-    try:
-        r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
-                               modes_hz=args.modes_hz)
-    except SceneError as exc:
-        if exc.path != "modes_hz":
-            raise
-        raise UsageError(f"--modes-hz = {exc.value!r}: {exc.reason}") from None
-    if args.json or args.out is not None:        # the summary lists them itself
-        for w in r.warnings:
-            print(f"flexgear: warning: {w}", file=sys.stderr)
-    return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log), lambda: frf_json(r, scene.name),
-                 f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs", lambda: summary_text(r, scene.name))
+    with holding_out(args):
+        with api_flags({**size, "modes_hz": "--modes-hz"}):
+            r = frequency_response(assemble(scene), args.input, args.output, f, method=args.method,
+                                   modes_hz=args.modes_hz)
+        if args.json or args.out is not None:        # the summary lists them itself
+            for w in r.warnings:
+                print(f"flexgear: warning: {w}", file=sys.stderr)
+        return _emit(args, lambda: frf_to_dir(r, args.out, scene.name, path, args.log),
+                     lambda: frf_json(r, scene.name), f"{scene.name}: FRF from {r.input}, {len(r.outputs)} outputs",
+                     lambda: summary_text(r, scene.name))
 
 
 def _emit(args, to_dir, as_json, done: str, summary, indent: int | None = 1) -> int:
@@ -354,39 +378,61 @@ def _add_frf(sub) -> None:
 
 def cmd_simulate(args) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
-    run that stops keeps its partial result (``partial_simulation.h5``) and exits with 1."""
-    from ..dynamics.integrators import check_step
+    run that stops keeps its partial result (:func:`_stopped`) and exits with 1."""
     from ..dynamics.simulate import simulate
-    from ..dynamics.transient import Diverged
-    from ..errors import SceneError
+    from ..dynamics.transient import Diverged, check_history
     from ..schema import load_scene
     from .progress import Progress
-    from .simulate import sim_to_dir, summary_text, write_partial
+    from .simulate import sim_to_dir, summary_text
 
-    try:
-        n_steps = check_step(args.dt, args.t_end)
-    except SceneError as exc:
-        raise UsageError(f"--{exc.path.replace('_', '-')} = {exc.value!r}: {exc.reason}") from None
+    flags = {"dt": "--dt", "t_end": "--t-end"}
+    with api_flags(flags):          # the run's length against memory, before the scene is read
+        n_steps = check_history(args.dt, args.t_end, len(args.output or []))
     path = scene_file(args)
     scene = load_scene(path)
     progress = Progress(enabled=False if args.quiet or args.json else None)
-    with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
-        def tick(step, total, t):
-            bar.update(step - bar.n)
-            bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+    with holding_out(args):
+        stopped = None
+        with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
+            def tick(step, total, t):
+                bar.update(step - bar.n)
+                bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+            try:
+                with api_flags(flags):
+                    r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
+                                 speed=args.speed, progress=tick, full_fe=args.unreduced)
+            except Diverged as exc:
+                stopped = exc
+        if stopped is not None:
+            return _stopped(args, stopped, scene.name, path)
+        return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
+                     f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
+                     lambda: summary_text(r, scene.name), indent=None)
+
+
+def _stopped(args, exc, scene_name: str, path: str) -> int:
+    """A run that stopped (``exc``: :class:`~assembly.dynamics.transient.Diverged`): its
+    partial result into ``--out`` as a complete one would go, marked partial
+    (:func:`~assembly.app.simulate.sim_to_dir`), else nowhere; ``--json`` or, without
+    ``--out``, the summary on stdout; the reason in one line on stderr; exit code 1."""
+    from .output import OutputDirError
+    from .simulate import h5_name, sim_to_dir, summary_text
+
+    p = exc.partial
+    kept = "is not kept: give --out DIR to keep it"
+    if args.out is not None:
         try:
-            r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
-                         speed=args.speed, progress=tick, full_fe=args.unreduced)
-        except Diverged as exc:
-            where = write_partial(exc.partial, args.out if args.out is not None else ".", scene.name)
-            if args.json:
-                _print_json(exc.partial.as_json(), None)
-            print(f"flexgear: error: run stopped: {exc}; what was computed (to t = "
-                  f"{exc.partial.time_s[-1]:.6g} s) is in {where}", file=sys.stderr)
-            return 1
-    return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
-                 f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
-                 lambda: summary_text(r, scene.name), indent=None)
+            sim_to_dir(p, args.out, scene_name, path)
+            kept = f"is in {Path(args.out) / h5_name(p)} (marked partial)"
+        except OutputDirError as err:
+            kept = f"could not be written: {err}"
+    if args.json:
+        _print_json(p.as_json(), None)
+    elif args.out is None:
+        print(summary_text(p, scene_name))
+    print(f"flexgear: error: run stopped: {exc}; the partial result (to t = {p.time_s[-1]:.6g} s) {kept}",
+          file=sys.stderr)
+    return 1
 
 
 def _add_simulate(sub) -> None:

@@ -10,11 +10,13 @@ back to 5e-10 relative: far below any drivetrain datum, and readable where ``rep
 ratio 96.354 would print 96.35416666666677). DTTorDmp is written when the scene's
 damping acts on the drivetrain's torsion (:mod:`assembly.dynamics.drivetrain_damping`);
 otherwise the header says why it is not
-derived.
+derived. ``--out`` (:func:`write_fragment`) replaces only a fragment flexgear wrote (its first
+line, :data:`HEADER`), never another file, a folder or a symbolic link.
 """
 from __future__ import annotations
 
 import logging
+import re
 from importlib import metadata
 
 from ..atomic_file import write_text_atomic
@@ -24,6 +26,9 @@ log = logging.getLogger(__name__)
 
 #: ElastoDyn's width of a section line.
 SECTION_WIDTH = 80
+#: The first line of every fragment (then the scene's name): ``--out`` replaces only a file that
+#: starts so, i.e. one flexgear wrote.
+HEADER = re.compile(r"! flexgear \S*: ElastoDyn drivetrain fragment of scene ")
 
 
 def flexgear_version() -> str:
@@ -93,9 +98,22 @@ def fragment_text(tm: TwoMass, scene_name: str, version: str | None = None) -> s
     return "\n".join(lines) + "\n"
 
 
+def is_fragment(path) -> bool:
+    """Whether the file ``path`` starts with the fragment's first line (:data:`HEADER`)."""
+    with open(path, "rb") as fh:
+        first = fh.readline(4096).decode("utf-8", "replace")
+    return HEADER.match(first) is not None
+
+
 def write_fragment(path, tm: TwoMass, scene_name: str) -> str:
-    """Write the fragment to ``path`` atomically; returns its text."""
+    """Write the fragment to ``path`` atomically; returns its text. A file already there is
+    replaced only if it is an earlier fragment (:func:`is_fragment`), and never through a
+    symbolic link: :class:`~assembly.app.output.OutputDirError` otherwise."""
+    from .output import check_own_file
+
     text = fragment_text(tm, scene_name)
+    check_own_file(path, is_fragment, "an ElastoDyn fragment flexgear wrote (first line '! flexgear <version>: "
+                                      "ElastoDyn drivetrain fragment of scene ...')")
     write_text_atomic(path, text)
     log.info("wrote %s", path)
     return text

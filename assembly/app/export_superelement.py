@@ -8,7 +8,8 @@ DOF directions are local; the npz ``frame_origin`` (m) and ``frame_axes`` (colum
 y, z in global axes) place them in the scene, ``global = frame_origin + frame_axes @ local``.
 The matrices are the superelement's K and M (not the body's rigid-deflated K, which differs by
 the reduction's round-off). Files: ``<DIR>/<body>.npz`` and ``<DIR>/<body>.dmig``, each
-written atomically. Formats: docs/superelement_export.md.
+written atomically, replacing only an earlier export (never a user's file of that name or a
+symbolic link). Formats: docs/superelement_export.md.
 """
 from __future__ import annotations
 
@@ -71,19 +72,27 @@ def frame_text(body) -> str:
 
 def write_body(body, scene_name: str, out_dir, formats=FORMATS, version: str = "") -> list:
     """Write the superelement of the reduced flexible ``body`` to ``out_dir`` (created if
-    missing) as ``<name>.npz`` and/or ``<name>.dmig``; returns the paths written."""
-    from cms.export import write_dmig, write_npz
+    missing) as ``<name>.npz`` and/or ``<name>.dmig``; returns the paths written. A file
+    already there is replaced only if it is an earlier export (:func:`cms.export.is_export`),
+    and never through a symbolic link: checked for both files before either is written
+    (:class:`~assembly.app.output.OutputDirError` naming ``out_dir``)."""
+    from cms.export import FORMAT, is_export, write_dmig, write_npz
+
+    from .output import check_own_file
 
     se, frame, name = body.superelement, frame_text(body), body.name
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    paths = {f: out_dir / f"{name}.{f}" for f in FORMATS if f in formats}
+    for path in paths.values():
+        check_own_file(path, is_export, f"a superelement export flexgear wrote (an npz of format {FORMAT}, or "
+                                        "DMIG bulk data with its header)", out=out_dir)
     written = []
-    if "npz" in formats:
-        written.append(write_npz(out_dir / f"{name}.npz", se, frame=frame, frame_origin=body.origin,
-                                 frame_axes=body.axes))
-    if "dmig" in formats:
+    if "npz" in paths:
+        written.append(write_npz(paths["npz"], se, frame=frame, frame_origin=body.origin, frame_axes=body.axes))
+    if "dmig" in paths:
         title = f"flexgear {version or ''}: superelement of body {name!r} of scene {scene_name!r}"
-        written.append(write_dmig(out_dir / f"{name}.dmig", se, frame=frame, title=title))
+        written.append(write_dmig(paths["dmig"], se, frame=frame, title=title))
     log.info("exported body %s: %d boundary DOFs, %d modal coordinates", name, se.n_boundary, se.n_modes)
     return written
 

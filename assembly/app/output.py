@@ -14,6 +14,9 @@ Rules:
 * **One run per folder.** A run holds an exclusive ``flock`` on ``P/.X.lock`` (which names its
   pid and host) from start to end; a second run into the same folder is refused in one line.
   The kernel drops the lock when its holder dies, however it dies; the file is removed at the end.
+  A command whose computation is long (simulate, frf, campbell) checks the folder and takes the
+  lock before it computes (:func:`hold_output`) and holds it until the result is in place or the
+  command ends, however it ends.
 * **Healing.** Holding the lock, leftovers of earlier runs are known to belong to dead
   processes: after restoring an interrupted swap, ``.X.partial-*`` and ``.X.old-*`` are deleted
   (an ``.X.old-*`` holding a complete result is kept while ``P/X`` is not a flexgear result).
@@ -25,6 +28,10 @@ Rules:
   path (hard link, or a copy where the file system refuses links) and never deleted; if the new
   run wrote a file of that name, it is refused in one line and the earlier result is kept.
   Files the manifest lists belong to flexgear and are replaced, edited or not.
+* **Single files.** Commands that write files rather than a folder (``export elastodyn``,
+  ``export superelement``, ``reference``) replace a file only if flexgear wrote it -- each recognises its own
+  earlier output by its format's marker (:func:`check_own_file`) -- and never write through a
+  symbolic link; anything else at that name is refused in one line and left as it is.
 * **One-line errors.** Every OSError of these operations -- creating folders, the lock, the work
   folder, writing results into it (:func:`writing`), the swap -- becomes an
   :class:`OutputDirError` ``--out P/X: <what failed>: <strerror>``; errors about other files
@@ -435,11 +442,18 @@ def writing(out_dir: Path, work: Path, what: str):
 
 
 @contextmanager
-def staged_output(out_dir: Path):
-    """Yield a fresh work folder next to ``out_dir``; on success it replaces ``out_dir``
-    (checked again just before), on any failure it is deleted: nothing half-written.
-    See the module docstring for the rules."""
+def hold_output(out_dir):
+    """Check ``out_dir`` and hold its lock for the whole block -- the computation whose result
+    will go there -- so that a foreign folder, a folder another run is writing or one this
+    user cannot write is refused before anything is computed, not after. Inside the block,
+    :func:`staged_output` of the same folder (in the same thread) works under this lock.
+    Parent folders made for the lock are removed again when the block fails. Yields the
+    absolute folder."""
     out_dir = Path(out_dir).absolute()
+    held = _held_here()
+    if out_dir in held:
+        yield out_dir
+        return
     check_output_dir(out_dir)  # before creating anything
     created = _make_parents(out_dir)
     try:
@@ -447,20 +461,70 @@ def staged_output(out_dir: Path):
             if locked:
                 _heal(out_dir)
             check_output_dir(out_dir)
-            with _os_errors(out_dir, f"cannot create a work folder in {out_dir.parent}"):
-                work = _new_dir(out_dir, "partial")
+            held.add(out_dir)
             try:
-                yield work
-                check_output_dir(out_dir)
-                _move_into_place(work, out_dir)
-            except BaseException as exc:
-                _remove(work)
-                if isinstance(exc, OSError) and any(_is_inside(n, work) for n in _names(exc)):
-                    raise _write_error(out_dir, work, exc, "results") from exc
-                raise
+                yield out_dir
+            finally:
+                held.discard(out_dir)
     except BaseException:
         _remove_empty(created)
         raise
+
+
+_HELD = threading.local()
+
+
+def _held_here() -> set:
+    """Output folders this thread holds (:func:`hold_output`)."""
+    if not hasattr(_HELD, "folders"):
+        _HELD.folders = set()
+    return _HELD.folders
+
+
+@contextmanager
+def staged_output(out_dir: Path):
+    """Yield a fresh work folder next to ``out_dir``; on success it replaces ``out_dir``
+    (checked again just before), on any failure it is deleted: nothing half-written.
+    Holds the folder's lock (:func:`hold_output`) unless the caller already does.
+    See the module docstring for the rules."""
+    with hold_output(out_dir) as out_dir:
+        check_output_dir(out_dir)  # again: a user may have put files there during a long computation
+        with _os_errors(out_dir, f"cannot create a work folder in {out_dir.parent}"):
+            work = _new_dir(out_dir, "partial")
+        try:
+            yield work
+            check_output_dir(out_dir)
+            _move_into_place(work, out_dir)
+        except BaseException as exc:
+            _remove(work)
+            if isinstance(exc, OSError) and any(_is_inside(n, work) for n in _names(exc)):
+                raise _write_error(out_dir, work, exc, "results") from exc
+            raise
+
+
+def check_own_file(path, ours, what: str, out=None) -> None:
+    """Raise :class:`OutputDirError` ``--out OUT: ...`` unless ``path`` may be (re)written:
+    missing, or a regular file -- not a symbolic link -- that ``ours(path)`` recognises as
+    flexgear's own earlier output (``what``: that kind of file, in words). ``out``: the
+    ``--out`` value to name (default ``path``)."""
+    path = Path(path)
+    flag = f"--out {out if out is not None else path}"
+    where = "" if out is None else f"{path}: "
+    try:
+        if path.is_symlink():
+            raise OutputDirError(f"{flag}: {where}is a symbolic link (to {os.readlink(path)}); flexgear does not "
+                                 "write through links: give the file itself")
+        if not os.path.lexists(path):
+            return
+        if not path.is_file():
+            raise OutputDirError(f"{flag}: {where}exists and is not a regular file")
+        mine = ours(path)
+    except OSError as exc:
+        raise OutputDirError(f"{flag}: {where}cannot read it to check that flexgear wrote it: "
+                             f"{exc.strerror or exc}") from exc
+    if not mine:
+        raise OutputDirError(f"{flag}: {where}exists and is not {what}; flexgear replaces only files it wrote: "
+                             "choose another name or move the file away")
 
 
 def write_manifest(folder: Path, manifest: dict) -> None:

@@ -256,9 +256,25 @@ def reference_markdown() -> str:
     return "\n".join(head) + "\n" + "\n".join(section(t) for t in ts)
 
 
+#: The reference's first line; ``--out`` replaces only a file that starts with it.
+TITLE = "# Scene reference\n"
+
+
+def is_reference(path) -> bool:
+    """Whether the file ``path`` starts with the reference's title line (:data:`TITLE`)."""
+    with open(path, "rb") as fh:
+        return fh.readline(len(TITLE) + 1) == TITLE.encode()
+
+
 def write_reference(out: Path | str | None = None) -> str:
-    """Write the reference to ``out`` (a file) and return its text; ``None``: return only."""
+    """Write the reference to ``out`` (a file, atomically) and return its text; ``None``: return
+    only. A file already at ``out`` is replaced only if it is an earlier reference, and never
+    through a symbolic link (:func:`assembly.app.output.check_own_file`)."""
+    from ..atomic_file import write_text_atomic
+    from .output import check_own_file
+
     text = reference_markdown()
     if out is not None:
-        Path(out).write_text(text, encoding="utf-8")
+        check_own_file(out, is_reference, f"a scene reference flexgear wrote (first line {TITLE.strip()!r})")
+        write_text_atomic(out, text)
     return text

@@ -10,9 +10,12 @@ speed around the first), ``summary.json`` and ``index.html``, atomically with th
 rules of ``flexgear run`` (:mod:`assembly.app.output`); otherwise a summary line per
 output. A stress output's history is its von Mises stress; its peak is in the summary.
 
-A run that stops (diverges, or a step does not converge) keeps what it computed: written as
-``partial_simulation.h5`` (plus its summary) into ``--out`` or, without it, into the working
-folder, and the command ends with the reason and exit code 1.
+A run that stops (diverges, or a step does not converge) keeps what it computed: with
+``--out``, the folder is written as for a complete run, under the same rules, but marked as
+partial: the history is ``partial_simulation.h5`` (attributes ``complete`` False and
+``stopped``, the reason), ``summary.json`` has ``"complete": false`` and ``"stopped"``,
+``index.html`` says so at the top. Without ``--out`` nothing is written (the summary or
+``--json`` is printed). The command ends with the reason and exit code 1.
 """
 from __future__ import annotations
 
@@ -29,6 +32,13 @@ from .html_report import figure
 
 #: Mesh harmonics marked on the spectra.
 MARKED_HARMONICS = 3
+#: The history file of a complete run and of a run that stopped.
+H5_COMPLETE, H5_PARTIAL = "simulation.h5", "partial_simulation.h5"
+
+
+def h5_name(r: SimulationResult) -> str:
+    """The history file's name: :data:`H5_PARTIAL` for the partial result of a stopped run."""
+    return H5_COMPLETE if r.complete else H5_PARTIAL
 
 
 def spectrum(time_s: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -60,15 +70,18 @@ def summary(r: SimulationResult, scene: str) -> dict:
         rows[k] = {"unit": r.units[k], "mean": float(np.mean(y)), "rms": float(np.sqrt(np.mean(y * y))),
                    "min": float(np.min(y)), "max": float(np.max(y)),
                    "peak": float(np.max(np.abs(y))), "peak_time_s": float(r.time_s[int(np.argmax(np.abs(y)))])}
-    return {"scene": scene, "complete": r.complete, "t_end_s": float(r.time_s[-1]), "steps": len(r.time_s) - 1,
+    return {"scene": scene, "complete": r.complete, "stopped": None if r.complete else r.info.get("stopped"),
+            "t_end_s": float(r.time_s[-1]), "steps": len(r.time_s) - 1,
             "outputs": rows, "meshes": r.meshes, "mesh_frequencies_hz": r.mesh_frequencies_hz,
             "warnings": r.warnings, "info": {k: v for k, v in r.info.items() if not k.startswith("_")}}
 
 
 def summary_text(r: SimulationResult, scene: str) -> str:
     s = summary(r, scene)
-    lines = [f"{scene}: {s['steps']} steps to {s['t_end_s']:g} s ({r.info.get('scheme')}, "
-             f"{r.info.get('steps_per_s', 0):.0f} steps/s, {r.info.get('dofs')} DOFs)"]
+    rate = f"{r.info['steps_per_s']:.0f} steps/s, " if "steps_per_s" in r.info else ""
+    lines = [f"{scene}: {s['steps']} steps to {s['t_end_s']:g} s ({r.info.get('scheme')}, {rate}"
+             f"{r.info.get('dofs')} DOFs)"
+             + ("" if r.complete else f" -- PARTIAL: the run stopped: {s['stopped']}")]
     for k, row in s["outputs"].items():
         lines.append(f"  {k}: mean {row['mean']:.6g}, min {row['min']:.6g}, max {row['max']:.6g} {row['unit']}")
     lost = [m for m in r.meshes if m["contact_losses"]]
@@ -89,20 +102,10 @@ def write_h5(r: SimulationResult, path, scene: str, facts: dict | None = None) -
             g.create_dataset(k.replace("/", "|"), data=y).attrs["unit"] = r.units[k]
         f.attrs["scene"] = scene
         f.attrs["complete"] = r.complete
+        if not r.complete:
+            f.attrs["stopped"] = str(r.info.get("stopped", ""))
         f.attrs["summary"] = strict_json.dumps(facts if facts is not None else summary(r, scene))
     return Path(path)
-
-
-def write_partial(r: SimulationResult, folder, scene: str) -> Path:
-    """The partial result of a stopped run: ``partial_simulation.h5`` in ``folder``
-    (written whole, then renamed into place)."""
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    tmp = folder / ".partial_simulation.h5.tmp"
-    write_h5(r, tmp, scene)
-    final = folder / "partial_simulation.h5"
-    tmp.replace(final)
-    return final
 
 
 def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
@@ -114,10 +117,14 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
                      f"</td><td>{m['harmonics']}</td><td>{m['contact_losses']}</td></tr>" for m in r.meshes)
     warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
     figs = "\n".join(figure(p, n) for n, p in plots)
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: simulation</title></head><body>"
-            f"<h1>{e(scene)}: time-domain simulation</h1><p>{s['steps']} steps of {r.info['dt_s']:g} s to "
-            f"{s['t_end_s']:g} s, {e(r.info['scheme'])}, {r.info['dofs']} DOFs, {r.info['wall_s']:.3g} s wall. "
-            f'Data: <a href="simulation.h5">simulation.h5</a>, <a href="summary.json">summary.json</a>.</p>'
+    h5, partial = h5_name(r), "" if r.complete else " (partial)"
+    stopped = "" if r.complete else (f"<p><strong>Partial result: the run stopped</strong> at t = {s['t_end_s']:g} s "
+                                     f"of {r.info['t_end_s']:g} s: {e(str(s['stopped']))}</p>")
+    wall = f", {r.info['wall_s']:.3g} s wall" if "wall_s" in r.info else ""
+    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: simulation{partial}</title>"
+            f"</head><body><h1>{e(scene)}: time-domain simulation{partial}</h1>{stopped}<p>{s['steps']} steps of "
+            f"{r.info['dt_s']:g} s to {s['t_end_s']:g} s, {e(r.info['scheme'])}, {r.info['dofs']} DOFs{wall}. "
+            f'Data: <a href="{h5}">{h5}</a>, <a href="summary.json">summary.json</a>.</p>'
             f"<table border=1><tr><th>output</th><th>unit</th><th>mean</th><th>RMS</th><th>min</th><th>max</th>"
             f"<th>peak at [s]</th></tr>{rows}</table>"
             + (f"<h2>Nonlinear meshes</h2><table border=1><tr><th>mesh</th><th>backlash [m]</th><th>harmonics"
@@ -128,7 +135,9 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
 
 
 def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "") -> dict:
-    """Write simulation.h5, the traces and spectra, summary.json and index.html atomically."""
+    """Write simulation.h5, the traces and spectra, summary.json and index.html atomically;
+    the partial result of a stopped run (``r.complete`` False) likewise, marked as partial
+    (module notes)."""
     from .output import check_output_dir, staged_output, write_manifest, writing
     from .plots import plot_spectrum, plot_time_trace
 
@@ -139,7 +148,7 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
     plots, mk = [], marks(r)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
-            write_h5(r, work / "simulation.h5", scene, s)
+            write_h5(r, work / h5_name(r), scene, s)
             (work / "summary.json").write_text(strict_json.dumps(s, indent=1), encoding="utf-8")
             for i, (k, y) in enumerate(r.outputs.items()):
                 unit = r.units[k]
@@ -152,9 +161,9 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
                     plot_spectrum(f, a, work / p, title=f"{scene}: {k}", ylabel=unit, marks=mk)
                     plots.append((f"{k}: spectrum", p))
             (work / "index.html").write_text(_index(r, scene, s, plots), encoding="utf-8")
-            files = ["simulation.h5", "summary.json", *(p for _, p in plots), "index.html"]
+            files = [h5_name(r), "summary.json", *(p for _, p in plots), "index.html"]
             info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
-                        outputs=list(r.outputs), time_s=round(time.perf_counter() - t0, 4),
+                        complete=r.complete, outputs=list(r.outputs), time_s=round(time.perf_counter() - t0, 4),
                         python=sys.version.split()[0])
             write_manifest(work, info)
     return info

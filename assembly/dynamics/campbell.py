@@ -31,13 +31,33 @@ from ..drivetrain import speed_ratios
 from ..errors import MechanismError, SceneError
 from ..modal import solve_modes
 from ..model import assemble
+from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
-from .orders import Order, mesh_orders, rotor_orders
+from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
 from .phasing import RULE_CLASSES, excited_class
 
 log = logging.getLogger(__name__)
 
 RPM = 2 * math.pi / 60.0   # rad/s per rpm
+#: Bytes an order line takes (its Order and label) and a pair of order and natural-frequency
+#: line (the Crossing they may make, with its energy shares); measured: 360-440 B a crossing,
+#: nrel5mw with 100-300 harmonics.
+ORDER_BYTES, CROSSING_BYTES = 1024, 512
+
+
+def check_size(points: int, harmonics: int, n_sources: int, n_lines: int) -> None:
+    """SceneError at ``harmonics`` or ``points`` (the larger share) when a diagram of
+    ``points`` speeds, ``n_lines`` natural-frequency lines and ``harmonics`` mesh harmonics of
+    ``n_sources`` meshes and stages (each order may cross each line) exceeds the memory budget
+    (:func:`assembly.dynamics.budget.check_memory`)."""
+    n_orders = float(harmonics) * n_sources + len(ROTOR_ORDERS)
+    by_orders = n_orders * (ORDER_BYTES + CROSSING_BYTES * n_lines)
+    by_speeds = 8.0 * float(points) * (n_lines + 1)
+    path, value = ("harmonics", harmonics) if by_orders >= by_speeds else ("points", points)
+    check_memory(path, value, by_orders + by_speeds, f"{n_orders:.3g} order lines ({harmonics} harmonics x "
+                 f"{n_sources} meshes and stages, {len(ROTOR_ORDERS)} rotor orders)"
+                 + (f" crossing {n_lines} natural-frequency lines" if n_lines else "") + f" at {points} speeds",
+                 "fewer harmonics or speeds")
 
 
 @dataclass(frozen=True)
@@ -160,16 +180,21 @@ def campbell(scene, speed_range, reference: str | None = None, points: int = 41,
              harmonics: int = 3, model=None) -> Campbell:
     """The Campbell diagram of ``scene`` over ``speed_range`` (rpm of the reference body).
     ``points``: speeds sampled (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1);
-    ``model``: the assembled scene (assembled here when None)."""
+    ``model``: the assembled scene (assembled here when None). Sizes over the memory budget
+    are refused (:func:`check_size`) before the model is assembled and again once its
+    natural-frequency lines are known."""
     lo, hi = check_speed_range(speed_range)
     for flag, v, low in (("--points", points, 2), ("--harmonics", harmonics, 1)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
             raise SceneError(flag, v, f"must be an integer >= {low}")
+    sources = len(scene.stages) + len(scene.meshes)
+    check_size(points, harmonics, sources, 0)                  # before assembling: the orders alone
     ref = reference_body(scene, reference)
     model = assemble(scene) if model is None else model
     ratios = chain_ratios(model, ref)
     res = solve_modes(model)
     info = classify_modes(res)[res.n_rigid:]
+    check_size(points, harmonics, sources, len(info))
     speeds = np.linspace(lo, hi, int(points))
     notes = []
     if gyroscopic:

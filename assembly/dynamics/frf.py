@@ -104,6 +104,19 @@ DIRECT_RTOL = 1e-6
 #: An elastic mode whose damping ratio is below this counts as undamped (round-off of a
 #: damping matrix that does not act on it).
 UNDAMPED_ZETA = 1e-9
+#: Bytes an FRF takes a frequency (omega, its powers) and a frequency and output channel (the
+#: response and the residual terms: a few complex arrays); measured: 81 B a frequency with one
+#: channel (nrel5mw, 1e6 frequencies, whole process).
+FRF_BYTES = (64, 96)
+
+
+def check_frf_size(n_freq: int, n_channels: int) -> None:
+    """SceneError at ``len(frequency_hz)`` when ``n_freq`` frequencies of ``n_channels``
+    output channels (a stress output has six) exceed the memory budget
+    (:func:`assembly.dynamics.budget.check_memory`)."""
+    from .budget import check_memory
+    check_memory("len(frequency_hz)", n_freq, float(n_freq) * (FRF_BYTES[0] + FRF_BYTES[1] * n_channels),
+                 f"{n_freq:.3g} frequencies x {n_channels} output channels", "fewer frequencies or outputs")
 
 
 @dataclass(frozen=True)
@@ -152,6 +165,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         outputs = [outputs]
     src = input_channel(model, input)
     outs = [c for name in outputs for c in output_channels(model, name)]
+    check_frf_size(f.size, len(outs))
     omega = 2 * np.pi * f
     if np.any(omega == 0) and (result.n_rigid if result is not None else rigid_body_count(model)):
         raise SceneError("frequency_hz", 0.0, "the model has a free rigid-body mode: its response at 0 Hz is "

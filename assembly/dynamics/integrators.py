@@ -33,6 +33,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SceneError
+from .budget import check_memory
 
 log = logging.getLogger(__name__)
 
@@ -92,6 +93,9 @@ def check_step(dt: float, t_end: float) -> int:
         raise SceneError("dt", dt, "the time step must be a finite time > 0 s")
     if not (math.isfinite(t_end) and t_end > 0):
         raise SceneError("t_end", t_end, "the end time must be a finite time > 0 s")
+    if not math.isfinite(t_end / dt):
+        raise SceneError("t_end", t_end, f"t_end / dt = {t_end / dt} steps of dt = {dt:g} s: not a number of "
+                                         "steps a run can take")
     return max(1, int(math.ceil(t_end / dt - 1e-9)))
 
 
@@ -136,6 +140,8 @@ def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: 
     q = np.array(q0, float)
     v = np.array(v0, float)
     n = len(q)
+    check_memory("t_end", t_end, 24.0 * (n_steps + 1) * (n + 1), f"the history of {n_steps:.3g} steps (dt = "
+                 f"{dt:g} s) of {n} coordinates, velocities and accelerations", "shorten t_end or raise dt")
     C = sp.csr_matrix((n, n)) if C is None else C
     a = _Solver(M).solve(np.asarray(force(0.0), float) - C @ v - K @ q)
     lu = _Solver(_effective(M, C, K, dt, s))

@@ -49,7 +49,7 @@ from .frf import UNDAMPED_ZETA
 from .load_series import constant, file_history, generator_history, ramp, range_warning
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
-from .transient import DENSE_INVERSE_MAX, Diverged, Stack, integrate, tangent
+from .transient import DENSE_INVERSE_MAX, Diverged, Stack, check_history, integrate, tangent
 
 log = logging.getLogger(__name__)
 
@@ -229,8 +229,11 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     ``simulation.points`` and every nonlinear mesh's force). ``speed`` (rad/s) overrides
     ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
     A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
-    is the :class:`SimulationResult` so far (``complete`` False)."""
+    is the :class:`SimulationResult` so far (``complete`` False). A run whose history does not
+    fit the memory budget is refused (SceneError at ``t_end``) before anything is assembled or
+    allocated (:func:`assembly.dynamics.transient.check_history`)."""
     from ..model import assemble
+    check_history(dt, t_end, 0)                 # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
     model = model if model is not None else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
@@ -291,6 +294,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     mesh_idx = {f"force:{mi.name}": j for j, mi in enumerate(meshes.info)}
     swap = [(i, mesh_idx[c.name]) for i, c in enumerate(chans) if c.name in mesh_idx]
     Sv = np.array(list(speed_rows.values())).reshape(len(speed_rows), n)
+    check_history(dt, t_end, len(chans) + len(speed_rows), n, U.shape[1])   # the whole run, before it starts
 
     def observe(q, v, a, nu):
         y = Ok @ q + Oc @ v
@@ -324,7 +328,8 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
         stopped = exc
     values, units = _collect(run.y, chans, list(speed_rows))
     info = dict(run.info)
-    info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "losses_total": int(meshes.losses.sum())})
+    info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "dofs": n,
+                 "losses_total": int(meshes.losses.sum())})
     result = SimulationResult(run.time_s, values, units,
                               [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
                                 math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,

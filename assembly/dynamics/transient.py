@@ -32,6 +32,7 @@ from typing import Callable, Optional
 import numpy as np
 import scipy.sparse as sp
 
+from .budget import check_memory
 from .integrators import DENSE_INVERSE_MAX, Scheme, _effective, _Solver, check_step, newmark
 
 log = logging.getLogger(__name__)
@@ -40,6 +41,21 @@ log = logging.getLogger(__name__)
 MAX_ITERATIONS = 60
 #: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
 NEWTON_RTOL = 1e-10
+#: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
+STEP_BYTES = 12
+
+
+def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces: int = 0) -> int:
+    """The number of steps of ``dt`` to ``t_end`` (:func:`check_step`), once the run is known to
+    fit the memory budget (:func:`assembly.dynamics.budget.check_memory`; SceneError at
+    ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
+    :data:`STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)`` bytes (``W`` and the
+    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces)."""
+    n_steps = check_step(dt, t_end)
+    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + 8.0 * n_dofs * (n_forces + 12),
+                 f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
+                 "shorten t_end, raise dt or record fewer outputs")
+    return n_steps
 
 
 class Nonlinear:
@@ -155,12 +171,12 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     the partial result) when a state is not finite or a step's Newton iterations do not
     converge; its message names the time and the coordinate (``dof_names``)."""
     s = scheme or newmark()
-    n_steps = check_step(dt, t_end)
     q, v = np.array(q0, float), np.array(v0, float)
     n = len(q)
-    M, C, K = (_matrix(X, n) for X in (M, C, K))
     nl = nonlinear or Stack([], n)
     U = np.asarray(nl.U, float)
+    n_steps = check_history(dt, t_end, 0, n, U.shape[1])       # before any factorisation
+    M, C, K = (_matrix(X, n) for X in (M, C, K))
     observe = observe or (lambda q, v, a, nu: q)
     am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
     t0 = _time.perf_counter()
@@ -174,10 +190,12 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     a = _Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
+    check_history(dt, t_end, len(first), n, U.shape[1])
     Y = np.empty((n_steps + 1, len(first)))
     Y[0] = first
     its = np.zeros(n_steps + 1, dtype=np.int32)
-    t = np.arange(n_steps + 1) * dt
+    t = np.arange(n_steps + 1, dtype=float)
+    t *= dt                                                        # in place: no second array of n_steps
     report = max(1, n_steps // 200)
 
     def stop(i: int, why: str):

@@ -67,8 +67,9 @@ def test_export_to_stdout_equals_the_file(scene_file, tmp_path, capsys):
 
 
 def test_a_failed_write_keeps_the_old_file(scene_file, tmp_path, monkeypatch, capsys):
-    out = tmp_path / "ed.dat"
-    out.write_text("old\n")
+    out = tmp_path / "ed.dat"                   # an earlier fragment (only flexgear's own is replaced)
+    old = "! flexgear 0.0: ElastoDyn drivetrain fragment of scene 'old'\nold\n"
+    out.write_text(old)
 
     def refuse(src, dst):
         raise OSError(28, os.strerror(28), str(dst))
@@ -77,7 +78,7 @@ def test_a_failed_write_keeps_the_old_file(scene_file, tmp_path, monkeypatch, ca
     assert main(["export", "elastodyn", str(scene_file), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and str(out) in err and os.strerror(28) in err
-    assert out.read_text() == "old\n" and sorted(os.listdir(tmp_path)) == ["chain.toml", "ed.dat"]
+    assert out.read_text() == old and sorted(os.listdir(tmp_path)) == ["chain.toml", "ed.dat"]
 
 
 @pytest.mark.parametrize("args, named", [
@@ -98,3 +99,65 @@ def test_dampers_that_miss_the_torsion_write_no_dttordmp(capsys):
     text = capsys.readouterr().out
     assert "do not act on the drivetrain's torsion" in text
     assert "DTTorDmp" not in _read(text)
+
+
+# --out replaces only a fragment flexgear wrote (its first line), never a user's file (a scene, an
+# ElastoDyn input), never through a symbolic link, never a folder: one line naming --out, exit 2,
+# the file as it was. Through the command line and write_fragment.
+USERS = {"the scene itself": None, "an ElastoDyn input": "------- ELASTODYN v1.03.* INPUT FILE ---\nNREL 5.0 MW\n",
+         "a commented note": "! flexgear notes, by hand\n", "empty": "", "binary": b"\x00\xff!\x01 flexgear"}
+
+
+@pytest.mark.parametrize("api", [False, True], ids=["cli", "api"])
+@pytest.mark.parametrize("user", list(USERS))
+def test_a_file_flexgear_did_not_write_is_never_replaced(scene_file, tmp_path, capsys, user, api):
+    from assembly.app.elastodyn import write_fragment
+    from assembly.app.output import OutputDirError
+
+    out = scene_file if USERS[user] is None else tmp_path / "drivetrain.dat"
+    if USERS[user] is not None:
+        data = USERS[user]
+        out.write_bytes(data if isinstance(data, bytes) else data.encode())
+    before = out.read_bytes()
+    if api:
+        with pytest.raises(OutputDirError, match="flexgear replaces only files it wrote"):
+            write_fragment(out, derive_two_mass(chain()), "chain")
+    else:
+        assert main(["export", "elastodyn", str(scene_file), "--out", str(out), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"--out {out}" in err[0] and "is not an ElastoDyn fragment flexgear wrote" in err[0]
+    assert out.read_bytes() == before
+    assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
+
+
+def test_an_earlier_fragment_is_replaced(scene_file, tmp_path, capsys):
+    out = tmp_path / "ed.dat"
+    out.write_text("! flexgear 0.0.1: ElastoDyn drivetrain fragment of scene 'older'\n   1   GBRatio   - x (-)\n")
+    assert main(["export", "elastodyn", str(scene_file), "--out", str(out), "-q"]) == 0
+    assert "'chain'" in out.read_text().splitlines()[0]
+
+
+@pytest.mark.parametrize("target", ["a user's file", "an earlier fragment", "a folder", "nothing"])
+def test_a_symbolic_link_is_refused_whatever_it_points_to(scene_file, tmp_path, capsys, target):
+    # the safer choice: never write through a link, even to flexgear's own file
+    real = tmp_path / "real"
+    if target == "a folder":
+        real.mkdir()
+    elif target != "nothing":
+        real.write_text("mine\n" if target == "a user's file" else
+                        "! flexgear 0.0.1: ElastoDyn drivetrain fragment of scene 'chain'\n")
+    out = tmp_path / "link.dat"
+    out.symlink_to(real)
+    before = real.read_bytes() if real.is_file() else None
+    assert main(["export", "elastodyn", str(scene_file), "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--out {out}" in err[0] and "symbolic link" in err[0]
+    assert out.is_symlink() and os.readlink(out) == str(real)
+    assert (real.read_bytes() if real.is_file() else None) == before and (target != "nothing" or not real.exists())
+
+
+def test_a_folder_at_out_is_refused(scene_file, tmp_path, capsys):
+    (tmp_path / "d").mkdir()
+    assert main(["export", "elastodyn", str(scene_file), "--out", str(tmp_path / "d"), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is not a regular file" in err[0] and os.listdir(tmp_path / "d") == []

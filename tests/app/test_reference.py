@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import re
 import tomllib
 import typing
@@ -112,6 +113,29 @@ def test_cli_writes_the_reference(tmp_path, capsys):
     assert main(["reference", "--out", str(out)]) == 0
     assert main(["reference"]) == 0
     assert out.read_text(encoding="utf-8") == capsys.readouterr().out == REFERENCE.read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("there", ["a user's file", "a link to the reference", "an earlier reference"])
+def test_reference_out_replaces_only_an_earlier_reference(tmp_path, capsys, there):
+    # nothing of the user's is overwritten: a file flexgear did not write, or any link, is refused
+    from assembly.app.cli import main
+    out = tmp_path / "ref.md"
+    if there == "a user's file":
+        out.write_text("# My notes\n")
+    elif there == "a link to the reference":
+        (tmp_path / "theirs.md").write_text("# Scene reference\n\nsomeone's copy\n")
+        out.symlink_to(tmp_path / "theirs.md")
+    else:
+        out.write_text("# Scene reference\n\nan older one\n")
+    before = out.read_bytes()
+    rc = main(["reference", "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    if there == "an earlier reference":
+        assert rc == 0 and out.read_text(encoding="utf-8") == REFERENCE.read_text(encoding="utf-8")
+    else:
+        assert rc == 2 and len(err) == 1 and f"--out {out}" in err[0]
+        assert out.read_bytes() == before and out.is_symlink() == (there != "a user's file")
+        assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
 
 
 def test_scene_docs_names_only_existing_fields():

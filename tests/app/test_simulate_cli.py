@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 
 import numpy as np
 import pytest
@@ -136,15 +137,7 @@ def test_a_stopped_run_keeps_a_named_partial_result(tmp_path, capsys, monkeypatc
     # so, keeps those steps in partial_simulation.h5 (complete = False) and exits with 1
     import h5py
 
-    import assembly.dynamics.simulate as sim_mod
-    from assembly.dynamics.transient import Diverged, integrate
-
-    def stops(*args):                    # simulate's positional call: (..., dt, t_end, scheme, ...)
-        full = integrate(*args[:7], 10 * args[6], *args[8:])
-        raise Diverged("the run diverged at t = 0.001 s (rotor.rz is not finite)",
-                       type(full)(full.time_s, full.y, full.iterations, full.scheme, {}, complete=False))
-
-    monkeypatch.setattr(sim_mod, "integrate", stops)
+    _stop_after_10(monkeypatch)
     out = tmp_path / "res"
     assert main(["simulate", pair_file(tmp_path), "-q", "--t-end", "0.1", "--dt", "1e-4", "--output", "force:m",
                  "--out", str(out)]) == 1
@@ -164,3 +157,87 @@ def test_documented_command_runs(tmp_path, capsys):
     assert main([*argv, "-q"]) == 0
     s = json.loads((tmp_path / "sim" / "summary.json").read_text())
     assert s["complete"] and s["steps"] == 5000 and len(s["outputs"]) == 4
+
+
+# A run that stops goes through the output rules as a complete one does (assembly/app/output.py):
+# its partial result replaces --out whole, marked partial, or is refused before the run; without
+# --out nothing is written anywhere.
+PARTIAL_FILES = ["flexgear_run.json", "index.html", "partial_simulation.h5", "spectrum_01.png", "summary.json",
+                 "trace_01.png"]
+
+
+def _stop_after_10(monkeypatch, calls=None):
+    import assembly.dynamics.simulate as sim_mod
+
+    from tests.support.tiny_runs import stop_after
+    monkeypatch.setattr(sim_mod, "integrate", stop_after(10, calls))
+
+
+def test_a_stopped_run_replaces_an_earlier_result_marked_partial(tmp_path, capsys, monkeypatch):
+    import h5py
+
+    out, scene = tmp_path / "res", pair_file(tmp_path)
+    argv = ["simulate", scene, "-q", "--dt", "1e-4", "--output", "force:m", "--out", str(out)]
+    assert main([*argv, "--t-end", "0.002"]) == 0                     # an earlier complete result
+    (out / "notes.txt").write_text("the user's")
+    _stop_after_10(monkeypatch)
+    assert main([*argv, "--t-end", "0.1"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "run stopped" in err[0] and "partial_simulation.h5" in err[0] and "marked partial" in err[0]
+    # the earlier complete result is gone as a whole (no simulation.h5 beside the partial one)
+    assert sorted(os.listdir(out)) == sorted([*PARTIAL_FILES, "notes.txt"])
+    assert (out / "notes.txt").read_text() == "the user's"
+    assert sorted(os.listdir(tmp_path)) == ["pair.toml", "res"]        # no work folder, no lock left
+    with h5py.File(out / "partial_simulation.h5") as h:
+        assert not h.attrs["complete"] and "rotor.rz" in h.attrs["stopped"] and len(h["time_s"]) == 11
+    s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] is False and "rotor.rz" in s["stopped"] and s["steps"] == 10
+    assert json.loads((out / "flexgear_run.json").read_text())["complete"] is False
+    page = (out / "index.html").read_text()
+    assert "Partial result: the run stopped" in page and 'href="partial_simulation.h5"' in page
+
+
+def test_a_stopped_run_without_out_writes_nothing(tmp_path, capsys, monkeypatch):
+    scene = pair_file(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    _stop_after_10(monkeypatch)
+    assert main(["simulate", scene, "-q", "--t-end", "0.1", "--dt", "1e-4", "--output", "force:m"]) == 1
+    cap = capsys.readouterr()
+    assert os.listdir(tmp_path) == ["pair.toml"]                        # not in the working folder
+    assert "PARTIAL" in cap.out and "force:m" in cap.out                # the summary, marked
+    err = cap.err.strip().splitlines()
+    assert len(err) == 1 and "run stopped" in err[0] and "give --out DIR to keep it" in err[0]
+
+
+def test_a_stopped_run_never_writes_into_a_foreign_folder(tmp_path, capsys, monkeypatch):
+    out, scene = tmp_path / "mine", pair_file(tmp_path)
+    out.mkdir()
+    (out / "partial_simulation.h5").write_bytes(b"the user's own")
+    calls = []
+    _stop_after_10(monkeypatch, calls)
+    assert main(["simulate", scene, "-q", "--t-end", "0.1", "--dt", "1e-4", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--out {out}" in err[0] and "no earlier flexgear run" in err[0]
+    assert not calls                                                   # refused before the run
+    assert os.listdir(out) == ["partial_simulation.h5"]
+    assert (out / "partial_simulation.h5").read_bytes() == b"the user's own"
+
+
+def test_the_api_writes_a_partial_result_by_the_same_rules(tmp_path, monkeypatch):
+    from assembly.app.output import OutputDirError
+    from assembly.app.simulate import sim_to_dir
+    from assembly.dynamics.simulate import simulate
+    from assembly.dynamics.transient import Diverged
+    from assembly.schema import load_scene
+
+    _stop_after_10(monkeypatch)
+    with pytest.raises(Diverged) as stopped:
+        simulate(load_scene(pair_file(tmp_path)), 0.1, 1e-4, ["force:m"])
+    partial = stopped.value.partial
+    sim_to_dir(partial, tmp_path / "res", "pair")
+    assert sorted(os.listdir(tmp_path / "res")) == PARTIAL_FILES
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "data.csv").write_text("1,2\n")
+    with pytest.raises(OutputDirError, match="no earlier flexgear run"):
+        sim_to_dir(partial, tmp_path / "mine", "pair")
+    assert os.listdir(tmp_path / "mine") == ["data.csv"]

@@ -271,3 +271,24 @@ def test_pynastran_reads_the_dmig_bit_exact(se, tmp_path):
         assert np.array_equal(_in_order(np.asarray(matrix), keys, want), ref), name
     assert {g: n.xyz.tolist() for g, n in model.nodes.items()} == {1: ENDS["a"], 2: ENDS["b"]}
     assert sorted(model.spoints) == list(range(1001, 1001 + se.n_modes))
+
+
+def test_is_export_knows_its_own_files_and_no_other(se, tmp_path):
+    # the exports of any version are recognised by their format entry / DMIG header line; a user's
+    # npz, Nastran file, zip or text is not, nor an npz of pickled objects
+    import zipfile
+
+    from cms.export import is_export
+    ours = [write_npz(tmp_path / "a.npz", se), write_dmig(tmp_path / "a.dmig", se, title="a title " * 30),
+            write_dmig(tmp_path / "b.dmig", se, field_width=16)]
+    assert all(is_export(p) for p in ours)
+    np.savez(tmp_path / "u.npz", K=np.eye(2), format=np.array("something else"))
+    np.savez(tmp_path / "v.npz", format=np.array([{"a": 1}], dtype=object))
+    with zipfile.ZipFile(tmp_path / "w.zip", "w") as z:
+        z.writestr("readme.txt", "hi")
+    (tmp_path / "x.dmig").write_text("$ my model\nDMIG,KAAX,0,6,2,0\n")
+    (tmp_path / "y.dmig").write_text("$ " + "x" * 500 + "\n$ Nastran bulk data, free-field. Matrices\n")
+    (tmp_path / "z.bin").write_bytes(b"PK\x03\x04 truncated")
+    (tmp_path / "e.txt").write_text("")
+    for name in ("u.npz", "v.npz", "w.zip", "x.dmig", "y.dmig", "z.bin", "e.txt"):
+        assert not is_export(tmp_path / name), name

@@ -29,6 +29,7 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.app.output import MANIFEST, recover_output
+from tests.support.unprivileged import run_unprivileged
 
 ROOT = Path(__file__).resolve().parents[2]
 RIGID = "kahraman_beta20.toml"  # shipped rigid helical pair: solved in 0.2 s
@@ -337,34 +338,13 @@ def test_out_under_a_file(tmp_path, below, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"] and (tmp_path / "afile").read_text() == "data"
 
 
-# Linux capabilities that let root ignore file modes: CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH,
-# CAP_FOWNER (linux/capability.h); PR_CAPBSET_DROP (linux/prctl.h).
-DAC_CAPABILITIES, PR_CAPBSET_DROP = (1, 2, 3), 24
-
-
-def _without_dac_capabilities():
-    """preexec_fn: drop root's power to ignore file modes (for the program it runs), so that
-    permission errors can be provoked as root too."""
-    import ctypes
-    libc = ctypes.CDLL(None, use_errno=True)
-    for cap in DAC_CAPABILITIES:
-        if libc.prctl(PR_CAPBSET_DROP, cap, 0, 0, 0) != 0:
-            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP)")
-
-
-def _run_unprivileged(args):
-    return subprocess.run([sys.executable, "-m", "assembly.app.cli", *args], env={**os.environ, "PYTHONPATH": str(ROOT)},
-                          cwd=ROOT, capture_output=True, text=True, timeout=120,
-                          preexec_fn=_without_dac_capabilities if os.geteuid() == 0 else None)
-
-
 @pytest.mark.parametrize("read_only", ["parent", "earlier result"])
 def test_real_permission_denied(read_only, out):
     before = _snapshot(out)
     locked = out.parent if read_only == "parent" else out / "plots"  # a folder we may not write in
     locked.chmod(0o555)
     try:
-        r = _run_unprivileged(["run", RIGID, "--out", str(out), *RIGID_ARGS])
+        r = run_unprivileged(["run", RIGID, "--out", str(out), *RIGID_ARGS])
     except subprocess.SubprocessError as exc:  # e.g. a container without CAP_SETPCAP
         pytest.skip(f"cannot drop root's file-mode capabilities here: {exc}")
     finally:
