@@ -698,11 +698,13 @@ class Scene:
             # these read the types defined here: import when used
             from .gear_data import resolve
             from .schema import checked_fields
-            from .validate import validate_scene
+            from .validate import references_exist, validate_scene
             # types and ranges before anything derives from them; a component given as a
             # table (dict) becomes its parameter object here, once
             for key, value in checked_fields(self).items():
                 object.__setattr__(self, key, value)
+            # every body a field names exists before deriving reads the bodies it names
+            references_exist(self)
             resolved = resolve(self)
             # what the user wrote, before numbers derived from teeth and the scene's default
             # fidelity were filled in: editing and saving work on it (see :meth:`as_given`)

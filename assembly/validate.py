@@ -3,10 +3,13 @@
 :func:`validate_scene` runs them in order: first every field on its own -- its type and
 the unit and range declared on it (:func:`assembly.schema.check_instance`: finite, of
 physical magnitude, in range; names without control characters or path separators), so
-no rule below ever compares a NaN or overflows -- then each table on its own (bodies,
-meshes, shafts, fixed DOFs, planetary stages, flexible options), then the scene as a
-whole on its stages expanded (names, references, frames, component tables, attachment
-points, rigid bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
+no rule below ever compares a NaN or overflows -- and every name a field gives a body
+(:func:`references_exist`, which :class:`assembly.scene.Scene` runs before deriving gear
+numbers from teeth and placing bodies, the steps that read the bodies named), then each
+table on its own (bodies, meshes, shafts, fixed DOFs, planetary stages, flexible
+options), then the scene as a whole on its stages expanded (names, frames, component
+tables, attachment points, rigid bearings, mesh geometry, Craig-Bampton cutoffs, load
+case, connectivity).
 Error paths name the table the user wrote: ``stages[0].planets.count``,
 ``bearings[2].k_radial``, ``stages[0].carrier.component.cheek_spacing``.
 """
@@ -22,6 +25,7 @@ from fe_components.params import CarrierParams, component_kind
 from fe_components.part_file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .body_names import body_references, scene_body_names, unknown_body_reason
 from .constraints import can_constrain
 from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
@@ -384,30 +388,21 @@ def stage_elements_valid(scene, expanded, origin: dict) -> None:
         check_mesh(m, p)
 
 
-def references_exist(scene, names: dict) -> None:
-    """Every body named by a frame, bearing, mesh, shaft or fixed DOF exists."""
-    def ref(path, name, allow_housing=False):
-        if allow_housing and name == HOUSING:
-            return
-        if name not in names:
-            raise SceneError(path, name, "no body of that name" + (" (or 'housing')" if allow_housing else ""))
-
-    for i, b in enumerate(scene.bodies):
-        ref(f"bodies[{i}].frame", b.frame, allow_housing=True)
+def references_exist(scene) -> None:
+    """Every field that names a body names one of the scene's (its own bodies, stage
+    members, shaft stations; :mod:`assembly.body_names`), or the housing where a frame may
+    be it; a bearing joins two different bodies. Run on the tables as written, before gear
+    numbers are derived and bodies placed (:class:`assembly.scene.Scene` calls it first), so
+    an unknown name is named with the nearest one the scene has, not met later as a gap
+    in another rule (a misspelt ``gear2`` looked like a missing base radius)."""
+    names = scene_body_names(scene)
+    known = set(names)
+    for path, name, housing in body_references(scene):
+        if name not in known and not (housing and name == HOUSING):
+            raise SceneError(path, name, unknown_body_reason(name, names, housing))
     for i, br in enumerate(scene.bearings):
-        ref(f"bearings[{i}].body", br.body)
-        if br.frame is not None:
-            ref(f"bearings[{i}].frame", br.frame, allow_housing=True)
-            if br.frame == br.body:
-                raise SceneError(f"bearings[{i}].frame", br.frame, "a bearing cannot join a body to itself")
-    for i, m in enumerate(scene.meshes):
-        ref(f"meshes[{i}].gear1", m.gear1)
-        ref(f"meshes[{i}].gear2", m.gear2)
-    for i, s in enumerate(scene.shafts):
-        ref(f"shafts[{i}].body1", s.body1)
-        ref(f"shafts[{i}].body2", s.body2)
-    for i, f in enumerate(scene.fixed):
-        ref(f"fixed[{i}].body", f.body)
+        if br.frame is not None and br.frame == br.body:
+            raise SceneError(f"bearings[{i}].frame", br.frame, "a bearing cannot join a body to itself")
 
 
 def frames_form_tree(expanded, names: dict, origin: dict) -> None:
@@ -587,13 +582,14 @@ def everything_connected(expanded, names: dict, origin: dict) -> None:
 
 
 def validate_scene(scene) -> None:
-    """Run every rule on ``scene``; the first one broken raises :class:`SceneError`."""
+    """Run every rule on ``scene`` (its references checked already: :func:`references_exist`
+    runs before the scene's gear numbers are derived); the first one broken raises
+    :class:`SceneError`."""
     check_tables(scene)
     expanded = scene.expanded()
     origin = body_origins(scene, expanded)
     names = body_table(expanded, origin)
     stage_elements_valid(scene, expanded, origin)
-    references_exist(scene, names)
     frames_form_tree(expanded, names, origin)
     masters = component_masters(expanded)
     flexible_bodies_supported(expanded, origin)
