@@ -34,7 +34,8 @@ def scene_body_names(scene) -> list[str]:
 
 def body_references(scene):
     """``(path, name, housing allowed)`` of every field of ``scene`` that names a body:
-    bodies' and bearings' frames, bearings, meshes, shafts, fixed DOFs, the static load cases (input, output, point loads, supports) and
+    bodies' and bearings' frames, bearings, meshes, shafts, fixed DOFs, stages placed
+    coaxial with a body, the static load cases (input, output, point loads, supports) and
     the ``[simulation]`` table (reference, loads, generator, brake, stress points)."""
     for i, b in enumerate(scene.bodies):
         yield f"bodies[{i}].frame", b.frame, True
@@ -50,6 +51,9 @@ def body_references(scene):
         yield f"shafts[{i}].body2", s.body2, False
     for i, f in enumerate(scene.fixed):
         yield f"fixed[{i}].body", f.body, False
+    for i, st in enumerate(scene.stages):
+        if st.coaxial_with is not None:
+            yield f"stages[{i}].coaxial_with", st.coaxial_with, False
     for path, lc in scene.load_cases():
         for role in ("input", "output"):
             if getattr(lc, role) is not None:

@@ -397,9 +397,10 @@ def _member_blank(st, path: str, m, internal: bool, stage_path: str, tip_alterat
 
 def resolve(scene) -> dict:
     """The scene's ``bodies``, ``meshes`` and ``stages`` with the scene's default fidelity
-    filled in, gear numbers from teeth and bodies placed by meshes (a dict of the changed
-    fields, for the constructor to set)."""
-    from .placement import place_bodies
+    filled in, gear numbers from teeth, bodies placed by meshes and stages on the axes of
+    the bodies they are coaxial with (a dict of the changed fields, for the constructor to
+    set)."""
+    from .placement import place_bodies, place_stages
     default = scene.fidelity or "rigid"
 
     def fid(obj):
@@ -421,4 +422,5 @@ def resolve(scene) -> dict:
                                                                ("sun", "ring", "carrier", "planets")}),
                                     f"stages[{i}]") for i, st in enumerate(scene.stages))
     stages = tuple(keep_degrees(old, new) for old, new in zip(scene.stages, stages))
-    return {"bodies": place_bodies(bodies, meshes), "meshes": meshes, "stages": stages}
+    bodies = place_bodies(bodies, meshes)
+    return {"bodies": bodies, "meshes": meshes, "stages": place_stages(stages, bodies)}

@@ -510,6 +510,14 @@ class PlanetaryStage:
     ``c_mesh_sun`` / ``c_mesh_ring`` (N s/m, default 0): viscous dampers along the line of
     action of every sun-planet / planet-ring mesh (:attr:`GearMesh.damping`).
 
+    Where: ``center`` (m, default the origin) and ``axis``; or ``coaxial_with``, the name of a
+    body (one of the scene's bodies, or a member of a stage written before this one) whose
+    axis the stage shares exactly: its centre is that body's position moved ``axial_offset``
+    (m, default 0) along the body's axis, and its ``axis`` (parallel to the body's, either
+    sense) becomes the body's (:func:`assembly.placement.place_stages`). A stage joined to a
+    body by a shaft must sit on that body's axis to the last bit: a typed centre a hair off
+    it is a lever arm that the torsional model cannot turn.
+
     Time-domain runs: ``backlash`` (m) of every mesh of the stage, and ``variation_sun`` /
     ``variation_ring`` (:class:`assembly.scene_time.MeshVariation`) of its sun-planet and
     planet-ring meshes, counted on the sun's and the ring's teeth relative to the carrier;
@@ -531,7 +539,7 @@ class PlanetaryStage:
     normal_pressure_angle: Optional[float] = angle(None, gt=0.0, lt=math.radians(45))
     face_width: Optional[float] = quantity("m", None, gt=0.0)
     drive_sign: int = 1
-    center: Vec3 = quantity("m", (0.0, 0.0, 0.0))
+    center: Optional[Vec3] = quantity("m", None)
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     contact_point: Literal["pitch", "tangent"] = "pitch"
     c_mesh_sun: float = damper("N s/m")
@@ -539,6 +547,8 @@ class PlanetaryStage:
     backlash: Optional[float] = quantity("m", None, ge=0.0)
     variation_sun: Optional[MeshVariation] = None
     variation_ring: Optional[MeshVariation] = None
+    coaxial_with: Optional[str] = None
+    axial_offset: Optional[float] = quantity("m", None)
 
     def carrier_radius(self) -> float:
         """Planet-centre radius (m) from the sun-planet mesh geometry."""

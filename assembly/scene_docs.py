@@ -362,8 +362,18 @@ FIELDS: dict[str, dict[str, str]] = {
                       "blanks that give sun, planets and ring the mass and inertia they leave out, and "
                       "the b of the ISO 6336-1 mesh stiffness when `k_mesh_sun` or `k_mesh_ring` is left out.",
         "drive_sign": "+1 or -1: the sense about `axis` in which the sun closes its meshes.",
-        "center": "Position of sun, ring and carrier (their centre of mass or component origin).",
-        "axis": "Common axis of the stage; planet angles are measured from its local x.",
+        "center": "Position of sun, ring and carrier (their centre of mass or component origin); "
+                  "default the origin. Not with `coaxial_with`.",
+        "axis": "Common axis of the stage; planet angles are measured from its local x. With "
+                "`coaxial_with`: parallel to that body's axis (either sense, 1e-6 rad), and then "
+                "exactly the body's.",
+        "coaxial_with": "Name of a body (of `[[bodies]]`, or the sun, ring or carrier of a stage "
+                        "written before) whose axis the stage sits on exactly, no typed centre needed: "
+                        "the centre is that body's `position` moved `axial_offset` along its axis. Use "
+                        "it for a stage joined to a body by a shaft: a typed `center` a hair off the "
+                        "body's axis is a lever arm on the shaft that the torsional model cannot turn.",
+        "axial_offset": "With `coaxial_with`: the stage centre's distance from the body's position "
+                        "along the body's axis (default 0).",
         "contact_point": "'pitch' or 'tangent', for every mesh of the stage (as `[[meshes]]`).",
         "c_mesh_sun": "Viscous damper along the line of action of every sun-planet mesh (default 0).",
         "c_mesh_ring": "Viscous damper along the line of action of every planet-ring mesh (default 0).",
