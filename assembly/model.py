@@ -75,13 +75,15 @@ class AssembledModel:
         L = self.attachment_operator(el)
         return (L.T @ sp.csr_matrix(A) @ L).tocsr()
 
-    def attachment_operator(self, el: Element) -> sp.csr_matrix:
-        """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
+    def attachment_operator(self, el: Element, points: dict | None = None) -> sp.csr_matrix:
+        """Sparse map from ``z`` to the element's stacked attachment motions ``w``
+        (``points``: body name -> the point to take that body's motion at instead of the
+        element's, e.g. to see it with a body's axis moved, :mod:`assembly.lever_arms`)."""
         rows, cols, vals = [], [], []
         for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
             if b is None:
                 continue              # the housing: no motion
-            P = sp.coo_matrix(self.bodies[b].motion_at(el.point, iface))
+            P = sp.coo_matrix(self.bodies[b].motion_at((points or {}).get(b, el.point), iface))
             rows.append(P.row + 6 * j)
             cols.append(P.col + self.offsets[b])
             vals.append(P.data)

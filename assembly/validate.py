@@ -34,7 +34,7 @@ from .planet_spacing import check_planet_assembly, check_planet_spacing
 from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,
                     FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
-from .shafts import shaft_line, station_body
+from .shafts import check_along_axis, shaft_ends, shaft_line, station_body
 from .validate_loads import check_load
 
 
@@ -159,13 +159,18 @@ def check_shaft(s: Shaft, path: str) -> None:
                                                            "its section and length: leave this out")
     if s.bore_diameter >= s.diameter:
         raise SceneError(f"{path}.bore_diameter", s.bore_diameter, f"must be less than diameter = {s.diameter!r} m")
-    if s.stations and s.name is None:
-        raise SceneError(f"{path}.name", None, "a shaft with stations needs a name: its stations become bodies "
-                                               "<shaft name>.<station name>")
+    stations_named(s, path)
     for j, st in enumerate(s.stations):
         if "." in st.name:
             raise SceneError(f"{path}.stations[{j}].name", st.name, "must be a name without '.'")
     unique_names(s.stations, f"{path}.stations")
+
+
+def stations_named(s: Shaft, path: str) -> None:
+    """A shaft with stations has a name: its stations become bodies <name>.<station>."""
+    if s.stations and s.name is None:
+        raise SceneError(f"{path}.name", None, "a shaft with stations needs a name: its stations become bodies "
+                                               "<shaft name>.<station name>")
 
 
 def stations_unclaimed(scene) -> None:
@@ -395,6 +400,8 @@ def references_exist(scene) -> None:
     numbers are derived and bodies placed (:class:`assembly.scene.Scene` calls it first), so
     an unknown name is named with the nearest one the scene has, not met later as a gap
     in another rule (a misspelt ``gear2`` looked like a missing base radius)."""
+    for i, s in enumerate(scene.shafts):    # else its stations have no names to refer to
+        stations_named(s, f"shafts[{i}]")
     names = scene_body_names(scene)
     known = set(names)
     for path, name, housing in body_references(scene):
@@ -430,7 +437,8 @@ def flexible_bodies_supported(expanded, origin: dict) -> None:
 
 def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
     """Every bearing and shaft attaches at a body point or a named interface (a stage
-    member's bearing at its ``bearing_interface``); a beam shaft runs along body1's axis."""
+    member's bearing at its ``bearing_interface``); a shaft, beam or spring, runs along
+    body1's axis."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
         try:
             bearing_point(br, names[br.body], masters, p)
@@ -442,6 +450,8 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
         if s.is_beam:
             shaft_line(s, i, names, masters)
+        else:   # the beam shafts' rule and tolerance (assembly.shafts.check_along_axis)
+            check_along_axis(s, i, *shaft_ends(s, i, names, masters))
 
 
 def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
