@@ -44,7 +44,7 @@ from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometr
                                      shift_sum_for_centre_distance, tip_alteration, tip_thickness,
                                      transverse_contact_ratio, working_centre_distance, working_pressure_angle)
 from fe_components.mesh_stiffness import mesh_stiffness
-from fe_components.params import PinionParams, WheelParams
+from fe_components.params import PinionParams, WheelParams, check_face_per_module
 
 from .errors import SceneError
 from .mesh_excitation import mesh_variation
@@ -297,6 +297,9 @@ def stage_from_teeth(st, path: str):
         return st
     if st.normal_pressure_angle is None:
         raise SceneError(f"{path}.normal_pressure_angle", None, "missing: a stage with normal_module needs it")
+    if st.face_width is not None:
+        check_face_per_module(st.face_width, st.normal_module, f"{path}.face_width", f"{path}.normal_module",
+                              SceneError)
     for role, m in members:
         if m.teeth is None:
             raise SceneError(f"{path}.{role}.teeth", None,

@@ -31,6 +31,7 @@ from fe_components.fields import quantity
 from fe_components.gear_blank import GearBlank
 from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
+from fe_components.sizes import FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER
 
 from .errors import SceneError
 from .scene_time import MeshVariation, Simulation
@@ -299,8 +300,10 @@ class GearMesh:
     gear1: str
     gear2: str
     stiffness: Optional[float] = quantity("N/m", None, gt=0.0)
-    base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
-    base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
+    base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear",
+                                             plausible=GEAR_RADIUS)
+    base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear",
+                                             plausible=GEAR_RADIUS)
     pressure_angle: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: Optional[float] = angle(None, abs_lt=_HALF_PI)
     drive_sign: int = 1
@@ -363,8 +366,8 @@ class Shaft:
     name: Optional[str] = name_field(None)
     interface1: Optional[str] = None
     interface2: Optional[str] = None
-    diameter: Optional[float] = quantity("m", None, gt=0.0)
-    bore_diameter: float = quantity("m", 0.0, ge=0.0)
+    diameter: Optional[float] = quantity("m", None, gt=0.0, plausible=SHAFT_DIAMETER)
+    bore_diameter: float = quantity("m", 0.0, ge=0.0, plausible=SHAFT_DIAMETER)
     material: Material = STEEL
     stations: tuple[Station, ...] = ()
     stage: Optional[str] = None
@@ -444,7 +447,8 @@ class Member:
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
-    base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive")
+    base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive",
+                                            plausible=GEAR_RADIUS)
     support: MemberSupport = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Optional[Fidelity] = None
@@ -470,10 +474,10 @@ class Planets:
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     bearing: BearingSpec = field(kw_only=True)
-    base_radius: Optional[float] = quantity("m", None, gt=0.0)
+    base_radius: Optional[float] = quantity("m", None, gt=0.0, plausible=GEAR_RADIUS)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     angles: Optional[tuple[float, ...]] = angle(None)
-    outer_radius: Optional[float] = quantity("m", None, gt=0.0)
+    outer_radius: Optional[float] = quantity("m", None, gt=0.0, plausible=GEAR_RADIUS)
     fidelity: Optional[Fidelity] = None
     teeth: Optional[int] = quantity("", None, integer=True, ge=3)
     profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
@@ -535,9 +539,9 @@ class PlanetaryStage:
     pressure_angle_sun: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     pressure_angle_ring: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
-    normal_module: Optional[float] = quantity("m", None, gt=0.0)
+    normal_module: Optional[float] = quantity("m", None, gt=0.0, plausible=MODULE)
     normal_pressure_angle: Optional[float] = angle(None, gt=0.0, lt=math.radians(45))
-    face_width: Optional[float] = quantity("m", None, gt=0.0)
+    face_width: Optional[float] = quantity("m", None, gt=0.0, plausible=FACE_WIDTH)
     drive_sign: int = 1
     center: Optional[Vec3] = quantity("m", None)
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))

@@ -16,6 +16,8 @@ import json
 
 import numpy as np
 
+from fe_components.sizes import SHAFT_DIAMETER, SLENDERNESS, unit_hint
+
 from .attach import interface_point
 from .beam import node_mass, section, timoshenko_element
 from .components import global_masters
@@ -79,6 +81,16 @@ def shaft_line(s: Shaft, i: int, by_name: dict, masters: dict):
                                                         f"({p1.tolist()} m): a shaft of zero length")
     check_along_axis(s, i, b1, b2, p1, p2)
     return p1, p2, length, d / length
+
+
+def check_slenderness(s: Shaft, i: int, length: float) -> None:
+    """A beam shaft ``length`` (m) long is at most SLENDERNESS diameters long: beyond, its
+    diameter is in the wrong unit (:mod:`fe_components.sizes`)."""
+    if length > SLENDERNESS * s.diameter:
+        raise SceneError(f"shafts[{i}].diameter", s.diameter,
+                         f"the shaft is {length / s.diameter:.4g} diameters long ({length:.6g} m between its ends): "
+                         f"a drive shaft is 1 to 50, at most {SLENDERNESS:g}; a length in the wrong unit"
+                         f"{unit_hint(s.diameter, length / SLENDERNESS, SHAFT_DIAMETER.hi)}")
 
 
 def shaft_ends(s: Shaft, i: int, by_name: dict, masters: dict):

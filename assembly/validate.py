@@ -7,9 +7,9 @@ no rule below ever compares a NaN or overflows -- and every name a field gives a
 (:func:`references_exist`, which :class:`assembly.scene.Scene` runs before deriving gear
 numbers from teeth and placing bodies, the steps that read the bodies named), then each
 table on its own (bodies, meshes, shafts, fixed DOFs, planetary stages, flexible
-options), then the scene as a whole on its stages expanded (names, frames, component
-tables, attachment points, rigid bearings, mesh geometry, Craig-Bampton cutoffs, load
-case, connectivity).
+options), then the scene as a whole on its stages expanded (names, sizes against each
+other -- :mod:`assembly.scene_sizes` --, frames, component tables, attachment points, rigid
+bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
 Error paths name the table the user wrote: ``stages[0].planets.count``,
 ``bearings[2].k_radial``, ``stages[0].carrier.component.cheek_spacing``.
 """
@@ -31,10 +31,11 @@ from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .kinematics import unit
 from .planet_spacing import check_planet_assembly, check_planet_spacing
+from .scene_sizes import positions_plausible
 from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,
                     FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
-from .shafts import check_along_axis, shaft_ends, shaft_line, station_body
+from .shafts import check_along_axis, check_slenderness, shaft_ends, shaft_line, station_body
 from .validate_loads import check_load
 
 
@@ -290,15 +291,20 @@ def _check_member(m, role: str, p: str) -> None:
 def _check_ring_radius(st: PlanetaryStage, path: str) -> None:
     """The ring mesh must put the planet centres where the sun mesh does."""
     pl = st.planets
-    if st.ring.base_radius <= pl.base_radius:
-        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius, "must exceed the planet base radius")
     Rc = st.carrier_radius()
+    want = pl.base_radius + Rc * math.cos(st.pressure_angle_ring)
+    # a ring radius 1000 x off (a length in the wrong unit) that would otherwise fit
+    slip = next((f"; did you mean {st.ring.base_radius * f:.9g} m ({u})?" for f, u in
+                 ((1e3, "a length in mm converted to metres twice"), (1e-3, "mm where metres belong"))
+                 if abs(st.ring.base_radius * f - want) <= 1e-3 * want), "")
+    if st.ring.base_radius <= pl.base_radius:
+        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius,
+                         f"must exceed the planet base radius{slip}")
     Rc_ring = (st.ring.base_radius - pl.base_radius) / math.cos(st.pressure_angle_ring)
     if abs(Rc_ring - Rc) > 1e-6 * Rc:
-        want = pl.base_radius + Rc * math.cos(st.pressure_angle_ring)
         raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius,
                          f"inconsistent with the sun mesh: the planet centre lies at {Rc:.6g} m, "
-                         f"which needs a ring base radius of {want:.9g} m")
+                         f"which needs a ring base radius of {want:.9g} m{slip}")
 
 
 # ---------------------------------------------------------------- whole-scene rules
@@ -315,8 +321,10 @@ def check_damping(d, path: str = "damping") -> None:
 
 def check_tables(scene) -> None:
     """Every field (type, unit, range), then every table on its own, in the order the user
-    wrote them."""
+    wrote them; between the two, the positions against the assembly's size (a unit slip:
+    :mod:`assembly.scene_sizes`), which the table rules would meet as a contradiction."""
     check_instance(scene)
+    positions_plausible(scene)
     if scene.damping is not None:
         check_damping(scene.damping)
     for i, st in enumerate(scene.stages):
@@ -449,7 +457,7 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
     for i, s in enumerate(expanded.shafts):
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
         if s.is_beam:
-            shaft_line(s, i, names, masters)
+            check_slenderness(s, i, shaft_line(s, i, names, masters)[2])
         else:   # the beam shafts' rule and tolerance (assembly.shafts.check_along_axis)
             check_along_axis(s, i, *shaft_ends(s, i, names, masters))
 
