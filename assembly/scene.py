@@ -113,7 +113,9 @@ class Body:
     ``CylinderParams``; a scene file gives a table with ``kind``, converted once by
     :mod:`assembly.schema`, as is a plain dict given in Python), whose mesh then gives mass
     and inertia at every fidelity; ``position`` is then where the component's local origin
-    sits (its local z along ``axis``). A carrier body needs its ``planet_angles`` and
+    sits (its local z along ``axis``); ``mass`` and inertias typed beside a component are the
+    values its mesh replaces, reported beside the mesh's and never used
+    (:mod:`assembly.body_table`). A carrier body needs its ``planet_angles`` and
     ``pin_pitch_radius``. ``fidelity = "flexible"`` needs a component; ``flex``
     says how it is meshed and reduced. ``fidelity`` left out: the scene's ``fidelity``
     (default "rigid").

@@ -56,8 +56,10 @@ FIELDS: dict[str, dict[str, str]] = {
     },
     "Body": {
         "name": f"Unique body name, not `{HOUSING}`; referred to by bearings, meshes, shafts, `[load]`.",
-        "mass": "Mass of a plain body (not with a `component`); left out with `polar_inertia` on a body "
-                "with `teeth`: from its gear blank.",
+        "mass": "Mass of a plain body; left out with `polar_inertia` on a body with `teeth`: from its gear "
+                "blank. With a `component` (optional, as `polar_inertia`, `transverse_inertia`, "
+                "`inertia_tensor`): the value you expect; the mesh's is used, and both are reported (a "
+                "warning and the body table of every report) when they differ.",
         "polar_inertia": "Inertia about the rotation axis, about the centre of mass.",
         "transverse_inertia": "Inertia about the two axes normal to the rotation axis (default polar/2).",
         "inertia_tensor": "Full 3x3 inertia about the centre of mass in local axes (x, y, axis), "
@@ -70,7 +72,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "stage": "Set by the planetary-stage builder (the stage name); leave unset.",
         "role": "`rotor` or `generator` (one body each): the ends of the drivetrain for `flexgear export "
                 "elastodyn`; other text is free; the planetary-stage builder sets sun, ring, carrier, planet.",
-        "component": "FE component table chosen by `kind`; its mesh gives mass and inertia.",
+        "component": "FE component table chosen by `kind`; its mesh gives mass and inertia (typed ones are "
+                     "compared with it and reported, not used).",
         "flex": "Meshing and reduction options of a component body.",
         "teeth": "Gear teeth of a plain gear body (`[bodies.teeth]`, as a component's); a component "
                  "gear's own `teeth` serve instead (both given: must be equal).",
@@ -383,9 +386,10 @@ FIELDS: dict[str, dict[str, str]] = {
         "variation_ring": "Time domain: stiffness variation of the planet-ring meshes (counted on the ring's teeth).",
     },
     "Member": {
-        "mass": "Mass (not with a `component`); sun and ring with `teeth` may leave it out with "
-                "`polar_inertia` (from the gear blank and the stage's `face_width`).",
-        "polar_inertia": "Inertia about the axis (not with a `component`).",
+        "mass": "Mass; sun and ring with `teeth` may leave it out with `polar_inertia` (from the gear "
+                "blank and the stage's `face_width`). A carrier with a `component` may give it as the value "
+                "you expect: the mesh's is used, both are reported.",
+        "polar_inertia": "Inertia about the axis (with a `component`: the value you expect, as `mass`).",
         "transverse_inertia": "Inertia normal to the axis (default polar/2).",
         "base_radius": "Base radius of sun or ring, positive for both (unused for the carrier).",
         "support": "'bearing' (to the housing), 'fixed' (six DOFs held) or 'floating' (no bearing).",

@@ -71,10 +71,13 @@ def check_body(b: Body, path: str) -> None:
 
 
 def _check_component_body(b: Body, path: str) -> None:
-    for f in ("mass", "polar_inertia", "transverse_inertia", "inertia_tensor"):
-        if getattr(b, f) is not None:
-            raise SceneError(f"{path}.{f}", getattr(b, f),
-                             "a body with a component takes mass and inertia from its mesh")
+    """A component body: its part, carrier pins and flex options; mass properties typed
+    beside the component are the values its mesh replaces (reported, never used:
+    :mod:`assembly.body_table`), held to the plain body's rules when given."""
+    if b.polar_inertia is not None and b.inertia_tensor is not None:
+        raise SceneError(f"{path}.polar_inertia", b.polar_inertia, "give polar_inertia or inertia_tensor, not both")
+    if b.inertia_tensor is not None:
+        _check_tensor(b, path)
     check_part(b.component, f"{path}.component")
     if isinstance(b.component, CarrierParams):
         for f in ("planet_angles", "pin_pitch_radius"):
@@ -106,6 +109,10 @@ def _check_mass_properties(b: Body, path: str) -> None:
                          "give exactly one of polar_inertia or inertia_tensor")
     if b.polar_inertia is not None:
         return
+    _check_tensor(b, path)
+
+
+def _check_tensor(b: Body, path: str) -> None:
     J = np.asarray(b.inertia_tensor, float)
     if not np.allclose(J, J.T, rtol=1e-12, atol=0) or np.linalg.eigvalsh(J).min() <= 0:
         raise SceneError(f"{path}.inertia_tensor", b.inertia_tensor, "must be symmetric positive definite (kg m^2)")
@@ -271,8 +278,7 @@ def _check_member(m, role: str, p: str) -> None:
             if getattr(m.component, f, None) is not None:
                 raise SceneError(*as_written(m.component, f, f"{p}.component.{f}"),
                                  "set by the stage from its planets; remove it")
-        if m.mass is not None or m.polar_inertia is not None:
-            raise SceneError(f"{p}.mass", m.mass, "a component carrier takes mass and inertia from its mesh")
+        # mass and polar_inertia given: the values its mesh replaces (reported, never used)
     else:
         if m.fidelity == "flexible":
             raise SceneError(f"{p}.fidelity", m.fidelity, "a flexible member needs a component table")

@@ -142,12 +142,13 @@ def cmd_static(args) -> int:
     scene = load_scene(scene_file(args))
     if not scene.load_cases():
         raise SceneError("loads", [], "the scene has no load case: add a [load] table or [[loads]] tables")
-    reports = [static_report(st) for st in solve_static_cases(scene, None, model=assemble(scene))]
+    model = assemble(scene)
+    reports = [static_report(st) for st in solve_static_cases(scene, None, model=model)]
     if args.json:
-        json.dump(static_json(scene.name, reports), sys.stdout, indent=1)
+        json.dump(static_json(scene.name, reports, model), sys.stdout, indent=1)
         sys.stdout.write("\n")
     else:
-        print(static_text(reports, title=f"{scene.name}  ({args.scene})"))
+        print(static_text(reports, title=f"{scene.name}  ({args.scene})", model=model))
     return 0
 
 
