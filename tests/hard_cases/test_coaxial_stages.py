@@ -61,7 +61,8 @@ def typed(center) -> dict:
     """The plain quill with the stage centre typed instead of coaxial_with."""
     tree = copy.deepcopy(COAXIAL)
     st = tree["stages"][0]
-    del st["coaxial_with"], st["axial_offset"]
+    for key in ("coaxial_with", "axial_offset"):
+        st.pop(key, None)
     st["center"] = [float(c) for c in center]
     return tree
 
