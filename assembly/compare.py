@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .body_table import body_properties, replaced, replaced_note
 from .classify import classify_modes, pair_modes
 from .modal import solve_modes
 from .model import assemble
@@ -74,6 +75,9 @@ def compare(scene, n_rows: int | None = None, given=None, flexible_components: b
             total = sum(m.timings.values()) + given.solve_time_s
         times[name] = {"total_s": total, **m.timings, "solve_s": res[name].solve_time_s,
                        "n_dofs": int(m.K.shape[0])}
+    if given is None:   # the caller that solved the scene as given reported it already
+        for r in replaced(body_properties(res[top].model)):
+            log.warning("%s", replaced_note(r))
     infos = classify_modes(res[top])
     pairs = {}
     chain = [k for k in ("flexible", "rigid", "torsional") if k in res]

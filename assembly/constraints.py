@@ -67,7 +67,9 @@ def constraint_shift(k: float, coupling: float, mass: float, band_hz: float) -> 
     """
     w = 2 * math.pi * band_hz
     root_k = math.sqrt(k)      # square roots first: no overflow for any k > 0
-    r = (math.sqrt(coupling) + w * math.sqrt(mass)) / root_k if root_k > 0 else math.inf
+    # K'_xx is a diagonal entry of a positive semi-definite matrix: a negative one is the
+    # round-off of a zero (T' K T on axes not along x, y, z: -5e-11)
+    r = (math.sqrt(max(coupling, 0.0)) + w * math.sqrt(mass)) / root_k if root_k > 0 else math.inf
     return 0.5 * r * r if r < 1e150 else math.inf
 
 

@@ -44,7 +44,7 @@ from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometr
                                      shift_sum_for_centre_distance, tip_alteration, tip_thickness,
                                      transverse_contact_ratio, working_centre_distance, working_pressure_angle)
 from fe_components.mesh_stiffness import mesh_stiffness
-from fe_components.params import PinionParams, WheelParams
+from fe_components.params import PinionParams, WheelParams, check_face_per_module
 
 from .errors import SceneError
 from .mesh_excitation import mesh_variation
@@ -297,6 +297,9 @@ def stage_from_teeth(st, path: str):
         return st
     if st.normal_pressure_angle is None:
         raise SceneError(f"{path}.normal_pressure_angle", None, "missing: a stage with normal_module needs it")
+    if st.face_width is not None:
+        check_face_per_module(st.face_width, st.normal_module, f"{path}.face_width", f"{path}.normal_module",
+                              SceneError)
     for role, m in members:
         if m.teeth is None:
             raise SceneError(f"{path}.{role}.teeth", None,
@@ -397,9 +400,10 @@ def _member_blank(st, path: str, m, internal: bool, stage_path: str, tip_alterat
 
 def resolve(scene) -> dict:
     """The scene's ``bodies``, ``meshes`` and ``stages`` with the scene's default fidelity
-    filled in, gear numbers from teeth and bodies placed by meshes (a dict of the changed
-    fields, for the constructor to set)."""
-    from .placement import place_bodies
+    filled in, gear numbers from teeth, bodies placed by meshes and stages on the axes of
+    the bodies they are coaxial with (a dict of the changed fields, for the constructor to
+    set)."""
+    from .placement import place_bodies, place_stages
     default = scene.fidelity or "rigid"
 
     def fid(obj):
@@ -421,4 +425,5 @@ def resolve(scene) -> dict:
                                                                ("sun", "ring", "carrier", "planets")}),
                                     f"stages[{i}]") for i, st in enumerate(scene.stages))
     stages = tuple(keep_degrees(old, new) for old, new in zip(scene.stages, stages))
-    return {"bodies": place_bodies(bodies, meshes), "meshes": meshes, "stages": stages}
+    bodies = place_bodies(bodies, meshes)
+    return {"bodies": bodies, "meshes": meshes, "stages": place_stages(stages, bodies)}

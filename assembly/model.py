@@ -49,6 +49,9 @@ class AssembledModel:
     q_slices: dict = field(default_factory=dict)   # body -> its columns of q
     source: Scene = None                           # the scene as the user gave it (for field paths)
     rigidified: list = field(default_factory=list)
+    #: ``replaced_mass_properties``: the typed mass properties a component's mesh replaced,
+    #: with the mesh's and the relative difference (:mod:`assembly.body_table`)
+    info: dict = field(default_factory=dict)
 
     @property
     def n_abs(self) -> int:
@@ -75,13 +78,15 @@ class AssembledModel:
         L = self.attachment_operator(el)
         return (L.T @ sp.csr_matrix(A) @ L).tocsr()
 
-    def attachment_operator(self, el: Element) -> sp.csr_matrix:
-        """Sparse map from ``z`` to the element's stacked attachment motions ``w``."""
+    def attachment_operator(self, el: Element, points: dict | None = None) -> sp.csr_matrix:
+        """Sparse map from ``z`` to the element's stacked attachment motions ``w``
+        (``points``: body name -> the point to take that body's motion at instead of the
+        element's, e.g. to see it with a body's axis moved, :mod:`assembly.lever_arms`)."""
         rows, cols, vals = [], [], []
         for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
             if b is None:
                 continue              # the housing: no motion
-            P = sp.coo_matrix(self.bodies[b].motion_at(el.point, iface))
+            P = sp.coo_matrix(self.bodies[b].motion_at((points or {}).get(b, el.point), iface))
             rows.append(P.row + 6 * j)
             cols.append(P.col + self.offsets[b])
             vals.append(P.data)
@@ -198,7 +203,9 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
 
     Near-rigid bearing directions become constraints (:func:`assembly.constraints.rigidify`),
     judged on the diagonal of the same assembly without their springs; the model is
-    assembled again only if some direction became a constraint.
+    assembled again only if some direction became a constraint. Mass properties typed
+    beside a component and replaced by its mesh's are logged (a warning naming the body,
+    both values and their difference) and listed in ``model.info``.
     """
     t0 = time.perf_counter()
     sc = scene.expanded()
@@ -218,9 +225,20 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
     model.rigidified = rigidified
     model.source = source if source is not None else scene
+    _report_replaced(model, warn=source is None)
     log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(model.elements),
              len(model.dof_names))
     return model
+
+
+def _report_replaced(model: AssembledModel, warn: bool) -> None:
+    """Record on ``model.info`` (and log, ``warn``: not for a variant of a scene reported
+    already) the typed mass properties its components' meshes replace."""
+    from .body_table import body_properties, replaced, replaced_note
+    rows = replaced(body_properties(model))
+    model.info["replaced_mass_properties"] = [r.as_dict() for r in rows]
+    for r in rows if warn else ():
+        log.warning("%s", replaced_note(r))
 
 
 def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[AssembledModel, dict]:

@@ -27,6 +27,13 @@ STRUCT_RTOL = 1e-8
 #: Entries of a spring row below this fraction of the row's round-off scale
 #: (|b| |A| |T| |W|, the sum of the magnitudes multiplied) are round-off of a product
 #: that vanishes exactly (e.g. a planet bearing row seen from a torsional carrier).
+#: A lever arm (a translational spring's entry on a rotation) is a difference of
+#: coordinates, known only to their rounding: its scale includes the magnitude of the
+#: coordinates it comes from (:func:`coordinate_scale`), so an offset of 1 ulp -- a stage
+#: centre typed as the repr of a derived number, a point computed on an axis not along x,
+#: y or z -- counts as the zero it stands for, not as a lever arm that holds a free
+#: rotation (its spring, k x (1 ulp)^2, lies far below any solve's round-off, which the
+#: rigid-body check of :mod:`assembly.resolution` then confirms).
 DROP_RTOL = 1e-10
 
 
@@ -46,16 +53,50 @@ def zero_motion_basis(model) -> np.ndarray:
     return np.hstack(blocks) if blocks else np.zeros((model.K.shape[0], 0))
 
 
-def spring_rows(model, W: np.ndarray) -> np.ndarray:
+def coordinate_scale(model, el) -> float:
+    """Largest coordinate magnitude (m) of the points a lever arm of element ``el`` is
+    computed from: its point, and the position, axis point or component origin of each
+    body it joins and of the frames those ride in."""
+    frames = {b.name: b.frame for b in model.scene.bodies}
+    pts = [np.asarray(el.point, float)]
+    todo = [b for b in el.bodies if b is not None]
+    while todo:
+        bm = model.bodies[todo.pop()]
+        pts += [np.asarray(getattr(bm, a), float) for a in ("position", "axis_point", "origin")
+                if getattr(bm, a, None) is not None]
+        if frames.get(bm.name) in model.bodies:
+            todo.append(frames[bm.name])
+    return float(max(np.abs(p).max() for p in pts))
+
+
+def lever_weights(Bk: np.ndarray, ATW: np.ndarray) -> np.ndarray:
+    """(rows x columns): how much each entry of the spring rows ``Bk @ ATW`` is a lever
+    arm -- the row's weight on each body's translation times the column's rotation at that
+    body's attachment -- per metre of lever arm."""
+    out = np.zeros((Bk.shape[0], ATW.shape[1]))
+    for j in range(Bk.shape[1] // 6):
+        u = np.abs(Bk[:, 6 * j:6 * j + 3]).sum(axis=1)
+        th = np.abs(np.asarray(ATW[6 * j + 3:6 * j + 6])).max(axis=0)
+        out += np.outer(u, th)
+    return out
+
+
+def spring_rows(model, W: np.ndarray, operators: dict | None = None) -> np.ndarray:
     """Every spring row ``b_j A_e T W`` (one per non-zero stiffness), round-off entries
-    zeroed, zero rows dropped, each row scaled to unit length."""
+    zeroed, zero rows dropped, each row scaled to unit length. ``operators``: element index
+    -> an attachment operator to use instead of the model's (e.g. with a hair offset
+    removed, :mod:`assembly.lever_arms`)."""
     TW = model.T @ W
     absTW = abs(model.T) @ np.abs(W)
     rows = []
-    for el in model.elements:
-        A = model.attachment_operator(el)
-        G = el.B[el.k > 0] @ (A @ TW)          # a damper row without a spring stores no energy
-        scale = np.abs(el.B[el.k > 0]) @ (abs(A) @ absTW)
+    for i, el in enumerate(model.elements):
+        A = (operators or {}).get(i)
+        if A is None:
+            A = model.attachment_operator(el)
+        Bk = el.B[el.k > 0]                    # a damper row without a spring stores no energy
+        ATW = A @ TW
+        G = Bk @ ATW
+        scale = np.abs(Bk) @ (abs(A) @ absTW) + coordinate_scale(model, el) * lever_weights(Bk, ATW)
         G[np.abs(G) <= DROP_RTOL * scale.max(axis=1, keepdims=True)] = 0.0
         rows.append(G)
     G = np.vstack(rows) if rows else np.zeros((0, W.shape[1]))
@@ -64,14 +105,15 @@ def spring_rows(model, W: np.ndarray) -> np.ndarray:
     return G[keep] / norms[keep, None]
 
 
-def _null_space(model):
+def _null_space(model, operators: dict | None = None):
     """(``W``, ``V``): the zero-motion basis and the columns ``V`` (n_w x n_rigid) of its
     coefficients that no spring row strains (right singular vectors of the normalised rows
-    below :data:`STRUCT_RTOL`; a coordinate no spring touches is one on its own)."""
+    below :data:`STRUCT_RTOL`; a coordinate no spring touches is one on its own).
+    ``operators``: as :func:`spring_rows`."""
     W = zero_motion_basis(model)
     if W.shape[1] == 0:
         return W, np.zeros((0, 0))
-    G = spring_rows(model, W)
+    G = spring_rows(model, W, operators)
     if G.shape[0] == 0:
         return W, np.eye(W.shape[1])
     cn = np.linalg.norm(G, axis=0)
@@ -84,9 +126,10 @@ def _null_space(model):
     return W, V
 
 
-def rigid_body_count(model) -> int:
-    """Number of independent zero-energy motions (rigid-body modes) of ``model``."""
-    return _null_space(model)[1].shape[1]
+def rigid_body_count(model, operators: dict | None = None) -> int:
+    """Number of independent zero-energy motions (rigid-body modes) of ``model``
+    (``operators``: as :func:`spring_rows`)."""
+    return _null_space(model, operators)[1].shape[1]
 
 
 def rigid_body_modes(model) -> np.ndarray:

@@ -15,6 +15,10 @@ members sit where their stage puts them); a placing mesh takes the gear centres 
 bodies (no ``center1``/``center2``). A placed body may still give ``position``: it must then
 agree (1e-9 m relative to a_w), so a resolved scene resolves to itself. Bodies neither given
 nor placed sit at the origin.
+
+A planetary stage with ``coaxial_with`` is placed after the bodies, on the named body's axis
+line to the last bit (:func:`place_stages`): its centre is computed from the body's position
+and axis, which a typed centre repeats only to its printed digits.
 """
 from __future__ import annotations
 
@@ -116,3 +120,58 @@ def _placed(bodies, index, m, i: int, target: str, k: int):
                              f"{target!r} (centre distance {a_w:.9g} m): leave position out or remove place")
         return tb
     return keep_degrees(tb, dataclasses.replace(tb, position=tuple(float(v) for v in pos)))
+
+
+def place_stages(stages: tuple, bodies: tuple) -> tuple:
+    """``stages`` with their centres resolved: a stage with ``coaxial_with`` sits on that
+    body's axis line exactly -- centre = the body's position + ``axial_offset`` (m, default
+    0) along the body's unit axis, axis = the body's axis (in the stage's own sense) -- and
+    keeps no ``coaxial_with``, so the resolved scene resolves to itself; a stage without it
+    keeps its ``center`` (default the origin). ``bodies``: the scene's own bodies, placed.
+    The body is one of ``bodies`` or the sun, ring or carrier of a stage written before."""
+    from .shafts import AXIS_TOLERANCE
+    by_name = {b.name: (b.position, b.axis) for b in bodies}
+    out = []
+    for i, st in enumerate(stages):
+        path = f"stages[{i}]"
+        if st.coaxial_with is None:
+            if st.axial_offset is not None:
+                raise SceneError(f"{path}.axial_offset", st.axial_offset, "measured along the axis of the body "
+                                                                          "named by coaxial_with: give coaxial_with "
+                                                                          "too, or give center instead")
+            center = st.center if st.center is not None else ORIGIN
+            out.append(keep_degrees(st, dataclasses.replace(st, center=center)))
+        else:
+            out.append(_coaxial(st, path, by_name, AXIS_TOLERANCE))
+        for role in ("sun", "ring", "carrier"):
+            by_name[f"{st.name}.{role}"] = (out[-1].center, out[-1].axis)
+    return tuple(out)
+
+
+def _coaxial(st, path: str, by_name: dict, tolerance: float):
+    """Stage ``st`` (at scene path ``path``) on the axis of the body its ``coaxial_with``
+    names (``by_name``: body name -> (position, axis) of the bodies it may name)."""
+    name = st.coaxial_with
+    if st.center is not None:
+        raise SceneError(f"{path}.center", list(st.center),
+                         f"the stage sits on the axis of {name!r} (coaxial_with): leave center out and give its "
+                         f"distance along that axis as axial_offset (m)")
+    if name not in by_name:
+        raise SceneError(f"{path}.coaxial_with", name, "must name one of the scene's bodies or the sun, ring or "
+                                                        "carrier of a stage written before this one")
+    position, axis = by_name[name]
+    e = axis_frame(axis)[:, 2]
+    a = axis_frame(st.axis)[:, 2]
+    angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(a, e)))))
+    if angle > tolerance:
+        raise SceneError(f"{path}.axis", list(st.axis),
+                         f"{angle:.3g} rad off the axis {list(axis)} of {name!r} (coaxial_with): the stage shares "
+                         f"that axis (either sense, tolerance {tolerance:g} rad); give axis = {list(axis)}")
+    # the body's own axis tuple (or its exact negative): the members' frames then turn about
+    # the very line the body turns about, not a line 1 ulp beside it
+    same = float(a @ e) > 0
+    new_axis = tuple(float(x) for x in axis) if same else tuple(-float(x) for x in axis)
+    d = st.axial_offset or 0.0
+    center = tuple(float(p + d * x) for p, x in zip(position, e))
+    return keep_degrees(st, dataclasses.replace(st, center=center, axis=new_axis, coaxial_with=None,
+                                                axial_offset=None))

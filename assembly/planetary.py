@@ -90,7 +90,7 @@ def expand_stage(st: PlanetaryStage, path: str = "stage") -> dict:
     """Bodies, bearings, meshes and fixed DOFs of one planetary stage (``path``: its scene
     path, for errors)."""
     E = axis_frame(st.axis)
-    c = np.asarray(st.center, float)
+    c = np.asarray(st.center if st.center is not None else (0.0, 0.0, 0.0), float)
     Rc = st.carrier_radius()
     n = st.name
     bodies, bearings, fixed, meshes = [], [], [], []

@@ -15,8 +15,11 @@ digits. :func:`check` compares the computed spectrum with that bound:
   :mod:`assembly.nullity`) must lie within the round-off bound;
 - the lowest elastic frequency must be resolved to FREQ_RTOL.
 
-Otherwise it raises :class:`~assembly.errors.SceneError` naming the field whose magnitude
-sets the spread (:func:`culprit`): a stiff spring or light body taking part in the highest
+Otherwise it raises :class:`~assembly.errors.SceneError` naming the field at fault: first
+the field that put a body a hair off the axis of a body it is joined to, when that lever arm
+is what removes a rigid-body mode from the structure (:func:`cause`,
+:mod:`assembly.lever_arms`); else the field whose magnitude sets the spread
+(:func:`culprit`): a stiff spring or light body taking part in the highest
 mode when that one lies further above the band than the lowest elastic mode lies below it,
 else a soft spring or heavy body -- the one furthest, in decades, from the median of the
 scene's other values of its unit (N/m, N m/rad, kg, kg m^2).
@@ -123,7 +126,7 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
         why = (f"the structure has {n_zero} rigid-body modes, but mode {i + 1} comes out at "
                f"{spec.hz(abs(lam[i])):.3g} Hz, far above the solve's round-off ({spec.hz(bound[i]):.3g} Hz "
                f"with the highest frequency at {f_max:.3g} Hz)")
-        raise culprit(model, top, "top", why)
+        raise cause(model, n_zero, why) or culprit(model, top, "top", why)
     rtol = frequency_rtol(spec, n_zero)
     if rtol > WARN_RTOL:            # WARN_RTOL < FREQ_RTOL
         low, f_round = lam[n_zero], spec.hz(bound[n_zero])
@@ -135,11 +138,20 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
         band = model.scene.band
         end = "top" if math.log(f_max / band) >= math.log(band / max(f_low, 1e-300)) else "low"
         if rtol > FREQ_RTOL:
-            raise culprit(model, top, end, why)
-        log.warning("accuracy: %s", culprit(model, top, end, why.replace(", needs <= ", ", within ")))
+            raise cause(model, n_zero, why) or culprit(model, top, end, why)
+        why = why.replace(", needs <= ", ", within ")
+        log.warning("accuracy: %s", cause(model, n_zero, why) or culprit(model, top, end, why))
     if not math.isfinite(f_max):
         raise culprit(model, top, "top", "the frequencies exceed double precision")
     return rtol
+
+
+def cause(model, n_zero: int, why: str) -> SceneError | None:
+    """SceneError naming a body placed a hair off the axis of a body it is joined to, when
+    that offset is what takes a rigid-body mode from the structure (a lever arm, not a
+    magnitude: :func:`assembly.lever_arms.hair_error`), else None."""
+    from .lever_arms import hair_error   # it reads the scene paths defined here
+    return hair_error(model, n_zero, why, scene_paths(model))
 
 
 # ---------------------------------------------------------------- naming the culprit

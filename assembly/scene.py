@@ -31,6 +31,7 @@ from fe_components.fields import quantity
 from fe_components.gear_blank import GearBlank
 from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
+from fe_components.sizes import FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER
 
 from .errors import SceneError
 from .scene_time import MeshVariation, Simulation
@@ -112,7 +113,9 @@ class Body:
     ``CylinderParams``; a scene file gives a table with ``kind``, converted once by
     :mod:`assembly.schema`, as is a plain dict given in Python), whose mesh then gives mass
     and inertia at every fidelity; ``position`` is then where the component's local origin
-    sits (its local z along ``axis``). A carrier body needs its ``planet_angles`` and
+    sits (its local z along ``axis``); ``mass`` and inertias typed beside a component are the
+    values its mesh replaces, reported beside the mesh's and never used
+    (:mod:`assembly.body_table`). A carrier body needs its ``planet_angles`` and
     ``pin_pitch_radius``. ``fidelity = "flexible"`` needs a component; ``flex``
     says how it is meshed and reduced. ``fidelity`` left out: the scene's ``fidelity``
     (default "rigid").
@@ -299,8 +302,10 @@ class GearMesh:
     gear1: str
     gear2: str
     stiffness: Optional[float] = quantity("N/m", None, gt=0.0)
-    base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
-    base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear")
+    base_radius1: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear",
+                                             plausible=GEAR_RADIUS)
+    base_radius2: Optional[float] = quantity("m", None, nonzero=True, hint="negative = internal gear",
+                                             plausible=GEAR_RADIUS)
     pressure_angle: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: Optional[float] = angle(None, abs_lt=_HALF_PI)
     drive_sign: int = 1
@@ -363,8 +368,8 @@ class Shaft:
     name: Optional[str] = name_field(None)
     interface1: Optional[str] = None
     interface2: Optional[str] = None
-    diameter: Optional[float] = quantity("m", None, gt=0.0)
-    bore_diameter: float = quantity("m", 0.0, ge=0.0)
+    diameter: Optional[float] = quantity("m", None, gt=0.0, plausible=SHAFT_DIAMETER)
+    bore_diameter: float = quantity("m", 0.0, ge=0.0, plausible=SHAFT_DIAMETER)
     material: Material = STEEL
     stations: tuple[Station, ...] = ()
     stage: Optional[str] = None
@@ -444,7 +449,8 @@ class Member:
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
-    base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive")
+    base_radius: Optional[float] = quantity("m", None, gt=0.0, hint="give the ring's as positive",
+                                            plausible=GEAR_RADIUS)
     support: MemberSupport = "bearing"
     bearing: Optional[BearingSpec] = None
     fidelity: Optional[Fidelity] = None
@@ -470,10 +476,10 @@ class Planets:
     mass: Optional[float] = quantity("kg", None, gt=0.0)
     polar_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     bearing: BearingSpec = field(kw_only=True)
-    base_radius: Optional[float] = quantity("m", None, gt=0.0)
+    base_radius: Optional[float] = quantity("m", None, gt=0.0, plausible=GEAR_RADIUS)
     transverse_inertia: Optional[float] = quantity("kg m^2", None, gt=0.0)
     angles: Optional[tuple[float, ...]] = angle(None)
-    outer_radius: Optional[float] = quantity("m", None, gt=0.0)
+    outer_radius: Optional[float] = quantity("m", None, gt=0.0, plausible=GEAR_RADIUS)
     fidelity: Optional[Fidelity] = None
     teeth: Optional[int] = quantity("", None, integer=True, ge=3)
     profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
@@ -510,6 +516,14 @@ class PlanetaryStage:
     ``c_mesh_sun`` / ``c_mesh_ring`` (N s/m, default 0): viscous dampers along the line of
     action of every sun-planet / planet-ring mesh (:attr:`GearMesh.damping`).
 
+    Where: ``center`` (m, default the origin) and ``axis``; or ``coaxial_with``, the name of a
+    body (one of the scene's bodies, or a member of a stage written before this one) whose
+    axis the stage shares exactly: its centre is that body's position moved ``axial_offset``
+    (m, default 0) along the body's axis, and its ``axis`` (parallel to the body's, either
+    sense) becomes the body's (:func:`assembly.placement.place_stages`). A stage joined to a
+    body by a shaft must sit on that body's axis to the last bit: a typed centre a hair off
+    it is a lever arm that the torsional model cannot turn.
+
     Time-domain runs: ``backlash`` (m) of every mesh of the stage, and ``variation_sun`` /
     ``variation_ring`` (:class:`assembly.scene_time.MeshVariation`) of its sun-planet and
     planet-ring meshes, counted on the sun's and the ring's teeth relative to the carrier;
@@ -527,11 +541,11 @@ class PlanetaryStage:
     pressure_angle_sun: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     pressure_angle_ring: Optional[float] = angle(None, gt=0.0, lt=_HALF_PI)
     helix_angle: float = angle(0.0, abs_lt=_HALF_PI)
-    normal_module: Optional[float] = quantity("m", None, gt=0.0)
+    normal_module: Optional[float] = quantity("m", None, gt=0.0, plausible=MODULE)
     normal_pressure_angle: Optional[float] = angle(None, gt=0.0, lt=math.radians(45))
-    face_width: Optional[float] = quantity("m", None, gt=0.0)
+    face_width: Optional[float] = quantity("m", None, gt=0.0, plausible=FACE_WIDTH)
     drive_sign: int = 1
-    center: Vec3 = quantity("m", (0.0, 0.0, 0.0))
+    center: Optional[Vec3] = quantity("m", None)
     axis: Vec3 = quantity("", (0.0, 0.0, 1.0))
     contact_point: Literal["pitch", "tangent"] = "pitch"
     c_mesh_sun: float = damper("N s/m")
@@ -539,6 +553,8 @@ class PlanetaryStage:
     backlash: Optional[float] = quantity("m", None, ge=0.0)
     variation_sun: Optional[MeshVariation] = None
     variation_ring: Optional[MeshVariation] = None
+    coaxial_with: Optional[str] = None
+    axial_offset: Optional[float] = quantity("m", None)
 
     def carrier_radius(self) -> float:
         """Planet-centre radius (m) from the sun-planet mesh geometry."""
@@ -698,11 +714,13 @@ class Scene:
             # these read the types defined here: import when used
             from .gear_data import resolve
             from .schema import checked_fields
-            from .validate import validate_scene
+            from .validate import references_exist, validate_scene
             # types and ranges before anything derives from them; a component given as a
             # table (dict) becomes its parameter object here, once
             for key, value in checked_fields(self).items():
                 object.__setattr__(self, key, value)
+            # every body a field names exists before deriving reads the bodies it names
+            references_exist(self)
             resolved = resolve(self)
             # what the user wrote, before numbers derived from teeth and the scene's default
             # fidelity were filled in: editing and saving work on it (see :meth:`as_given`)

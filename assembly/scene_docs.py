@@ -67,8 +67,10 @@ FIELDS: dict[str, dict[str, str]] = {
     },
     "Body": {
         "name": f"Unique body name, not `{HOUSING}`; referred to by bearings, meshes, shafts, `[load]`.",
-        "mass": "Mass of a plain body (not with a `component`); left out with `polar_inertia` on a body "
-                "with `teeth`: from its gear blank.",
+        "mass": "Mass of a plain body; left out with `polar_inertia` on a body with `teeth`: from its gear "
+                "blank. With a `component` (optional, as `polar_inertia`, `transverse_inertia`, "
+                "`inertia_tensor`): the value you expect; the mesh's is used, and both are reported (a "
+                "warning and the body table of every report) when they differ.",
         "polar_inertia": "Inertia about the rotation axis, about the centre of mass.",
         "transverse_inertia": "Inertia about the two axes normal to the rotation axis (default polar/2).",
         "inertia_tensor": "Full 3x3 inertia about the centre of mass in local axes (x, y, axis), "
@@ -81,7 +83,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "stage": "Set by the planetary-stage builder (the stage name); leave unset.",
         "role": "`rotor` or `generator` (one body each): the ends of the drivetrain for `flexgear export "
                 "elastodyn`; other text is free; the planetary-stage builder sets sun, ring, carrier, planet.",
-        "component": "FE component table chosen by `kind`; its mesh gives mass and inertia.",
+        "component": "FE component table chosen by `kind`; its mesh gives mass and inertia (typed ones are "
+                     "compared with it and reported, not used).",
         "flex": "Meshing and reduction options of a component body.",
         "teeth": "Gear teeth of a plain gear body (`[bodies.teeth]`, as a component's); a component "
                  "gear's own `teeth` serve instead (both given: must be equal).",
@@ -378,8 +381,18 @@ FIELDS: dict[str, dict[str, str]] = {
                       "blanks that give sun, planets and ring the mass and inertia they leave out, and "
                       "the b of the ISO 6336-1 mesh stiffness when `k_mesh_sun` or `k_mesh_ring` is left out.",
         "drive_sign": "+1 or -1: the sense about `axis` in which the sun closes its meshes.",
-        "center": "Position of sun, ring and carrier (their centre of mass or component origin).",
-        "axis": "Common axis of the stage; planet angles are measured from its local x.",
+        "center": "Position of sun, ring and carrier (their centre of mass or component origin); "
+                  "default the origin. Not with `coaxial_with`.",
+        "axis": "Common axis of the stage; planet angles are measured from its local x. With "
+                "`coaxial_with`: parallel to that body's axis (either sense, 1e-6 rad), and then "
+                "exactly the body's.",
+        "coaxial_with": "Name of a body (of `[[bodies]]`, or the sun, ring or carrier of a stage "
+                        "written before) whose axis the stage sits on exactly, no typed centre needed: "
+                        "the centre is that body's `position` moved `axial_offset` along its axis. Use "
+                        "it for a stage joined to a body by a shaft: a typed `center` a hair off the "
+                        "body's axis is a lever arm on the shaft that the torsional model cannot turn.",
+        "axial_offset": "With `coaxial_with`: the stage centre's distance from the body's position "
+                        "along the body's axis (default 0).",
         "contact_point": "'pitch' or 'tangent', for every mesh of the stage (as `[[meshes]]`).",
         "c_mesh_sun": "Viscous damper along the line of action of every sun-planet mesh (default 0).",
         "c_mesh_ring": "Viscous damper along the line of action of every planet-ring mesh (default 0).",
@@ -389,9 +402,10 @@ FIELDS: dict[str, dict[str, str]] = {
         "variation_ring": "Time domain: stiffness variation of the planet-ring meshes (counted on the ring's teeth).",
     },
     "Member": {
-        "mass": "Mass (not with a `component`); sun and ring with `teeth` may leave it out with "
-                "`polar_inertia` (from the gear blank and the stage's `face_width`).",
-        "polar_inertia": "Inertia about the axis (not with a `component`).",
+        "mass": "Mass; sun and ring with `teeth` may leave it out with `polar_inertia` (from the gear "
+                "blank and the stage's `face_width`). A carrier with a `component` may give it as the value "
+                "you expect: the mesh's is used, both are reported.",
+        "polar_inertia": "Inertia about the axis (with a `component`: the value you expect, as `mass`).",
         "transverse_inertia": "Inertia normal to the axis (default polar/2).",
         "base_radius": "Base radius of sun or ring, positive for both (unused for the carrier).",
         "support": "'bearing' (to the housing), 'fixed' (six DOFs held) or 'floating' (no bearing).",

@@ -12,8 +12,11 @@ last elements (``Element.mass``), since an end body may be a meshed component.
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import numpy as np
+
+from fe_components.sizes import SHAFT_DIAMETER, SLENDERNESS, unit_hint
 
 from .attach import interface_point
 from .beam import node_mass, section, timoshenko_element
@@ -69,22 +72,77 @@ def _end_point(s: Shaft, k: int, body, masters: dict, path: str):
 
 def shaft_line(s: Shaft, i: int, by_name: dict, masters: dict):
     """(p1, p2, length in m, unit axis) of beam shaft ``i``; SceneError for a shaft of zero
-    length or not along body1's axis."""
-    b1, _, p1, p2, _, _ = _ends(s, i, by_name, masters)
+    length or not along body1's axis (:func:`check_along_axis`)."""
+    b1, b2, p1, p2, _, _ = _ends(s, i, by_name, masters)
     d = p2 - p1
     length = float(np.linalg.norm(d))
     if length == 0.0:
         raise SceneError(f"shafts[{i}].body2", s.body2, f"attaches at the same point as body1 {s.body1!r} "
                                                         f"({p1.tolist()} m): a shaft of zero length")
-    e = d / length
+    check_along_axis(s, i, b1, b2, p1, p2)
+    return p1, p2, length, d / length
+
+
+def check_slenderness(s: Shaft, i: int, length: float) -> None:
+    """A beam shaft ``length`` (m) long is at most SLENDERNESS diameters long: beyond, its
+    diameter is in the wrong unit (:mod:`fe_components.sizes`)."""
+    if length > SLENDERNESS * s.diameter:
+        raise SceneError(f"shafts[{i}].diameter", s.diameter,
+                         f"the shaft is {length / s.diameter:.4g} diameters long ({length:.6g} m between its ends): "
+                         f"a drive shaft is 1 to 50, at most {SLENDERNESS:g}; a length in the wrong unit"
+                         f"{unit_hint(s.diameter, length / SLENDERNESS, SHAFT_DIAMETER.hi)}")
+
+
+def shaft_ends(s: Shaft, i: int, by_name: dict, masters: dict):
+    """(body1, body2, p1, p2) of shaft ``i``: the bodies and the global points (m) where
+    its ends attach (a spring shaft: the bodies' attachment points, not ``position``,
+    where its springs act)."""
+    return _ends(s, i, by_name, masters)[:4]
+
+
+def check_along_axis(s: Shaft, i: int, b1, b2, p1, p2) -> None:
+    """A shaft runs along body1's axis: the line from body1's attachment point ``p1`` to
+    body2's ``p2`` (m, global) lies within AXIS_TOLERANCE rad of body1's axis -- body2's
+    point at most AXIS_TOLERANCE x the shaft's length off body1's axis line (a spring shaft:
+    x the larger of its length and its coordinates' magnitude, so that a coupling of two
+    coincident points is judged too). A beam shaft's axis is that line; a spring
+    shaft's springs act between the two points, so an offset is a lever arm that turns the
+    bodies' common rotation into shear: a stiffness against the drivetrain's free rotation
+    that no real shaft has (the quill of two_stage_quill.toml 5 mm off: a 1.2 Hz mode).
+    SceneError at ``shafts[i].body2`` naming the shaft, both bodies and the offset (m); when
+    a planetary stage puts one of them there, how to place it on the other's axis."""
+    p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
+    d = p2 - p1
+    length = float(np.linalg.norm(d))
     a1 = unit(b1.axis)
-    angle = float(np.arcsin(min(1.0, np.linalg.norm(np.cross(a1, e)))))
-    if angle > AXIS_TOLERANCE:
-        raise SceneError(f"shafts[{i}].body2", s.body2,
-                         f"the shaft from {s.body1!r} at {p1.tolist()} m to {s.body2!r} at {p2.tolist()} m runs "
-                         f"{angle:.3g} rad off body1's axis {list(b1.axis)}; a beam shaft runs along it "
-                         f"(tolerance {AXIS_TOLERANCE:g} rad)")
-    return p1, p2, length, e
+    offset = float(np.linalg.norm(d - (d @ a1) * a1))
+    # the offset allowed: AXIS_TOLERANCE rad over the shaft's length; a spring shaft of
+    # (nearly) no length, a coupling, is held to that fraction of its coordinates' size
+    # (its two points then agree to their rounding, not to nothing)
+    reach = length if s.is_beam else max(length, float(np.abs(np.concatenate([p1, p2])).max()))
+    if offset <= AXIS_TOLERANCE * reach:
+        return
+    angle = float(np.arcsin(min(1.0, offset / length)))
+    kind = "beam" if s.is_beam else "spring"
+    name = f" {s.name!r}" if s.name else ""
+    raise SceneError(f"shafts[{i}].body2", s.body2,
+                     f"the {kind} shaft{name} from {s.body1!r} at {p1.tolist()} m to {s.body2!r} at {p2.tolist()} m "
+                     f"runs {angle:.3g} rad off body1's axis {list(b1.axis)}: {s.body2!r} attaches {offset:.3g} m off "
+                     f"the axis line of {s.body1!r}; a shaft runs along it (tolerance {AXIS_TOLERANCE:g} rad, "
+                     f"{AXIS_TOLERANCE * reach:.3g} m over {reach:.6g} m){stage_fix(b1, b2)}")
+
+
+def stage_fix(b1, b2) -> str:
+    """``"; stage 's' places 's.sun': ..."``: how to put the planetary stage that placed
+    one of two joined bodies on the other's axis exactly (``coaxial_with``), or ""."""
+    member, other = (b2, b1) if b2.role in ("sun", "ring", "carrier") else (b1, b2)
+    if member.role not in ("sun", "ring", "carrier") or member.stage == other.stage:
+        return ""
+    e = unit(other.axis)
+    along = float((np.asarray(member.position, float) - np.asarray(other.position, float)) @ e)
+    return (f"; stage {member.stage!r} places {member.name!r}: put the stage on the axis of {other.name!r} "
+            f"exactly with coaxial_with = {json.dumps(other.name)}, axial_offset = {along:.9g} (m) in place of "
+            f"its center")
 
 
 def ordered_stations(s: Shaft, i: int, length: float) -> list:

@@ -50,6 +50,9 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
                              f"the stage alone has no shaft or other stage to hold its {role}: "
                              f"give bearings={{'{role}': BearingSpec(...)}}")
         changes[role] = dataclasses.replace(m, bearing=held(m.bearing)) if m.support == "bearing" else m
+    if st.coaxial_with is not None:   # the body it is coaxial with stays behind: keep where it put it
+        placed = scene.stages[i]
+        changes.update(center=placed.center, axis=placed.axis, coaxial_with=None, axial_offset=None)
     return Scene(name=f"stage {stage_name} alone", description=f"stage {stage_name} of {scene.name}", stages=(dataclasses.replace(st, **changes),),
                  band_hz=scene.band_hz, fidelity=scene.fidelity)
 

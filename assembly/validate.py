@@ -3,10 +3,13 @@
 :func:`validate_scene` runs them in order: first every field on its own -- its type and
 the unit and range declared on it (:func:`assembly.schema.check_instance`: finite, of
 physical magnitude, in range; names without control characters or path separators), so
-no rule below ever compares a NaN or overflows -- then each table on its own (bodies,
-meshes, shafts, fixed DOFs, planetary stages, flexible options), then the scene as a
-whole on its stages expanded (names, references, frames, component tables, attachment
-points, rigid bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
+no rule below ever compares a NaN or overflows -- and every name a field gives a body
+(:func:`references_exist`, which :class:`assembly.scene.Scene` runs before deriving gear
+numbers from teeth and placing bodies, the steps that read the bodies named), then each
+table on its own (bodies, meshes, shafts, fixed DOFs, planetary stages, flexible
+options), then the scene as a whole on its stages expanded (names, sizes against each
+other -- :mod:`assembly.scene_sizes` --, frames, component tables, attachment points, rigid
+bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
 Error paths name the table the user wrote: ``stages[0].planets.count``,
 ``bearings[2].k_radial``, ``stages[0].carrier.component.cheek_spacing``.
 """
@@ -22,15 +25,17 @@ from fe_components.params import CarrierParams, component_kind
 from fe_components.part_file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .body_names import body_references, scene_body_names, unknown_body_reason
 from .constraints import can_constrain
 from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .kinematics import unit
 from .planet_spacing import check_planet_assembly, check_planet_spacing
+from .scene_sizes import positions_plausible
 from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,
                     FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
-from .shafts import shaft_line, station_body
+from .shafts import check_along_axis, check_slenderness, shaft_ends, shaft_line, station_body
 from .validate_loads import check_load
 
 
@@ -66,10 +71,13 @@ def check_body(b: Body, path: str) -> None:
 
 
 def _check_component_body(b: Body, path: str) -> None:
-    for f in ("mass", "polar_inertia", "transverse_inertia", "inertia_tensor"):
-        if getattr(b, f) is not None:
-            raise SceneError(f"{path}.{f}", getattr(b, f),
-                             "a body with a component takes mass and inertia from its mesh")
+    """A component body: its part, carrier pins and flex options; mass properties typed
+    beside the component are the values its mesh replaces (reported, never used:
+    :mod:`assembly.body_table`), held to the plain body's rules when given."""
+    if b.polar_inertia is not None and b.inertia_tensor is not None:
+        raise SceneError(f"{path}.polar_inertia", b.polar_inertia, "give polar_inertia or inertia_tensor, not both")
+    if b.inertia_tensor is not None:
+        _check_tensor(b, path)
     check_part(b.component, f"{path}.component")
     if isinstance(b.component, CarrierParams):
         for f in ("planet_angles", "pin_pitch_radius"):
@@ -101,6 +109,10 @@ def _check_mass_properties(b: Body, path: str) -> None:
                          "give exactly one of polar_inertia or inertia_tensor")
     if b.polar_inertia is not None:
         return
+    _check_tensor(b, path)
+
+
+def _check_tensor(b: Body, path: str) -> None:
     J = np.asarray(b.inertia_tensor, float)
     if not np.allclose(J, J.T, rtol=1e-12, atol=0) or np.linalg.eigvalsh(J).min() <= 0:
         raise SceneError(f"{path}.inertia_tensor", b.inertia_tensor, "must be symmetric positive definite (kg m^2)")
@@ -155,13 +167,18 @@ def check_shaft(s: Shaft, path: str) -> None:
                                                            "its section and length: leave this out")
     if s.bore_diameter >= s.diameter:
         raise SceneError(f"{path}.bore_diameter", s.bore_diameter, f"must be less than diameter = {s.diameter!r} m")
-    if s.stations and s.name is None:
-        raise SceneError(f"{path}.name", None, "a shaft with stations needs a name: its stations become bodies "
-                                               "<shaft name>.<station name>")
+    stations_named(s, path)
     for j, st in enumerate(s.stations):
         if "." in st.name:
             raise SceneError(f"{path}.stations[{j}].name", st.name, "must be a name without '.'")
     unique_names(s.stations, f"{path}.stations")
+
+
+def stations_named(s: Shaft, path: str) -> None:
+    """A shaft with stations has a name: its stations become bodies <name>.<station>."""
+    if s.stations and s.name is None:
+        raise SceneError(f"{path}.name", None, "a shaft with stations needs a name: its stations become bodies "
+                                               "<shaft name>.<station name>")
 
 
 def stations_unclaimed(scene) -> None:
@@ -261,8 +278,7 @@ def _check_member(m, role: str, p: str) -> None:
             if getattr(m.component, f, None) is not None:
                 raise SceneError(*as_written(m.component, f, f"{p}.component.{f}"),
                                  "set by the stage from its planets; remove it")
-        if m.mass is not None or m.polar_inertia is not None:
-            raise SceneError(f"{p}.mass", m.mass, "a component carrier takes mass and inertia from its mesh")
+        # mass and polar_inertia given: the values its mesh replaces (reported, never used)
     else:
         if m.fidelity == "flexible":
             raise SceneError(f"{p}.fidelity", m.fidelity, "a flexible member needs a component table")
@@ -281,15 +297,20 @@ def _check_member(m, role: str, p: str) -> None:
 def _check_ring_radius(st: PlanetaryStage, path: str) -> None:
     """The ring mesh must put the planet centres where the sun mesh does."""
     pl = st.planets
-    if st.ring.base_radius <= pl.base_radius:
-        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius, "must exceed the planet base radius")
     Rc = st.carrier_radius()
+    want = pl.base_radius + Rc * math.cos(st.pressure_angle_ring)
+    # a ring radius 1000 x off (a length in the wrong unit) that would otherwise fit
+    slip = next((f"; did you mean {st.ring.base_radius * f:.9g} m ({u})?" for f, u in
+                 ((1e3, "a length in mm converted to metres twice"), (1e-3, "mm where metres belong"))
+                 if abs(st.ring.base_radius * f - want) <= 1e-3 * want), "")
+    if st.ring.base_radius <= pl.base_radius:
+        raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius,
+                         f"must exceed the planet base radius{slip}")
     Rc_ring = (st.ring.base_radius - pl.base_radius) / math.cos(st.pressure_angle_ring)
     if abs(Rc_ring - Rc) > 1e-6 * Rc:
-        want = pl.base_radius + Rc * math.cos(st.pressure_angle_ring)
         raise SceneError(f"{path}.ring.base_radius", st.ring.base_radius,
                          f"inconsistent with the sun mesh: the planet centre lies at {Rc:.6g} m, "
-                         f"which needs a ring base radius of {want:.9g} m")
+                         f"which needs a ring base radius of {want:.9g} m{slip}")
 
 
 # ---------------------------------------------------------------- whole-scene rules
@@ -306,8 +327,10 @@ def check_damping(d, path: str = "damping") -> None:
 
 def check_tables(scene) -> None:
     """Every field (type, unit, range), then every table on its own, in the order the user
-    wrote them."""
+    wrote them; between the two, the positions against the assembly's size (a unit slip:
+    :mod:`assembly.scene_sizes`), which the table rules would meet as a contradiction."""
     check_instance(scene)
+    positions_plausible(scene)
     if scene.damping is not None:
         check_damping(scene.damping)
     for i, st in enumerate(scene.stages):
@@ -384,30 +407,23 @@ def stage_elements_valid(scene, expanded, origin: dict) -> None:
         check_mesh(m, p)
 
 
-def references_exist(scene, names: dict) -> None:
-    """Every body named by a frame, bearing, mesh, shaft or fixed DOF exists."""
-    def ref(path, name, allow_housing=False):
-        if allow_housing and name == HOUSING:
-            return
-        if name not in names:
-            raise SceneError(path, name, "no body of that name" + (" (or 'housing')" if allow_housing else ""))
-
-    for i, b in enumerate(scene.bodies):
-        ref(f"bodies[{i}].frame", b.frame, allow_housing=True)
+def references_exist(scene) -> None:
+    """Every field that names a body names one of the scene's (its own bodies, stage
+    members, shaft stations; :mod:`assembly.body_names`), or the housing where a frame may
+    be it; a bearing joins two different bodies. Run on the tables as written, before gear
+    numbers are derived and bodies placed (:class:`assembly.scene.Scene` calls it first), so
+    an unknown name is named with the nearest one the scene has, not met later as a gap
+    in another rule (a misspelt ``gear2`` looked like a missing base radius)."""
+    for i, s in enumerate(scene.shafts):    # else its stations have no names to refer to
+        stations_named(s, f"shafts[{i}]")
+    names = scene_body_names(scene)
+    known = set(names)
+    for path, name, housing in body_references(scene):
+        if name not in known and not (housing and name == HOUSING):
+            raise SceneError(path, name, unknown_body_reason(name, names, housing))
     for i, br in enumerate(scene.bearings):
-        ref(f"bearings[{i}].body", br.body)
-        if br.frame is not None:
-            ref(f"bearings[{i}].frame", br.frame, allow_housing=True)
-            if br.frame == br.body:
-                raise SceneError(f"bearings[{i}].frame", br.frame, "a bearing cannot join a body to itself")
-    for i, m in enumerate(scene.meshes):
-        ref(f"meshes[{i}].gear1", m.gear1)
-        ref(f"meshes[{i}].gear2", m.gear2)
-    for i, s in enumerate(scene.shafts):
-        ref(f"shafts[{i}].body1", s.body1)
-        ref(f"shafts[{i}].body2", s.body2)
-    for i, f in enumerate(scene.fixed):
-        ref(f"fixed[{i}].body", f.body)
+        if br.frame is not None and br.frame == br.body:
+            raise SceneError(f"bearings[{i}].frame", br.frame, "a bearing cannot join a body to itself")
 
 
 def frames_form_tree(expanded, names: dict, origin: dict) -> None:
@@ -435,7 +451,8 @@ def flexible_bodies_supported(expanded, origin: dict) -> None:
 
 def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dict) -> None:
     """Every bearing and shaft attaches at a body point or a named interface (a stage
-    member's bearing at its ``bearing_interface``); a beam shaft runs along body1's axis."""
+    member's bearing at its ``bearing_interface``); a shaft, beam or spring, runs along
+    body1's axis."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
         try:
             bearing_point(br, names[br.body], masters, p)
@@ -446,7 +463,9 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
     for i, s in enumerate(expanded.shafts):
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
         if s.is_beam:
-            shaft_line(s, i, names, masters)
+            check_slenderness(s, i, shaft_line(s, i, names, masters)[2])
+        else:   # the beam shafts' rule and tolerance (assembly.shafts.check_along_axis)
+            check_along_axis(s, i, *shaft_ends(s, i, names, masters))
 
 
 def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
@@ -587,13 +606,14 @@ def everything_connected(expanded, names: dict, origin: dict) -> None:
 
 
 def validate_scene(scene) -> None:
-    """Run every rule on ``scene``; the first one broken raises :class:`SceneError`."""
+    """Run every rule on ``scene`` (its references checked already: :func:`references_exist`
+    runs before the scene's gear numbers are derived); the first one broken raises
+    :class:`SceneError`."""
     check_tables(scene)
     expanded = scene.expanded()
     origin = body_origins(scene, expanded)
     names = body_table(expanded, origin)
     stage_elements_valid(scene, expanded, origin)
-    references_exist(scene, names)
     frames_form_tree(expanded, names, origin)
     masters = component_masters(expanded)
     flexible_bodies_supported(expanded, origin)

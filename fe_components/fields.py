@@ -44,7 +44,9 @@ class Quantity:
 
     ``gt``/``ge``/``lt``/``le``: strict and non-strict bounds; ``abs_lt``: ``|x| < abs_lt``;
     ``nonzero``: 0 is refused; ``inf_ok``: ``+inf`` is admitted (rigid); ``integer``: an
-    int is required; ``hint``: appended to every message about this field.
+    int is required; ``hint``: appended to every message about this field; ``plausible``:
+    a :class:`fe_components.sizes.Plausible`, the sizes a length is built in (a non-zero
+    value outside them is a unit slip, refused with the unit that fits).
     """
 
     unit: str = ""
@@ -57,6 +59,7 @@ class Quantity:
     inf_ok: bool = False
     integer: bool = False
     hint: str = ""
+    plausible: Any = None   # a fe_components.sizes.Plausible: the sizes a length is built in
 
     def _unit(self, x: float) -> str:
         """``x`` and the unit as shown to a user (degrees for an angle)."""
@@ -106,7 +109,9 @@ class Quantity:
         ok = ((self.gt is None or x > self.gt) and (self.ge is None or x >= self.ge)
               and (self.lt is None or x < self.lt) and (self.le is None or x <= self.le)
               and (self.abs_lt is None or abs(x) < self.abs_lt) and not (self.nonzero and x == 0))
-        return None if ok else self.reason()
+        if not ok:
+            return self.reason()
+        return self.plausible.problem(x) if self.plausible is not None and math.isfinite(x) else None
 
 
 def quantity(unit: str = "", default=dataclasses.MISSING, *, angle: bool = False, **rule):

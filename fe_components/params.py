@@ -32,6 +32,8 @@ from .fields import check_fields, quantity
 from .gear_pair import base_radius, transverse_pressure_angle
 from .involute import check_tooth_shape
 from .part_file import PartFile
+from .sizes import (FACE_PER_MODULE, FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER, SHAFT_LENGTH, SLENDERNESS,
+                    unit_hint)
 
 FIDELITIES = ("smooth", "involute")
 #: Most planets a carrier may hold: more than any built stage (3 to 12) by far, and it
@@ -43,6 +45,25 @@ _CLEARANCE = {"unit": "m", "ge": 0.0}  # a length that may be 0 (no bore, no hol
 
 
 # ---------------------------------------------------------------- teeth
+def check_face_per_module(face_width: float, normal_module: float, face: str = "face_width",
+                          module: str = "normal_module", error=GeometryError) -> None:
+    """``face_width / normal_module`` within :data:`fe_components.sizes.FACE_PER_MODULE`:
+    outside, one of them was typed in the wrong unit. ``error(face, value, reason)``
+    names the face width (the message names the module too, ``module``: its path)."""
+    r = face_width / normal_module
+    lo, hi = FACE_PER_MODULE
+    if lo <= r <= hi:
+        return
+    f = 1e-3 if r > hi else 1e3     # what brings the ratio back: the face width times f, or the module / f
+    fixes = [f"{name} = {v:.6g} m" for name, v, rule in ((face, face_width * f, FACE_WIDTH),
+                                                         (module, normal_module / f, MODULE))
+             if rule.problem(v) is None and lo <= r * f <= hi]
+    raise error(face, face_width,
+                f"{r:.4g} x {module} = {normal_module:g} m: a gear's face is {lo:g} to {hi:g} modules wide "
+                f"(ISO 6336-1 practice 6 to 60, watch wheels from 1, marine gears to 150): one of them is in "
+                f"the wrong unit" + (f"; did you mean {' or '.join(fixes)}?" if fixes else ""))
+
+
 @dataclass(frozen=True)
 class GearTeeth:
     """Gear tooth data (ISO 21771 nomenclature, standard basic rack h_a* = 1, h_f* = 1.25).
@@ -58,18 +79,19 @@ class GearTeeth:
     """
 
     n_teeth: int = quantity(integer=True, ge=3)
-    normal_module: float = quantity(**_LENGTH)
+    normal_module: float = quantity(**_LENGTH, plausible=MODULE)
     pressure_angle: float = quantity("rad", angle=True, gt=0.0, lt=math.radians(45))
-    face_width: float = quantity(**_LENGTH)
+    face_width: float = quantity(**_LENGTH, plausible=FACE_WIDTH)
     helix_angle: float = quantity("rad", 0.0, angle=True, abs_lt=math.radians(60))
     fidelity: str = "smooth"
-    smooth_radius: float | None = quantity("m", None, gt=0.0)
+    smooth_radius: float | None = quantity("m", None, gt=0.0, plausible=GEAR_RADIUS)
     profile_shift: float = quantity("", 0.0, gt=-1.0, lt=1.0)
 
     def __post_init__(self) -> None:
         check_fields(self)
         if self.fidelity not in FIDELITIES:
             raise GeometryError("fidelity", self.fidelity, f"must be one of {FIDELITIES}")
+        check_face_per_module(self.face_width, self.normal_module)
         # Undercut limit of a gear cut by the standard rack (h_a* = 1), ISO 21771 / Niemann:
         # z_min = 2 (1 - x) cos(beta) / sin^2(alpha_t); the practical limit is its integer part
         # (17 teeth for alpha_n = 20 deg, beta = 0, x = 0).
@@ -133,8 +155,8 @@ class GearTeeth:
 class ShaftSegment:
     """One cylindrical shaft step: ``length`` and ``diameter`` [m]."""
 
-    length: float = quantity(**_LENGTH)
-    diameter: float = quantity(**_LENGTH)
+    length: float = quantity(**_LENGTH, plausible=SHAFT_LENGTH)
+    diameter: float = quantity(**_LENGTH, plausible=SHAFT_DIAMETER)
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -175,6 +197,11 @@ class PinionParams:
             raise GeometryError("bore_diameter", self.bore_diameter,
                                 f"bore radius at or beyond the root circle radius {self.teeth.inner_limit_radius:.6g} m")
         for i, seg in enumerate(self.shaft):
+            if seg.length > SLENDERNESS * seg.diameter:
+                raise GeometryError(f"shaft[{i}].length", seg.length,
+                                    f"{seg.length / seg.diameter:.4g} diameters long: a shaft step is at most "
+                                    f"{SLENDERNESS:g}; a length in the wrong unit"
+                                    f"{unit_hint(seg.length, 0.0, SLENDERNESS * seg.diameter)}")
             if self.bore_diameter >= seg.diameter:
                 raise GeometryError(f"shaft[{i}].diameter", seg.diameter,
                                     f"not larger than the bore diameter {self.bore_diameter} m")
@@ -413,8 +440,8 @@ class CylinderParams:
     "end_a" (face z = 0) and "end_b" (face z = length).
     """
 
-    length: float = quantity(**_LENGTH)
-    diameter: float = quantity(**_LENGTH)
+    length: float = quantity(**_LENGTH, plausible=SHAFT_LENGTH)
+    diameter: float = quantity(**_LENGTH, plausible=SHAFT_DIAMETER)
     bore_diameter: float = quantity(**_CLEARANCE, default=0.0)
 
     def __post_init__(self) -> None:

@@ -161,11 +161,12 @@ def cmd_static(args) -> int:
     scene = load_scene(scene_file(args))
     if not scene.load_cases():
         raise SceneError("loads", [], "the scene has no load case: add a [load] table or [[loads]] tables")
-    reports = [static_report(st) for st in solve_static_cases(scene, None, model=assemble(scene))]
+    model = assemble(scene)
+    reports = [static_report(st) for st in solve_static_cases(scene, None, model=model)]
     if args.json:
-        _print_json(static_json(scene.name, reports))
+        _print_json(static_json(scene.name, reports, model))
     else:
-        print(static_text(reports, title=f"{scene.name}  ({args.scene})"))
+        print(static_text(reports, title=f"{scene.name}  ({args.scene})", model=model))
     return 0
 
 

@@ -57,7 +57,8 @@ def figure(src: str, caption: str, alt: str = "") -> str:
 
 def render_index(report: dict) -> str:
     """HTML text of the run page. ``report`` keys: title, scene, meta (list of str),
-    modes (header, rows), modes_note (str: rows left out), comparison (header, rows, row_classes,
+    modes (header, rows), modes_note (str: rows left out), bodies (title, header, rows, left,
+    notes: the bodies' mass properties; optional), comparison (header, rows, row_classes,
     note) or None, sections [{title, note, tables: [(title, header, rows, left columns)]}]
     (optional), key_images [(path, caption)] shown first (optional), overview
     (path, caption) or None, images [(path, caption)], plots [(path, caption)],
@@ -77,6 +78,14 @@ def render_index(report: dict) -> str:
     parts.append(_table(hdr, rows, left=set(range(3, len(hdr)))))
     if report.get("modes_note"):
         parts.append(f'<p class="meta">{_e(report["modes_note"])}</p>')
+
+    bodies = report.get("bodies")
+    if bodies:
+        parts.append("<h2>Bodies: mass properties</h2>")
+        parts.append(f'<p class="meta">{_e(bodies["title"])}</p>')
+        parts.append(_table(bodies["header"], bodies["rows"], left=set(bodies.get("left", ()))))
+        for n in bodies.get("notes", []):
+            parts.append(f'<p class="note">{_e(n)}</p>')
 
     comp = report.get("comparison")
     if comp:

@@ -53,8 +53,9 @@ from .output import MANIFEST, staged_output, write_manifest, writing
 from .progress import Progress
 from .run_frf import step_frf
 from .static_tables import case_summary, static_json, static_tables, static_text, write_static_csv
-from .tables import (band_note, comparison_cells, dominant_text, flexible_lines, in_band, modes_json, modes_table,
-                     ENERGY_SPLIT_HEADER, stage_split_text, write_comparison_csv, write_energy_csv, write_modes_csv)
+from .tables import (BODY_TABLE_TITLE, band_note, body_cells, comparison_cells, dominant_text, flexible_lines, in_band,
+                     modes_json, modes_table, ENERGY_SPLIT_HEADER, stage_split_text, write_bodies_csv,
+                     write_comparison_csv, write_energy_csv, write_modes_csv)
 
 log = logging.getLogger(__name__)
 
@@ -216,6 +217,8 @@ def step_tables(ctx: RunContext, bar) -> None:
         fh.write(strict_json.dumps(modes_json(res), indent=1))
     ctx.add_file("modes_table.txt", "mode table (text)").write_text(
         modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
+    write_bodies_csv(ctx.model, ctx.add_file("bodies.csv", "bodies: mass, polar and transverse inertia, centre "
+                                                           "of mass and their source (CSV; kg, kg m^2, m)"))
     if ctx.comparison:
         write_comparison_csv(ctx.comparison, comparison_fields(ctx),
                              ctx.add_file("fidelity_comparison.csv", "fidelities side by side, paired by MAC (CSV; Hz)"))
@@ -365,7 +368,10 @@ def build_report(ctx: RunContext) -> dict:
     notes = list(ctx.notes) + ([skipped_text(ctx)] if ctx.skipped else [])
     files = list(ctx.files) + [("index.html", "this page"), (MANIFEST, "run manifest (JSON)")]
     files = [(p, d) for p, d in files if not p.startswith("images/mode_")]
-    return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta,
+    cells = body_cells(ctx.model)
+    bodies = dict(title=BODY_TABLE_TITLE, header=cells["header"], rows=cells["rows"], left=cells["left"],
+                  notes=cells["notes"])
+    return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta, bodies=bodies,
                 modes=(["mode", "f [Hz]", "mult.", "class", "scope", ENERGY_SPLIT_HEADER, "dominant bodies (kinetic energy)",
                         "strain energy in flexible bodies", ""], modes_rows),
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
@@ -407,9 +413,9 @@ def step_static(ctx: RunContext, bar) -> None:
     write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
                                                                    "checks (CSV; N, N m)"))
     with open(ctx.add_file("static.json", "static load cases: forces, reactions, checks (JSON; N, N m)"), "w") as fh:
-        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports), indent=1))
+        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports, ctx.model), indent=1))
     ctx.add_file("static_table.txt", "static load cases (text)").write_text(
-        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
+        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})", model=ctx.model) + "\n")
     for r in ctx.static_reports:
         note = f"load case {r.case!r}: {case_summary(r)}; equilibrium error {r.equilibrium['relative_error']:.1e}"
         if r.balance:

@@ -177,6 +177,8 @@ def range_text(f: dataclasses.Field) -> str:
         parts.append("inf = rigid")
     if rule.hint:
         parts.append(rule.hint)
+    if rule.plausible is not None:
+        parts.append(rule.plausible.text())
     return "; ".join(parts)
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 
+from .tables import bodies_json, body_lines
+
 def _g(v) -> str:
     return "" if v is None else f"{v:.6g}"
 
@@ -85,20 +87,28 @@ def _text_table(header, rows) -> list:
     return [fmt(header), "  ".join("-" * w for w in widths)] + [fmt(r) for r in rows]
 
 
-def static_text(reports, title: str = "") -> str:
-    """Every load case as plain-text tables."""
+def static_text(reports, title: str = "", model=None) -> str:
+    """Every load case as plain-text tables, then (``model``: the assembled model solved)
+    the bodies' mass properties and their source."""
     lines = [title] if title else []
     for rep in reports:
         lines += ["", f"load case {rep.path} {rep.case!r}: {case_summary(rep)}"]
         for t, header, rows, _ in static_tables(rep):
             if rows:
                 lines += ["", t] + _text_table(header, rows)
+    if model is not None:
+        lines += ["", *body_lines(model)]
     return "\n".join(lines)
 
 
-def static_json(scene_name: str, reports) -> dict:
-    return {"scene": scene_name, "units": {"force": "N", "moment": "N m", "angle": "rad"},
-            "load_cases": [r.as_dict() for r in reports]}
+def static_json(scene_name: str, reports, model=None) -> dict:
+    """JSON-ready load cases; with ``model``, its bodies' mass properties (``bodies``)."""
+    out = {"scene": scene_name, "units": {"force": "N", "moment": "N m", "angle": "rad", "mass": "kg",
+                                          "inertia": "kg m^2", "length": "m"},
+           "load_cases": [r.as_dict() for r in reports]}
+    if model is not None:
+        out["bodies"] = bodies_json(model)
+    return out
 
 
 def write_static_csv(reports, path) -> None:

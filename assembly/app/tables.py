@@ -5,6 +5,7 @@ import csv
 
 import numpy as np
 
+from ..body_table import body_properties, replaced, replaced_note
 from ..classify import classify_modes
 from ..dynamics.damped_modes import damped_modes, has_damping
 from ..energy import kinetic_by_body, strain_by_body, strain_by_element
@@ -55,7 +56,55 @@ def modes_table(result, title: str = "", all_modes: bool = False) -> str:
     lines += flexible_lines(result.model)
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
+    lines += ["", *body_lines(result.model)]
     return "\n".join(lines)
+
+
+#: Title of the body table of every report.
+BODY_TABLE_TITLE = "bodies: the mass properties the model uses (about each centre of mass) and their source"
+
+
+def body_cells(model) -> dict:
+    """Cells of the body table (text, HTML and CSV alike): body, scene table, mass (kg),
+    polar and transverse inertia (kg m^2, about the centre of mass), centre of mass (m,
+    global), source of the numbers (:mod:`assembly.body_table`); a body whose component's
+    mesh replaced typed mass properties adds them with the relative difference (column
+    "typed, replaced")."""
+    rows = body_properties(model)
+    header = ["body", "table", "mass [kg]", "J polar [kg m^2]", "J transverse [kg m^2]", "centre of mass [m]",
+              "source"]
+    out = [[r.name, r.path, f"{r.mass:.6g}", f"{r.polar_inertia:.6g}", f"{r.transverse_inertia:.6g}",
+            " ".join(f"{x:.6g}" for x in r.center_of_mass), r.source] for r in rows]
+    swapped = {r.name for r in replaced(rows)}
+    notes = [replaced_note(r) for r in rows if r.name in swapped]
+    if swapped:
+        header.append("typed, replaced [kg, kg m^2]")
+        for cells, r in zip(out, rows):
+            diff = r.differences()
+            cells.append("; ".join(f"{q} {v:.6g} ({100 * diff[q]:+.1f} %)" for q, v in r.typed.items())
+                         if r.name in swapped else "")
+    return dict(header=header, rows=out, left=(0, 1, 5, 6, 7), notes=notes)
+
+
+def body_lines(model) -> list:
+    """The body table as text lines: title, table, one note per replaced body."""
+    c = body_cells(model)
+    return [BODY_TABLE_TITLE, text_table(c["header"], c["rows"], set(c["left"])), *c["notes"]]
+
+
+def bodies_json(model) -> list:
+    """The body table as JSON-ready dicts (SI units; ``typed`` and ``relative_difference``
+    for a component that replaced typed mass properties)."""
+    return [r.as_dict() for r in body_properties(model)]
+
+
+def write_bodies_csv(model, path) -> None:
+    """The body table as CSV (kg, kg m^2, m)."""
+    c = body_cells(model)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(c["header"])
+        w.writerows(c["rows"])
 
 
 #: Column header of :func:`stage_split_text`.
@@ -184,6 +233,7 @@ def modes_json(result) -> dict:
         "max_relative_residual": result.max_residual,
         "solve_time_s": result.solve_time_s,
         "flexible_bodies": flexible_summary(m),
+        "bodies": bodies_json(m),
         "modes": modes,
     }
 

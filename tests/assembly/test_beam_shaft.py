@@ -189,12 +189,14 @@ def _nrel_scene(**shaft):
     base = dict(body1="hub", body2="carrier", diameter=0.7, name="main_shaft",
                 stations=(Station("inp_a", 0.333), Station("inp_b", 1.166)))
     base.update(shaft)
+    # the main bearings at the stations the shaft has (a bearing naming no body is refused first)
+    seats = {st.name for st in base.get("stations", ())}
+    bearings = tuple(Bearing(f"main_shaft.{name}", k_radial=3e9, k_axial=k_ax, k_tilt=0.0)
+                     for name, k_ax in (("inp_a", 1e9), ("inp_b", 0.0)) if name in seats)
     return Scene(name="nrel5mw main shaft",
                  bodies=(Body("hub", mass=5.6e4, polar_inertia=1.2e5, position=(0.0, 0.0, 0.0)),
                          Body("carrier", mass=1.2e4, polar_inertia=4.0e3, position=(0.0, 0.0, 2.0))),
-                 bearings=(Bearing("main_shaft.inp_a", k_radial=3e9, k_axial=1e9, k_tilt=0.0),
-                           Bearing("main_shaft.inp_b", k_radial=3e9, k_axial=0.0, k_tilt=0.0)),
-                 shafts=(Shaft(**base),))
+                 bearings=bearings, shafts=(Shaft(**base),))
 
 
 def test_toml_round_trip_with_stations():
@@ -211,13 +213,16 @@ def test_existing_spring_shaft_unchanged():
 
 _BAD = [
     # station outside (0, L): at the start, at the end, beyond, before
-    (dict(stations=(Station("inp_a", 0.0),)), "shafts[0].stations[0].at", 0.0, "L = 2 m"),
+    # (the bearings name both stations: a scene without one is refused for that name first)
+    (dict(stations=(Station("inp_a", 0.0), Station("inp_b", 1.166))), "shafts[0].stations[0].at", 0.0, "L = 2 m"),
     (dict(stations=(Station("inp_a", 0.3), Station("inp_b", 2.0))), "shafts[0].stations[1].at", 2.0, "L = 2 m"),
-    (dict(stations=(Station("inp_a", 2.55),)), "shafts[0].stations[0].at", 2.55, "shorter than its bearing span"),
-    (dict(stations=(Station("inp_a", -0.1),)), "shafts[0].stations[0].at", -0.1, "L = 2 m"),
+    (dict(stations=(Station("inp_a", 2.55), Station("inp_b", 1.166))), "shafts[0].stations[0].at", 2.55,
+     "shorter than its bearing span"),
+    (dict(stations=(Station("inp_a", -0.1), Station("inp_b", 1.166))), "shafts[0].stations[0].at", -0.1, "L = 2 m"),
     # duplicates
     (dict(stations=(Station("inp_a", 0.3), Station("inp_b", 0.3))), "shafts[0].stations[1].at", 0.3, "same place"),
-    (dict(stations=(Station("inp_a", 0.3), Station("inp_a", 1.1))), "shafts[0].stations[1].name", "inp_a",
+    (dict(stations=(Station("inp_a", 0.3), Station("inp_a", 1.1), Station("inp_b", 1.166))),
+     "shafts[0].stations[1].name", "inp_a",
      "duplicate"),
     # section
     (dict(bore_diameter=0.7), "shafts[0].bore_diameter", 0.7, "less than diameter"),
@@ -228,7 +233,8 @@ _BAD = [
     (dict(position=(0.0, 0.0, 1.0)), "shafts[0].position", (0.0, 0.0, 1.0), "leave this out"),
     # names
     (dict(name=None), "shafts[0].name", None, "needs a name"),
-    (dict(stations=(Station("in.a", 0.3),)), "shafts[0].stations[0].name", "in.a", "without '.'"),
+    (dict(stations=(Station("in.a", 0.3), Station("inp_a", 0.5), Station("inp_b", 1.166))),
+     "shafts[0].stations[0].name", "in.a", "without '.'"),
     # spring shaft: stations need a diameter, k_torsion stays required
     (dict(diameter=None, k_torsion=1e9), "shafts[0].stations", ["inp_a", "inp_b"], "give its diameter"),
     (dict(diameter=None, stations=()), "shafts[0].k_torsion", None, "missing required field"),

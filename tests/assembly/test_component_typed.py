@@ -10,6 +10,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from fe_components.gear_pair import pair_geometry
 
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
@@ -40,11 +41,14 @@ WHEEL = WheelParams(
     bore_diameter=0.06, n_holes=6, hole_diameter=0.04)
 
 
-def _with_components(scene: Scene, pinion, wheel) -> Scene:
-    """``scene`` as given, its first two bodies holding ``pinion`` and ``wheel``, built in Python."""
+def _with_components(scene: Scene, pinion, wheel, output_position=None) -> Scene:
+    """``scene`` as given, its first two bodies holding ``pinion`` and ``wheel``, built in
+    Python (``output_position``: the third body's, when the wheel moves)."""
     given = {f.name: scene.as_given(f.name) for f in dataclasses.fields(Scene)}
-    b0, b1, *rest = given["bodies"]
-    given["bodies"] = (dataclasses.replace(b0, component=pinion), dataclasses.replace(b1, component=wheel), *rest)
+    b0, b1, b2, *rest = given["bodies"]
+    if output_position is not None:
+        b2 = dataclasses.replace(b2, position=output_position)
+    given["bodies"] = (dataclasses.replace(b0, component=pinion), dataclasses.replace(b1, component=wheel), b2, *rest)
     return Scene(**given)
 
 
@@ -98,9 +102,12 @@ def test_typed_teeth_derive_the_mesh_numbers():
     # the mesh places the wheel by its teeth (ISO 21771: a_w = (r_b1 + r_b2) / cos(alpha_wt)):
     # more wheel teeth, a longer centre distance, as from a table
     wheel = dataclasses.replace(WHEEL, teeth=dataclasses.replace(WHEEL.teeth, n_teeth=72))
-    sc = _with_components(HS, PINION, wheel)
+    # the output shaft, shrink-fitted in the wheel's bore, moves with it (a shaft runs along
+    # its bodies' axis)
+    out = (pair_geometry(PINION.teeth, wheel.teeth).centre_distance, 0.0, 0.295)
+    sc = _with_components(HS, PINION, wheel, out)
     assert sc.bodies[1].position[0] > HS.bodies[1].position[0]
-    assert sc == HS.with_value("bodies.wheel.component.teeth.n_teeth", 72)
+    assert sc == HS.with_values({"bodies.wheel.component.teeth.n_teeth": 72, "bodies.output_shaft.position": out})
 
 
 # ---------------------------------------------------------------- stage carrier

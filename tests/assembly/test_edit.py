@@ -1,5 +1,6 @@
 """Changing a scene field by path (assembly.edit, Scene.with_value): every path form, one
 validation for several changes, errors that name the caller's path."""
+import dataclasses
 import math
 
 import pytest
@@ -53,8 +54,13 @@ def test_component_of_the_original_is_not_changed():
 def test_angle_held_once_in_rad_or_deg():
     # the component table gives helix_angle_deg; a value in rad replaces it (not both).
     # The pair's hands stay opposite (an external helical pair), so both gears change.
+    # (the output shaft, shrink-fitted in the wheel's bore, moves with the wheel)
+    from fe_components.gear_pair import pair_geometry
+    t1, t2 = (dataclasses.replace(b.component.teeth, helix_angle=math.radians(h))
+              for b, h in zip(HS.bodies[:2], (10.0, -10.0)))
     new = HS.with_values({"bodies.pinion.component.teeth.helix_angle": math.radians(10.0),
-                          "bodies.wheel.component.teeth.helix_angle_deg": -10.0})
+                          "bodies.wheel.component.teeth.helix_angle_deg": -10.0,
+                          "bodies.output_shaft.position": [pair_geometry(t1, t2).centre_distance, 0.0, 0.295]})
     teeth = new.bodies[0].component.teeth
     assert "helix_angle" not in given_in_degrees(teeth) and teeth.helix_angle == math.radians(10.0)
     assert "helix_angle" in given_in_degrees(new.bodies[1].component.teeth)
@@ -117,7 +123,9 @@ def test_teeth_edit_derives_new_gear_numbers():
     # (2 cos beta), a_w = (r_b1 + r_b2) / cos(alpha_wt)), not contradict the old numbers.
     from assembly.gear_data import body_teeth
     from fe_components.gear_pair import pair_geometry
-    new = HS.with_value("bodies.pinion.component.teeth.n_teeth", 24)
+    t1 = dataclasses.replace(HS.bodies[0].component.teeth, n_teeth=24)
+    out = [pair_geometry(t1, HS.bodies[1].component.teeth).centre_distance, 0.0, 0.295]   # moves with the wheel
+    new = HS.with_values({"bodies.pinion.component.teeth.n_teeth": 24, "bodies.output_shaft.position": out})
     t1, t2 = (b.component.teeth for b in new.bodies[:2])
     assert t1.n_teeth == 24 and t2.n_teeth == 71
     g = pair_geometry(body_teeth(new.bodies[0], "b0")[1], body_teeth(new.bodies[1], "b1")[1])

@@ -207,9 +207,11 @@ def test_placement_refusals():
 def test_placement_along_the_centre_line_angle():
     d = quill_dict()
     d["meshes"][0]["centre_line_angle_deg"] = 90.0
-    d["stages"][0]["center"] = [0.0, 0.2677581560127026, 0.4]
-    wheel = scene_from_dict(d).body("wheel").position
+    sc = scene_from_dict(d)
+    wheel = sc.body("wheel").position
     assert np.allclose(wheel, (0.0, 0.2677581560127026, 0.0), rtol=0, atol=1e-15)
+    # the stage (coaxial_with = "wheel", axial_offset = 0.4 m) follows the wheel exactly
+    assert sc.stages[0].center == (wheel[0], wheel[1], wheel[2] + 0.4)
 
 
 def test_scene_fidelity_is_the_default_of_every_table():

@@ -59,9 +59,10 @@ def test_free_free_exact_rigid_mode_count():
     assert r.n_rigid == 11
     assert np.all(np.isfinite(r.frequencies_hz)) and np.all(r.eigenvalues[:11] > -1e-6 * r.eigenvalues[-1])
     assert r.frequencies_hz[:11].max() < 1e-3 and r.frequencies_hz[11] > 1.0
-    # adding a shaft of all six stiffnesses between them leaves the 6 assembly motions
-    s = Shaft("a", "b", k_torsion=1e5, k_bending=1e5, k_axial=1e8, k_shear=1e8)
-    r6 = solve_modes(assemble(dataclasses.replace(_free_pair(), shafts=(s,))))
+    # adding a spring of all six stiffnesses between them (a bearing of b on a: a shaft must
+    # run along a's axis) leaves the 6 assembly motions
+    s = Bearing("b", frame="a", k_radial=1e8, k_axial=1e8, k_tilt=1e5, k_torsion=1e5)
+    r6 = solve_modes(assemble(dataclasses.replace(_free_pair(), bearings=(s,))))
     assert r6.n_rigid == 6 and r6.frequencies_hz[:6].max() < 1e-3
 
 
