@@ -42,7 +42,7 @@ from .integrators import generalized_alpha, hht, newmark
 from .load_series import constant, ramp, read_csv, read_openfast_out
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
-from .transient import DENSE_INVERSE_MAX, Diverged, Stack, integrate, tangent
+from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, integrate, tangent
 
 log = logging.getLogger(__name__)
 
@@ -174,7 +174,8 @@ def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=No
     """q0 of the module notes: Newton on ``K q + U nu(U'q, xd0) + M phi lam = f0``,
     ``phi' M q = 0`` (no rigid-body mode: phi None, plain ``K q + U nu = f0``). Converged when
     the step reaches round-off or the force residual is below 1e-12 x ``force_scale`` (N; the
-    force that closes a mesh's backlash: a smaller load cannot say on which flank it rests).
+    force that closes a mesh's backlash: a smaller load cannot say on which flank it rests)
+    or below the round-off of the forces it sums.
     ``preload(x)``: forces along U that put the linear solution's meshes on the flank it
     loads (the first guess, so that Newton's method rarely has to cross a gap)."""
     n = K.shape[0]
@@ -197,10 +198,14 @@ def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=No
         if np.any(p):
             z = solve(rhs - Ub @ p)
     step = np.inf
+    absB, absU = abs(B), np.abs(Ub)
     for _ in range(60):
         nu, dk, _ = nl.forces(0.0, Ub.T @ z, xd0)
         r = B @ z + Ub @ nu - rhs
-        if not len(nu) or np.linalg.norm(r) <= 1e-12 * max(np.linalg.norm(rhs), force_scale):
+        # or r at round-off: each row sums the forces |B| |z|, |U| (the terms of nu) and rhs,
+        # rounded to about ROUNDOFF eps x their size (transient.ROUNDOFF)
+        floor = ROUNDOFF * EPS * np.linalg.norm(absB @ np.abs(z) + absU @ nl.force_scale(nu) + np.abs(rhs))
+        if not len(nu) or np.linalg.norm(r) <= max(1e-12 * max(np.linalg.norm(rhs), force_scale), floor):
             break
         # Newton step with the tangent B + Ub diag(dk) Ub' by Woodbury
         y = solve(r)
