@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import arguments
 from .classify import classify_modes, pair_modes
 from .modal import solve_modes
 from .model import assemble
@@ -57,6 +58,10 @@ def compare(scene, n_rows: int | None = None, given=None, flexible_components: b
     """Solve every variant of ``scene`` (:func:`variants`) and pair their modes. ``given`` is
     an already solved ModalResult of the scene as given (rigid or flexible), reused instead
     of solved again."""
+    arguments.scene("scene", scene)
+    arguments.optional(arguments.integer, "n_rows", n_rows, 0)
+    arguments.optional(arguments.modes, "given", given)
+    arguments.flag("flexible_components", flexible_components)
     res, times = {}, {}
     vs = variants(scene, flexible_components)
     top = "flexible" if "flexible" in vs else "rigid"

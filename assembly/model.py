@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from . import arguments
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
@@ -200,6 +201,11 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     judged on the diagonal of the same assembly without their springs; the model is
     assembled again only if some direction became a constraint.
     """
+    arguments.scene("scene", scene)
+    arguments.flag("full_fe", full_fe)
+    arguments.optional(arguments.table, "bodies", bodies)
+    arguments.optional(arguments.instance, "caches", caches, CacheDirs, "a CacheDirs (or None)")
+    arguments.optional(arguments.scene, "source", source)
     t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)

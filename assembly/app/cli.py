@@ -33,6 +33,47 @@ class UsageError(ValueError):
     """A command-line value the program cannot use (e.g. ``--modes -5``)."""
 
 
+#: Argument names of the Python API (:mod:`assembly.arguments`) -> the flags that set them: an
+#: error the API raises about one of them is printed with the flag.
+FLAGS = {"t_end": "--t-end", "dt": "--dt", "speed": "--speed", "outputs": "--output", "input": "--input",
+         "reference": "--reference", "speed_range": "--speed-range", "points": "--points",
+         "harmonics": "--harmonics", "rotor": "--rotor", "generator": "--generator", "modes_hz": "--modes-hz"}
+
+
+def check_options(args) -> None:
+    """Every numeric and name option given: one SceneError naming the flag and value else."""
+    from .. import arguments
+
+    def given(dest):
+        v = getattr(args, dest, None)
+        return [] if v is None else v if isinstance(v, list) else [v]
+    for dest, (unit, rule) in NUMBERS.items():
+        for v in given(dest):
+            arguments.number(flag_of(dest), v, unit, **rule)
+    for dest, (low, high) in INTEGERS.items():
+        for v in given(dest):
+            arguments.integer(flag_of(dest), v, low, high)
+    for dest in NAMES:
+        for v in given(dest):
+            arguments.text(flag_of(dest), v)
+
+
+def flag_of(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def with_flags(exc, args):
+    """``exc``, a SceneError naming an argument of the Python API, renamed to the flag of the
+    command (``args``) that set it; any other error as it is."""
+    from ..errors import SceneError
+    if not isinstance(exc, SceneError):
+        return exc
+    flag = FLAGS.get(exc.path.split("[")[0])
+    if flag is None or not hasattr(args, flag[2:].replace("-", "_")):
+        return exc
+    return SceneError(flag, exc.value, exc.reason)
+
+
 class Terminated(BaseException):
     """SIGTERM arrived; a BaseException like KeyboardInterrupt, so cleanup code runs."""
 
@@ -567,7 +608,7 @@ def _run(args, signal_handler) -> int:
                 args.check(args)
             return args.func(args)
     except user_errors() as exc:
-        print(f"flexgear: error: {exc}", file=sys.stderr)
+        print(f"flexgear: error: {with_flags(exc, args)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130

@@ -95,6 +95,15 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     (Hz): the modal cutoff of ``method="modal"`` (module notes); default
     :data:`CUTOFF_FACTOR` x ``max(frequency_hz)``, ``inf`` for every mode; ``residual=False``
     drops the modes above it altogether (plain truncation, to see what the correction buys)."""
+    from .. import arguments as check                # each argument's kind, one SceneError naming it
+    check.model("model", model)
+    check.text("input", input)
+    outputs = check.names("outputs", outputs)
+    frequency_hz = check.frequencies("frequency_hz", frequency_hz)
+    check.one_of("method", method, METHODS, "method")
+    check.optional(check.modes, "result", result)
+    check.optional(check.number, "modes_hz", modes_hz, "Hz", gt=0.0, infinite="every mode")
+    check.flag("residual", residual)
     t0 = time.perf_counter()
     f = np.atleast_1d(np.asarray(frequency_hz, float))
     if method not in METHODS:

@@ -232,6 +232,22 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
     A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
     is the :class:`SimulationResult` so far (``complete`` False)."""
+    from .. import arguments as check                # each argument's kind, one SceneError naming it
+    check.scene("scene", scene)
+    t_end, dt = check.number("t_end", t_end, "s", gt=0.0), check.number("dt", dt, "s", gt=0.0)
+    outputs = None if outputs is None else check.names("outputs", outputs, empty=True)
+    check.optional(check.model, "model", model)
+    check.optional(check.file_path, "base_dir", base_dir)
+    speed = check.optional(check.number, "speed", speed, "rad/s")
+    check.function("progress", progress)
+    check.flag("full_fe", full_fe)
+    bodies = [b.name for b in scene.expanded().bodies]          # the bodies a name here must be
+    if scene.simulation is not None and scene.simulation.reference is not None:
+        check.one_of("simulation.reference", scene.simulation.reference, bodies)
+    for i, name in enumerate(outputs or ()):
+        if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
+            raise check.refuse(f"outputs[{i}]", name,
+                               f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")
     from ..model import assemble
     sim = scene.simulation or Simulation()
     model = model if model is not None else assemble(scene, full_fe=full_fe)
