@@ -10,12 +10,14 @@ from __future__ import annotations
 
 from fe_components.lazy import lazy_exports
 
-# ``compare`` is also the name of a submodule: importing the submodule would rebind the
-# package attribute to the module, so the function is bound here once, eagerly.
+# ``compare`` and ``stage_alone`` are also the names of submodules: importing a submodule
+# rebinds the package attribute to the module, so these functions are bound here once, eagerly
+# (``from assembly import stage_alone`` gave the module once assembly.stage_alone was imported).
 from .compare import compare
 from .errors import MechanismError, SceneError, SolverError
 from .scene import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
                     Planets, PointLoad, Scene, Shaft, Support, scale_bearings, with_fidelity)
+from .stage_alone import stage_alone
 
 #: Public name -> submodule, imported on first use.
 _EXPORTS = {
@@ -23,12 +25,12 @@ _EXPORTS = {
     "get_value": "edit", "with_value": "edit", "with_values": "edit",
     "solve_modes": "modal", "assemble": "model", "load_scene": "schema", "scene_from_dict": "schema",
     "save_scene": "scene_toml", "scene_to_toml": "scene_toml", "Branch": "tracking", "track_modes": "tracking",
-    "stage_alone": "stage_alone", "check_part": "part_check", "check_body_part": "part_check",
+    "check_part": "part_check", "check_body_part": "part_check",
 }
 
 __all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "GearMesh", "LoadCase", "MechanismError",
                   "Member", "PlanetaryStage", "Planets", "PointLoad", "Scene", "SceneError", "Shaft", "SolverError",
-                  "Support", "compare",
+                  "Support", "compare", "stage_alone",
                   "scale_bearings", "with_fidelity", *_EXPORTS])
 
 

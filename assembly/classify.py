@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import arguments
 from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
 from .harmonics import body_nodal_diameters
 from .locality import energy_table, group_shares, mode_scopes, total_share
@@ -67,6 +68,8 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
     """Class and scope of every mode (see the module doc). ``nodal_diameters``: count them
     for the elastic modes (back-expands each such mode of a flexible body to its FE mesh,
     which loads the body's FE model once)."""
+    arguments.modes("result", result)
+    arguments.flag("nodal_diameters", nodal_diameters)
     model = result.model
     names = list(model.bodies)
     sc_bodies = {b.name: b for b in model.scene.bodies}
@@ -185,8 +188,11 @@ def subspace_mac(A: np.ndarray, B: np.ndarray, groups_b, W) -> np.ndarray:
 def pair_modes(res_a, res_b, W=None):
     """Pair modes of two models of the same scene by (subspace) MAC on the absolute body
     motions. Returns a list of (i_a, i_b, mac). ``W`` defaults to res_b's mass matrix."""
+    arguments.modes("res_a", res_a)
+    arguments.modes("res_b", res_b)
     if list(res_a.model.bodies) != list(res_b.model.bodies):
-        raise ValueError("models do not have the same bodies")
+        raise arguments.refuse("res_b", res_b, f"not the same bodies as res_a: {list(res_b.model.bodies)} against "
+                                               f"{list(res_a.model.bodies)}")
     A = res_a.model.rigid_coordinates(res_a.abs_shapes)
     B = res_b.model.rigid_coordinates(res_b.abs_shapes)
     W = res_b.model.rigid_mass_matrix() if W is None else W

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import arguments
 from .body_table import body_properties, replaced, replaced_note
 from .classify import classify_modes, pair_modes
 from .modal import solve_modes
@@ -58,6 +59,10 @@ def compare(scene, n_rows: int | None = None, given=None, flexible_components: b
     """Solve every variant of ``scene`` (:func:`variants`) and pair their modes. ``given`` is
     an already solved ModalResult of the scene as given (rigid or flexible), reused instead
     of solved again."""
+    arguments.scene("scene", scene)
+    arguments.optional(arguments.integer, "n_rows", n_rows, 0)
+    arguments.optional(arguments.modes, "given", given)
+    arguments.flag("flexible_components", flexible_components)
     res, times = {}, {}
     vs = variants(scene, flexible_components)
     top = "flexible" if "flexible" in vs else "rigid"

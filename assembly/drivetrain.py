@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import arguments
 from .condensation import condense
 from .errors import MechanismError, SceneError, SolverError
 from .loads import axial_rotation, single_rigid_mode
@@ -102,8 +103,7 @@ def chain_ends(scene, rotor: str | None = None, generator: str | None = None) ->
     ends = []
     for role, name in zip(ROLES, (rotor, generator)):
         if name is not None:
-            if name not in have:
-                raise SceneError(role, name, f"no body of that name; have {have}")
+            arguments.one_of(role, name, have)
             ends.append(name)
             continue
         marked = [(i, b.name) for i, b in enumerate(scene.bodies) if b.role == role]
@@ -115,8 +115,9 @@ def chain_ends(scene, rotor: str | None = None, generator: str | None = None) ->
             raise SceneError(f"bodies[{i1}].role", role, f"bodies[{i0}] ({n0}) has role {role!r} too: "
                                                          "one body per end of the drivetrain")
         ends.append(marked[0][1])
-    if ends[0] == ends[1]:
-        raise SceneError("generator", ends[1], "the rotor and the generator must be two different bodies")
+    if ends[0] == ends[1]:                  # name the end the caller gave (the generator if both)
+        raise SceneError("generator" if generator is not None else "rotor", ends[1],
+                         "the rotor and the generator must be two different bodies")
     return ends[0], ends[1]
 
 
@@ -198,6 +199,7 @@ def two_mass(model, rotor: str, generator: str) -> TwoMass:
 def derive_two_mass(scene, rotor: str | None = None, generator: str | None = None) -> TwoMass:
     """:func:`two_mass` of ``scene``'s torsional model between its rotor and generator
     (:func:`chain_ends`), with its ``damping`` when the scene has damping."""
+    arguments.scene("scene", scene)
     from .dynamics.damped_modes import has_damping           # dynamics builds on this module
     from .dynamics.drivetrain_damping import two_mass_damping
     ends = chain_ends(scene, rotor, generator)

@@ -21,7 +21,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from . import resolution
+from . import arguments, resolution
 from .errors import SceneError, SolverError
 from .nullity import rigid_body_count
 
@@ -113,6 +113,8 @@ def solve_modes(model, n_modes: int | None = None, check: bool = True) -> ModalR
     residuals and the dense round-off bound overestimates (it takes max K_ii / M_ii for the
     highest eigenvalue).
     """
+    arguments.model("model", model)
+    arguments.flag("check", check)
     if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
                                 or n_modes < 1):
         raise SceneError("n_modes", n_modes, "must be an integer >= 1 (or None: all modes)")

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from . import arguments
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
@@ -207,6 +208,11 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     beside a component and replaced by its mesh's are logged (a warning naming the body,
     both values and their difference) and listed in ``model.info``.
     """
+    arguments.scene("scene", scene)
+    arguments.flag("full_fe", full_fe)
+    arguments.optional(arguments.table, "bodies", bodies)
+    arguments.optional(arguments.instance, "caches", caches, CacheDirs, "a CacheDirs (or None)")
+    arguments.optional(arguments.scene, "source", source)
     t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)

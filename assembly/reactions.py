@@ -31,10 +31,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import arguments
 from .constraints import constrained_dofs
 from .kinematics import block_rotation
 from .loads import applied_loads, load_point, speed_ratio
 from .scene import DOF_NAMES, HOUSING
+from .static import StaticResult
 
 _FORCE = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")
 _SECTION = ("shear_x_N", "shear_y_N", "axial_N", "bending_x_Nm", "bending_y_Nm", "torque_Nm")
@@ -97,6 +99,7 @@ def _reference_point(model, body: str, load):
 def static_report(st) -> StaticReport:
     """Applied loads, mesh forces, bearing reactions, shaft loads, support and constraint
     reactions and checks of one :class:`assembly.static.StaticResult`."""
+    arguments.instance("st", st, StaticResult, "a StaticResult (solve_static)")
     model, z, load = st.model, st.z, st.load
     sc = model.scene
     frames = {b.name: b.frame for b in sc.bodies}

@@ -33,6 +33,7 @@ from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
 from fe_components.sizes import FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER
 
+from . import arguments
 from .errors import SceneError
 from .scene_time import MeshVariation, Simulation
 
@@ -787,10 +788,12 @@ class Scene:
         return DISPLAY_BAND_FACTOR * self.band
 
     def body(self, name: str) -> Body:
-        for b in self.expanded().bodies:
+        """The body called ``name`` (stages expanded); SceneError naming ``name`` if none is."""
+        bodies = self.expanded().bodies
+        for b in bodies:
             if b.name == name:
                 return b
-        raise KeyError(name)
+        raise arguments.unknown("name", name, [b.name for b in bodies])
 
 
 def derive(scene: Scene, **changes) -> Scene:
@@ -813,14 +816,16 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
     a beam shaft's stations make follow the scene's default fidelity (never flexible): all
     bodies chosen, that default becomes ``fidelity`` too."""
     allowed = get_args(Fidelity)
+    arguments.scene("scene", scene)
     if not isinstance(fidelity, str) or fidelity not in allowed:
-        raise SceneError("fidelity", fidelity, f"must be one of {list(allowed)}")
+        raise SceneError("fidelity", arguments.shown(fidelity), f"must be one of {list(allowed)}"
+                         + arguments.nearest(fidelity, allowed))
     sc = scene.expanded()
     have = [b.name for b in sc.bodies]
-    chosen = set(have) if bodies is None else {bodies} if isinstance(bodies, str) else set(bodies)
+    chosen = set(have) if bodies is None else set(arguments.names("bodies", bodies, empty=True))
     unknown = sorted(chosen - set(have), key=str)
     if unknown:
-        raise SceneError("bodies", unknown[0], f"no body of that name; have {have}")
+        raise arguments.unknown("bodies", unknown[0], have)
 
     def pick(items):
         return tuple(dataclasses.replace(b, fidelity=fidelity) if b.name in chosen else b for b in items)
@@ -847,11 +852,12 @@ def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial
     """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
     its own bearings and the bearing tables of its planetary stages (kept as stages).
     ``k_radial`` (``k_tilt``) scales ``k_radial_x``/``k_radial_y`` too where those are given."""
-    if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 0 < factor < math.inf:
-        raise SceneError("factor", factor, "must be a finite number > 0")
+    arguments.scene("scene", scene)
+    factor = arguments.number("factor", factor, gt=0.0)
+    directions = arguments.names("directions", directions)
     for d in directions:
         if d not in STIFFNESS_FIELDS:
-            raise SceneError("directions", d, f"must be among {list(STIFFNESS_FIELDS)}")
+            raise arguments.unknown("directions", d, STIFFNESS_FIELDS, "bearing stiffness")
     named = {f for d in directions for f in (d, *SPLIT_STIFFNESSES.get(d, ()))}
 
     def scaled(b):

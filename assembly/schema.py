@@ -39,6 +39,7 @@ from fe_components.errors import GeometryError
 from fe_components.fields import value_problem
 from fe_components.params import COMPONENT_KINDS, MAX_PLANETS, CarrierParams
 
+from . import arguments
 from .errors import SceneError
 from .scene import MAX_NAME_LENGTH, Scene
 
@@ -408,7 +409,7 @@ def resolve_scene_path(path) -> Path:
     be left out). A path with
     a folder part never falls back to a shipped scene (a typo in the folder must not run an
     example under the user's title)."""
-    p = Path(path)
+    p = Path(arguments.file_path("scene", path))
     if p.exists():
         return p
     shipped = SCENE_DIR / p.name
@@ -417,7 +418,7 @@ def resolve_scene_path(path) -> Path:
     if is_bare_name(path) and shipped.exists():
         log.info("%s: not in the working folder; reading the shipped example %s", path, shipped)
         return shipped
-    hint = ""
+    hint = arguments.nearest(p.stem, [s.stem for s in shipped_scenes()]) if is_bare_name(path) else ""
     if shipped.exists():
         hint = f" (a shipped example of that name exists: give the bare name {p.name!r} to run it)"
     raise SceneError("scene", str(path), f"no such file{hint}")
@@ -453,6 +454,7 @@ def load_scene(path, _chain: tuple = ()) -> Scene:
 
 def scene_from_dict(data: dict) -> Scene:
     """Build and validate a scene from a plain dict (e.g. parsed TOML)."""
+    arguments.table("data", data)
     return from_dict(Scene, data, "")
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from . import arguments
 from .errors import SceneError
 from .scene import SPLIT_STIFFNESSES, BearingSpec, Scene
 
@@ -27,12 +28,12 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
     members on the given bearing to the housing instead, and must hold one for every floating
     member. ``planar``: every bearing of the stage (members' and planets') rigid axially and
     in tilt (``inf``), Lin & Parker's planar model. SceneError naming the field otherwise."""
+    arguments.scene("scene", scene)
+    arguments.flag("planar", planar)
     stages = scene.as_given("stages")
     names = [st.name for st in stages]
-    if stage_name not in names:
-        raise SceneError("stages", stage_name, f"no planetary stage of that name; have {names}")
-    i = names.index(stage_name)
-    given = dict(bearings or {})
+    i = names.index(arguments.one_of("stage_name", stage_name, names, "planetary stage"))
+    given = dict(arguments.optional(arguments.table, "bearings", bearings) or {})
     for role, b in given.items():
         if role not in ROLES:
             raise SceneError("bearings", role, f"a stage member is one of {list(ROLES)}")

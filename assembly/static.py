@@ -20,6 +20,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
+from . import arguments
 from .errors import MechanismError, SceneError
 from .loads import free_motions, held_directions, load_vector
 from .model import assemble
@@ -61,6 +62,8 @@ def solve_static(scene, load: LoadCase, bodies: dict | None = None, model=None,
     """Static response to ``load``; ``model``: the assembled ``scene`` to reuse (else it is
     assembled, with pre-built ``bodies`` if given). Raises MechanismError naming ``path``
     if the held assembly can still move."""
+    arguments.instance("load", load, LoadCase, "a LoadCase")
+    arguments.text("path", path)
     return solve_static_cases(scene, [(path, load)], bodies, model)[0]
 
 
@@ -68,6 +71,15 @@ def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> 
     """:class:`StaticResult` of every (path, load case) in ``cases`` on one model
     (default :meth:`Scene.load_cases`); cases holding the same directions share one
     factorisation."""
+    arguments.scene("scene", scene)
+    arguments.optional(arguments.model, "model", model)
+    if cases is not None:
+        if not isinstance(cases, (list, tuple)):
+            raise arguments.refuse("cases", cases, "must be a list of (name, LoadCase) pairs")
+        for i, c in enumerate(cases):
+            if not (isinstance(c, (list, tuple)) and len(c) == 2 and isinstance(c[0], str)):
+                raise arguments.refuse(f"cases[{i}]", c, "must be a (name, LoadCase) pair")
+            arguments.instance(f"cases[{i}]", c[1], LoadCase, "a (name, LoadCase) pair")
     m = model if model is not None else assemble(scene, bodies=bodies)
     cases = list(scene.load_cases() if cases is None else cases)
     out, solvers = [], {}

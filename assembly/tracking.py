@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import arguments
 from .classify import pair_shapes
 
 #: MAC below which a step of a branch is flagged (the threshold of the fidelity comparison).
@@ -57,12 +58,17 @@ def track_modes(results: list, threshold: float = MAC_THRESHOLD) -> list[Branch]
     """Branches (one per mode of the first result) through ``results``: the ModalResults
     of one scene at successive parameter values, in order. Every step must have the same
     bodies and the same number of modes."""
+    if not isinstance(results, (list, tuple)):
+        raise arguments.refuse("results", results, "must be a list of the modes of each step (solve_modes results)")
+    for k, r in enumerate(results):
+        arguments.modes(f"results[{k}]", r)
+    arguments.number("threshold", threshold, ge=0.0, le=1.0)
     if not results:
         return []
     n = len(results[0].frequencies_hz)
     for k, r in enumerate(results):
         if len(r.frequencies_hz) != n or list(r.model.bodies) != list(results[0].model.bodies):
-            raise ValueError(f"step {k}: not the same bodies and mode count as step 0")
+            raise arguments.refuse(f"results[{k}]", r, "not the same bodies and mode count as results[0]")
     common_abs = len({r.abs_shapes.shape[0] for r in results}) == 1
     steps = len(results)
     modes = np.zeros((n, steps), int)

@@ -22,11 +22,30 @@ def run_report(scene, out, *, progress: bool = False, **options):
     stderr."""
     import dataclasses
 
+    from .. import arguments
+    from ..scene import Scene
     from .pipeline import RunOptions, run_pipeline
     from .progress import Progress
 
+    if not isinstance(scene, Scene):
+        arguments.file_path("scene", scene)
+    arguments.file_path("out", out)
+    arguments.flag("progress", progress)
     known = [f.name for f in dataclasses.fields(RunOptions)]
     unknown = sorted(set(options) - set(known))
     if unknown:
-        raise TypeError(f"run_report: unknown option {unknown[0]!r}; options: {', '.join(known)}")
+        raise arguments.unknown(unknown[0], options[unknown[0]], known, "option")
+    if "n_modes" in options:
+        arguments.integer("n_modes", options["n_modes"], 0)
+    for i, n in enumerate(arguments.optional(arguments.instance, "mode_numbers", options.get("mode_numbers"),
+                                             (list, tuple), "a list of mode numbers") or ()):
+        arguments.integer(f"mode_numbers[{i}]", n, 1)
+    for name in set(options) & {"compare", "images"}:
+        arguments.flag(name, options[name])
+    if "window_size" in options:
+        size = options["window_size"]
+        if not isinstance(size, (list, tuple)) or len(size) != 2:
+            raise arguments.refuse("window_size", size, "must be (width, height) in pixels")
+        for i, n in enumerate(size):
+            arguments.integer(f"window_size[{i}]", n, 1)
     return run_pipeline(scene, out, RunOptions(**options), Progress(enabled=None if progress else False))

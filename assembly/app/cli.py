@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import signal
 import sys
 from contextlib import contextmanager, nullcontext
@@ -31,6 +32,58 @@ OUT_HELP = ("output folder, replaced as a whole when the run succeeds (never hal
 
 class UsageError(ValueError):
     """A command-line value the program cannot use (e.g. ``--modes -5``)."""
+
+
+#: Options checked like scene values before a command reads its scene (:func:`check_options`):
+#: numbers (argparse dest -> unit, rule of :func:`assembly.arguments.number`: a real number,
+#: finite unless inf is admitted, zero or of magnitude in [1e-100, 1e100], in range), integers
+#: (dest -> least, greatest) and names (a non-empty string).
+NUMBERS = {"t_end": ("s", {"gt": 0.0}), "dt": ("s", {"gt": 0.0}), "speed": ("rad/s", {}),
+           "rated_rpm": ("rpm", {"ge": 0.0}), "speed_range": ("rpm", {"ge": 0.0}), "fmin": ("Hz", {"ge": 0.0}),
+           "fmax": ("Hz", {"gt": 0.0}), "modes_hz": ("Hz", {"gt": 0.0, "infinite": "every mode"})}
+#: (a local cluster runs one process per worker, one variant at a time each: beyond a few per
+#: core they only compete for memory)
+INTEGERS = {"points": (2, None), "harmonics": (1, None), "workers": (1, 8 * (os.cpu_count() or 1))}
+NAMES = ("reference", "rotor", "generator", "body", "input", "output", "scheduler", "cache_dir")
+#: Argument names of the Python API (:mod:`assembly.arguments`) -> the flags that set them: an
+#: error the API raises about one of them is printed with the flag.
+FLAGS = {"t_end": "--t-end", "dt": "--dt", "speed": "--speed", "outputs": "--output", "input": "--input",
+         "reference": "--reference", "speed_range": "--speed-range", "points": "--points",
+         "harmonics": "--harmonics", "rotor": "--rotor", "generator": "--generator", "modes_hz": "--modes-hz"}
+
+
+def check_options(args) -> None:
+    """Every numeric and name option given: one SceneError naming the flag and value else."""
+    from .. import arguments
+
+    def given(dest):
+        v = getattr(args, dest, None)
+        return [] if v is None else v if isinstance(v, list) else [v]
+    for dest, (unit, rule) in NUMBERS.items():
+        for v in given(dest):
+            arguments.number(flag_of(dest), v, unit, **rule)
+    for dest, (low, high) in INTEGERS.items():
+        for v in given(dest):
+            arguments.integer(flag_of(dest), v, low, high)
+    for dest in NAMES:
+        for v in given(dest):
+            arguments.text(flag_of(dest), v)
+
+
+def flag_of(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def with_flags(exc, args):
+    """``exc``, a SceneError naming an argument of the Python API, renamed to the flag of the
+    command (``args``) that set it; any other error as it is."""
+    from ..errors import SceneError
+    if not isinstance(exc, SceneError):
+        return exc
+    flag = FLAGS.get(exc.path.split("[")[0])
+    if flag is None or not hasattr(args, flag[2:].replace("-", "_")):
+        return exc
+    return SceneError(flag, exc.value, exc.reason)
 
 
 class Terminated(BaseException):
@@ -237,7 +290,7 @@ def _add_study(sub) -> None:
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary line")
-    p.set_defaults(func=cmd_study, check=lambda a: a.workers is None or _at_least(a.workers, "--workers", 1))
+    p.set_defaults(func=cmd_study)
 
 
 def cmd_export_elastodyn(args) -> int:
@@ -274,12 +327,9 @@ def cmd_campbell(args) -> int:
     """``flexgear campbell``: natural frequencies, excitation orders and their crossings over
     a speed range of the reference body (rpm): a table, ``--json``, or files in ``--out``."""
     from ..dynamics.campbell import campbell
-    from ..errors import SceneError
     from ..schema import load_scene
     from .campbell import campbell_json, campbell_to_dir, crossings_text
 
-    if args.rated_rpm is not None and not args.rated_rpm >= 0:
-        raise SceneError("--rated-rpm", args.rated_rpm, "must be a speed >= 0 rpm")
     path = scene_file(args)
     scene = load_scene(path)
     with holding_out(args):
@@ -312,8 +362,6 @@ def cmd_frf(args) -> int:
         f = frequencies(args.fmin, args.fmax, args.points, args.log)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    if args.modes_hz is not None and not args.modes_hz > 0:
-        raise UsageError(f"--modes-hz = {args.modes_hz}: must be a frequency > 0 Hz (inf: every mode)")
     path = scene_file(args)
     scene = load_scene(path)
     with holding_out(args):
@@ -650,11 +698,12 @@ def _run(args, signal_handler) -> int:
     """Run the chosen command; every user error ends in one line and exit code 2."""
     try:
         with signal_handler(_raise_terminated, (signal.SIGTERM,)):  # main thread only
+            check_options(args)
             if getattr(args, "check", None) is not None:
                 args.check(args)
             return args.func(args)
     except user_errors() as exc:
-        print(f"flexgear: error: {exc}", file=sys.stderr)
+        print(f"flexgear: error: {with_flags(exc, args)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130

@@ -37,12 +37,14 @@ def parse_formats(text: str) -> tuple:
 
 def _check_body(scene, name: str) -> None:
     """A one-line SceneError, before any meshing, if ``name`` is no flexible body of ``scene``."""
+    from ..arguments import nearest
     from ..errors import SceneError
 
     bodies = {b.name: b for b in scene.expanded().bodies}
     flexible = sorted(n for n, b in bodies.items() if b.fidelity == "flexible")
     if name not in bodies:
-        raise SceneError("--body", name, f"no such body in the scene; flexible bodies: {flexible or 'none'}")
+        raise SceneError("--body", name, f"no such body in the scene; flexible bodies: {flexible or 'none'}"
+                                         f"{nearest(name, bodies)}")
     if bodies[name].fidelity != "flexible":
         raise SceneError("--body", name, f"is not a flexible body (fidelity {bodies[name].fidelity!r}), so it "
                                          f"has no superelement; flexible bodies: {flexible or 'none'}")

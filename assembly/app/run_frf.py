@@ -61,6 +61,9 @@ def step_frf(ctx, bar) -> None:
     except MechanismError as e:
         ctx.notes.append(f"no frequency response ({IMAGE}, frf.csv): {e}")
         return
+    if not outputs:
+        ctx.notes.append(f"no frequency response ({IMAGE}, frf.csv): no shaft carries the rotor's torque")
+        return
     f = np.geomspace(FMIN_HZ, FMAX_HZ, POINTS)
     r = frequency_response(ctx.model, f"torque:{generator}", outputs, f)
     write_csv(r, ctx.add_file("frf.csv", f"frequency response from torque:{generator} to {', '.join(outputs)}: "

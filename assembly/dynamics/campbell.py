@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import arguments
 from ..classify import classify_modes
 from ..drivetrain import speed_ratios
 from ..errors import MechanismError, SceneError
@@ -99,30 +100,29 @@ class Campbell:
 
 
 def reference_body(scene, reference: str | None) -> str:
-    """The reference body: ``reference`` if given (SceneError ``--reference`` naming it when
+    """The reference body: ``reference`` if given (SceneError ``reference`` naming it when
     no body has that name), else the one body of role ``"rotor"``."""
     names = [b.name for b in scene.expanded().bodies]
     if reference is not None:
-        if reference not in names:
-            raise SceneError("--reference", reference, f"no body of that name; have {names}")
-        return reference
+        return arguments.one_of("reference", reference, names)
     rotors = [b.name for b in scene.bodies if b.role == "rotor"]
     if len(rotors) != 1:
-        raise SceneError("--reference", None, f"{len(rotors)} bodies have role = 'rotor': name the reference "
+        raise SceneError("reference", None, f"{len(rotors)} bodies have role = 'rotor': name the reference "
                                               f"body (one of {names})")
     return rotors[0]
 
 
 def check_speed_range(speed_range) -> tuple[float, float]:
-    """(min, max) reference speeds (rpm): finite, >= 0, min < max; SceneError ``--speed-range`` else."""
-    lo, hi = (float(v) for v in speed_range)
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise SceneError("--speed-range", [lo, hi], "speeds must be finite numbers (rpm)")
-    if lo < 0 or hi < 0:
-        raise SceneError("--speed-range", [lo, hi], "speeds must be >= 0 rpm (the reference body's speed; "
-                                                    "the sense of rotation does not change the diagram)")
+    """(min, max) reference speeds (rpm): two numbers, >= 0, min < max; SceneError
+    ``speed_range`` else."""
+    if isinstance(speed_range, np.ndarray):
+        speed_range = speed_range.tolist()
+    if not isinstance(speed_range, (list, tuple)) or len(speed_range) != 2:
+        raise arguments.refuse("speed_range", speed_range, "must be two speeds (min, max), rpm")
+    lo, hi = (arguments.number(f"speed_range[{i}]", v, "rpm", ge=0.0, hint="the reference body's speed; the "
+                               "sense of rotation does not change the diagram") for i, v in enumerate(speed_range))
     if lo >= hi:
-        raise SceneError("--speed-range", [lo, hi], "the minimum must be below the maximum")
+        raise SceneError("speed_range", [lo, hi], "the minimum must be below the maximum")
     return lo, hi
 
 
@@ -133,7 +133,7 @@ def chain_ratios(model, reference: str) -> dict:
         return speed_ratios(model, reference)
     except MechanismError as exc:
         if "stands still" in str(exc):
-            raise SceneError("--reference", reference, f"{exc}: pick a body that turns with the chain") from None
+            raise SceneError("reference", reference, f"{exc}: pick a body that turns with the chain") from None
         raise SceneError("SCENE", model.scene.name, f"no free chain to spin: {exc}") from None
 
 
@@ -183,10 +183,11 @@ def campbell(scene, speed_range, reference: str | None = None, points: int = 41,
     ``model``: the assembled scene (assembled here when None). Sizes over the memory budget
     are refused (:func:`check_size`) before the model is assembled and again once its
     natural-frequency lines are known."""
+    arguments.scene("scene", scene)
     lo, hi = check_speed_range(speed_range)
-    for flag, v, low in (("--points", points, 2), ("--harmonics", harmonics, 1)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
-            raise SceneError(flag, v, f"must be an integer >= {low}")
+    points, harmonics = arguments.integer("points", points, 2), arguments.integer("harmonics", harmonics, 1)
+    arguments.flag("gyroscopic", gyroscopic)
+    arguments.optional(arguments.model, "model", model)
     sources = len(scene.stages) + len(scene.meshes)
     check_size(points, harmonics, sources, 0)                  # before assembling: the orders alone
     ref = reference_body(scene, reference)

@@ -146,6 +146,15 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     ``inf`` for every mode; ``residual=False`` drops the modes above it altogether (plain
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
+    from .. import arguments as check                # each argument's kind, one SceneError naming it
+    check.model("model", model)
+    check.text("input", input)
+    outputs = check.names("outputs", outputs)
+    frequency_hz = check.frequencies("frequency_hz", frequency_hz)
+    check.one_of("method", method, METHODS, "method")
+    check.optional(check.modes, "result", result)
+    check.optional(check.number, "modes_hz", modes_hz, "Hz", gt=0.0, infinite="every mode")
+    check.flag("residual", residual)
     t0 = time.perf_counter()
     f = np.atleast_1d(np.asarray(frequency_hz, float))
     if method not in METHODS:

@@ -52,6 +52,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..arguments import nearest
 from ..errors import SceneError
 from ..loads import load_point
 from ..scene import DOF_NAMES
@@ -96,7 +97,7 @@ def _body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[s
         if iface in have:
             return body, iface
         raise SceneError(arg, name, f"body {body!r} has no interface {iface!r}; it has {have}")
-    raise SceneError(arg, name, f"no body {where!r}; bodies: {sorted(model.bodies)}")
+    raise SceneError(arg, name, f"no body {where!r}; bodies: {sorted(model.bodies)}{nearest(where, model.bodies)}")
 
 
 def _interfaces(model, body: str) -> list:
@@ -127,7 +128,7 @@ def _unit_wrench(model, body: str, what: str) -> np.ndarray:
     return w
 
 
-def input_channel(model, name: str, arg: str = "--input") -> Channel:
+def input_channel(model, name: str, arg: str = "input") -> Channel:
     """The unit load vector on q of input ``name`` (module notes)."""
     kind, _, rest = name.partition(":")
     if kind == "torque" and rest:
@@ -144,13 +145,14 @@ def input_channel(model, name: str, arg: str = "--input") -> Channel:
     if kind == "mesh" and rest:
         el = next((e for e in model.elements if e.kind == "mesh" and e.name == rest), None)
         if el is None:
-            raise SceneError(arg, name, f"no mesh {rest!r}; meshes: {_names(model, 'mesh')}")
+            raise SceneError(arg, name, f"no mesh {rest!r}; meshes: {_names(model, 'mesh')}"
+                                        f"{nearest(rest, _names(model, 'mesh'))}")
         return Channel(name, "N", _strain_rows(model, el)[0])
     raise SceneError(arg, name, "inputs are torque:BODY[:INTERFACE], force:BODY[:INTERFACE]:x|y|z, "
                                 f"moment:BODY[:INTERFACE]:x|y|z, mesh:MESH; bodies: {sorted(model.bodies)}")
 
 
-def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
+def output_channels(model, name: str, arg: str = "outputs") -> list[Channel]:
     """The output rows of ``name`` (one channel; a bearing without a direction: one per
     direction, named ``force:BEARING:d``)."""
     kind, _, rest = name.partition(":")
@@ -170,7 +172,8 @@ def output_channels(model, name: str, arg: str = "--output") -> list[Channel]:
         el = elements.get(rest) or next((e for e in model.elements if e.kind == "shaft"
                                           and e.name.startswith(rest + ":")), None)
         if el is None or el.kind != "shaft":
-            raise SceneError(arg, name, f"no shaft {rest!r}; shafts: {_names(model, 'shaft')}")
+            raise SceneError(arg, name, f"no shaft {rest!r}; shafts: {_names(model, 'shaft')}"
+                                        f"{nearest(rest, _names(model, 'shaft'))}")
         a1 = model.bodies[el.bodies[0]].axes[:, 2]
         return [_element_channel(model, el, el.B[:, 3:6] @ a1, name, "N m")]
     if kind == "force" and rest:
@@ -235,7 +238,8 @@ def _bearing_channels(model, rest: str, elements: dict, arg: str, name: str) -> 
         el = elements.get(head)
     if el is None or el.kind != "bearing":
         raise SceneError(arg, name, f"no mesh or bearing {rest!r}; meshes: {_names(model, 'mesh')}; "
-                                    f"bearings: {_names(model, 'bearing')}")
+                                    f"bearings: {_names(model, 'bearing')}"
+                                    f"{nearest(rest, _names(model, 'mesh') + _names(model, 'bearing'))}")
     dirs = bearing_directions(model, el)
     if not dirs:
         raise SceneError(arg, name, f"bearing {el.name!r} has no spring or damper (every direction rigid or "

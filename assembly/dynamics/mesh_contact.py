@@ -130,6 +130,9 @@ class Meshes(Nonlinear):
         nu, dc, Kt = np.empty(2 * m), np.zeros(2 * m), np.zeros((2 * m, 2 * m))
         nu[:m] = force - self.k0 * x[:m] - self.c * xd[:m]
         nu[m:] = con * 0.5 * kdf * e * e
+        # the terms nu[:m] is the difference of (force_scale); nu[m:] is computed directly
+        self._scale = np.concatenate([np.abs(k * e) + np.abs(self.c * s * xd[:m]) + np.abs(self.k0 * x[:m])
+                                      + np.abs(self.c * xd[:m]), np.abs(nu[m:])])
         dc[:m] = self.c * (s - 1.0)
         i, j = self._i, self._j
         Kt[i, i] = k * np.maximum(s, self.gap_slope) - self.k0
@@ -144,6 +147,11 @@ class Meshes(Nonlinear):
         self.losses += self.contact & ~touching
         self.contact = touching
         self.last_force = force
+
+    def force_scale(self, nu: np.ndarray) -> np.ndarray:
+        """The size of the forces the last :meth:`forces` summed: the contact force's spring and
+        damper terms and the linear model's k0 delta and c delta' it is corrected by."""
+        return self._scale
 
     def coast_preload(self, x: np.ndarray) -> np.ndarray:
         """Forces along (g, r) that move every mesh with backlash whose compression in ``x``

@@ -49,7 +49,7 @@ from .frf import UNDAMPED_ZETA
 from .load_series import constant, file_history, generator_history, ramp, range_warning
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
-from .transient import DENSE_INVERSE_MAX, Diverged, Stack, check_history, integrate, tangent
+from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, check_history, integrate, tangent
 
 log = logging.getLogger(__name__)
 
@@ -177,7 +177,8 @@ def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=No
     """q0 of the module notes: Newton on ``K q + U nu(U'q, xd0) + M phi lam = f0``,
     ``phi' M q = 0`` (no rigid-body mode: phi None, plain ``K q + U nu = f0``). Converged when
     the step reaches round-off or the force residual is below 1e-12 x ``force_scale`` (N; the
-    force that closes a mesh's backlash: a smaller load cannot say on which flank it rests).
+    force that closes a mesh's backlash: a smaller load cannot say on which flank it rests)
+    or below the round-off of the forces it sums.
     ``preload(x)``: forces along U that put the linear solution's meshes on the flank it
     loads (the first guess, so that Newton's method rarely has to cross a gap)."""
     n = K.shape[0]
@@ -200,10 +201,14 @@ def static_start(M, K, U, nl, f0, phi, xd0, force_scale: float = 0.0, preload=No
         if np.any(p):
             z = solve(rhs - Ub @ p)
     step = np.inf
+    absB, absU = abs(B), np.abs(Ub)
     for _ in range(60):
         nu, dk, _ = nl.forces(0.0, Ub.T @ z, xd0)
         r = B @ z + Ub @ nu - rhs
-        if not len(nu) or np.linalg.norm(r) <= 1e-12 * max(np.linalg.norm(rhs), force_scale):
+        # or r at round-off: each row sums the forces |B| |z|, |U| (the terms of nu) and rhs,
+        # rounded to about ROUNDOFF eps x their size (transient.ROUNDOFF)
+        floor = ROUNDOFF * EPS * np.linalg.norm(absB @ np.abs(z) + absU @ nl.force_scale(nu) + np.abs(rhs))
+        if not len(nu) or np.linalg.norm(r) <= max(1e-12 * max(np.linalg.norm(rhs), force_scale), floor):
             break
         # Newton step with the tangent B + Ub diag(dk) Ub' by Woodbury
         y = solve(r)
@@ -232,6 +237,22 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     is the :class:`SimulationResult` so far (``complete`` False). A run whose history does not
     fit the memory budget is refused (SceneError at ``t_end``) before anything is assembled or
     allocated (:func:`assembly.dynamics.transient.check_history`)."""
+    from .. import arguments as check                # each argument's kind, one SceneError naming it
+    check.scene("scene", scene)
+    t_end, dt = check.number("t_end", t_end, "s", gt=0.0), check.number("dt", dt, "s", gt=0.0)
+    outputs = None if outputs is None else check.names("outputs", outputs, empty=True)
+    check.optional(check.model, "model", model)
+    check.optional(check.file_path, "base_dir", base_dir)
+    speed = check.optional(check.number, "speed", speed, "rad/s")
+    check.function("progress", progress)
+    check.flag("full_fe", full_fe)
+    bodies = [b.name for b in scene.expanded().bodies]          # the bodies a name here must be
+    if scene.simulation is not None and scene.simulation.reference is not None:
+        check.one_of("simulation.reference", scene.simulation.reference, bodies)
+    for i, name in enumerate(outputs or ()):
+        if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
+            raise check.refuse(f"outputs[{i}]", name,
+                               f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")
     from ..model import assemble
     check_history(dt, t_end, 0)                 # the run's length alone, before assembling
     sim = scene.simulation or Simulation()

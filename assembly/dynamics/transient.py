@@ -56,6 +56,12 @@ def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces:
                  f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
                  "shorten t_end, raise dt or record fewer outputs")
     return n_steps
+#: Absolute floor of a step's residual, in units of eps x the size of the forces it is summed
+#: from (:meth:`Nonlinear.force_scale`, plus xi): a column of a mesh's nu sums four rounded
+#: terms (k e + c s delta' - k0 delta - c delta'), so it is known to about 4 eps x their size;
+#: a residual below that is round-off, and no Newton step can lower it further.
+ROUNDOFF = 4
+EPS = float(np.finfo(float).eps)
 
 
 class Nonlinear:
@@ -72,6 +78,11 @@ class Nonlinear:
     def commit(self, t: float, x: np.ndarray, xd: np.ndarray) -> None:
         pass
 
+    def force_scale(self, nu: np.ndarray) -> np.ndarray:
+        """(m,) the size of the terms the last :meth:`forces` summed into ``nu`` (same units):
+        ``nu`` is known to about eps times it. Default ``|nu|`` (a force computed directly)."""
+        return np.abs(nu)
+
 
 class Stack(Nonlinear):
     """Several :class:`Nonlinear` parts as one (their columns side by side)."""
@@ -79,7 +90,8 @@ class Stack(Nonlinear):
     def __init__(self, parts: list, n: int):
         self.parts = [p for p in parts if p is not None and p.U.shape[1]]
         if len(self.parts) == 1:                   # one part: its own methods, no splitting
-            self.forces, self.commit = self.parts[0].forces, self.parts[0].commit
+            self.forces, self.commit, self.force_scale = (self.parts[0].forces, self.parts[0].commit,
+                                                          self.parts[0].force_scale)
         self.U = np.hstack([p.U for p in self.parts]) if self.parts else np.zeros((n, 0))
         self._cuts = np.cumsum([0] + [p.U.shape[1] for p in self.parts])
 
@@ -106,6 +118,9 @@ class Stack(Nonlinear):
     def commit(self, t, x, xd):
         for p, a, b in zip(self.parts, self._split(x), self._split(xd)):
             p.commit(t, a, b)
+
+    def force_scale(self, nu):
+        return np.concatenate([p.force_scale(a) for p, a in zip(self.parts, self._split(nu))] or [np.zeros(0)])
 
 
 def tangent(T: np.ndarray) -> np.ndarray:
@@ -222,6 +237,12 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
             if not len(r):
                 break
             res = _norm(r)
+            # converged at round-off: nu is a difference of forces (a mesh's contact force less the
+            # linear model's k0 delta + c delta'), known only to eps x their size, so no iteration
+            # lowers the residual below that floor; a damped mesh resting in contact has xi and
+            # U' a+ themselves at round-off, where the relative tests below can never pass
+            if res <= ROUNDOFF * EPS * (_norm(xi) + (1 - af) * _norm(nl.force_scale(nu))):
+                break
             if res >= best and res > 1e-13 * (_norm(xi) + (1 - af) * _norm(nu)):
                 # the full step did not lower the residual (a kink of a piecewise law, e.g. the
                 # brake saturating on both sides of its stick band): halve it, from the last point

@@ -5,6 +5,7 @@ import pytest
 
 from assembly.app import run_report
 from assembly.app.output import MANIFEST
+from assembly.errors import SceneError
 from assembly.schema import load_scene, scene_from_dict
 
 
@@ -31,7 +32,7 @@ def test_run_report_on_an_edited_scene_object(tmp_path):
 
 
 def test_run_report_refuses_unknown_option(tmp_path):
-    with pytest.raises(TypeError, match="n_modes"):
+    with pytest.raises(SceneError, match="n_modes"):
         run_report("lin_parker_n3.toml", tmp_path / "out", modes=3)
     assert not (tmp_path / "out").exists()
 

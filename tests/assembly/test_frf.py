@@ -176,14 +176,15 @@ def test_bad_names_name_the_argument(arg, name):
     ins, outs = ("torque:a", [name]) if arg == "output" else (name, ["torque:s"])
     with pytest.raises(SceneError) as exc:
         frequency_response(model, ins, outs, [1.0])
-    assert exc.value.path == f"--{arg}" and exc.value.value == name
+    assert exc.value.path == {"input": "input", "output": "outputs"}[arg] and exc.value.value == name
 
 
 def test_bad_frequencies():
     model = assemble(two_mass())
     for f in ([], [-1.0], [math.nan], [math.inf]):
-        with pytest.raises(SceneError, match="frequencies"):
+        with pytest.raises(SceneError) as err:
             frequency_response(model, "torque:a", "torque:s", f)
+        assert err.value.path.startswith("frequency_hz")
 
 
 def test_free_free_chain_with_non_proportional_dampers():

@@ -66,7 +66,7 @@ def test_stress_point_off_the_body_or_on_a_rigid_body_is_refused(held_stage):
     iface = sorted(held_stage.bodies["pinion"].masters)[0]
     with pytest.raises(SceneError, match="off the body") as err:
         frequency_response(held_stage, f"torque:pinion:{iface}", ["stress:wheel:5,5,5"], [1.0])
-    assert err.value.path == "--output"
+    assert err.value.path == "outputs"
     with pytest.raises(SceneError, match="not a flexible body"):
         frequency_response(held_stage, f"torque:pinion:{iface}", ["stress:output_shaft:0,0,0.2"], [1.0])
     with pytest.raises(SceneError, match="X,Y,Z"):

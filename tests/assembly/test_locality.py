@@ -187,7 +187,7 @@ def test_stage_alone_planet_modes_appear_in_the_whole_drivetrain(quill):
 
 
 @pytest.mark.parametrize("args, path, value", [
-    (("nostage",), "stages", "nostage"),                           # no stage of that name
+    (("nostage",), "stage_name", "nostage"),                       # no stage of that name
     (("planetary",), "stages[0].sun.support", "floating"),         # floating member without a bearing
     (("planetary", {"planet": BearingSpec(1e9, 1e9, 1e6)}), "bearings", "planet"),   # not a member
     (("planetary", {"sun": {"k_radial": 1e9}}), "bearings.sun", {"k_radial": 1e9}),  # not a BearingSpec
