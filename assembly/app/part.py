@@ -25,7 +25,7 @@ def parse_vector(text: str, flag: str) -> tuple:
     except ValueError:
         v = ()
     if len(v) != 3 or not all(math.isfinite(x) for x in v):
-        raise UsageError(f"{flag} {text}: give three finite numbers, e.g. 0,1,0")
+        raise UsageError(f"{flag} = {text!r}: give three finite numbers, e.g. 0,1,0")
     return v
 
 
@@ -39,8 +39,16 @@ def _file_part(args):
 
     if args.body is not None:
         raise UsageError(f"--body {args.body}: names a body of a scene; {args.target} is a part file")
-    if args.mesh_size is not None and not (math.isfinite(args.mesh_size) and args.mesh_size > 0):
-        raise UsageError(f"--mesh-size {args.mesh_size}: must be a finite number > 0 (m)")
+    from fe_components.part_file import CAD_SUFFIXES, UNITS
+
+    from .. import arguments
+    if args.mesh_size is not None:
+        if Path(args.target).suffix.lower() not in CAD_SUFFIXES:
+            raise UsageError(f"--mesh-size = {args.mesh_size!r}: a mesh file brings its own elements; the element "
+                             "size is for a CAD file (STEP, BREP)")
+        with_flag(lambda: arguments.number("--mesh-size", args.mesh_size, "m", gt=0.0))
+    if args.units is not None and args.units not in UNITS:
+        raise UsageError(f"--units = {args.units!r}: must be one of {list(UNITS)}{arguments.nearest(args.units, UNITS)}")
     fields = {"units": args.units, "order": args.order}
     if args.axis is not None:
         fields["axis"] = parse_vector(args.axis, "--axis")
@@ -49,19 +57,31 @@ def _file_part(args):
     try:
         part = PartFile(args.target, **fields)
     except GeometryError as err:
-        raise flagged(err) from None
+        raise flagged(err, {"axis": args.axis, "origin": args.origin}) from None
     return part, FlexOptions(mesh_size=args.mesh_size)
+
+
+def with_flag(check):
+    """``check()``, its SceneError (which names a flag) as a UsageError."""
+    from ..errors import SceneError
+    from .cli import UsageError
+    try:
+        return check()
+    except SceneError as err:
+        raise UsageError(str(err)) from None
 
 
 #: A part file's fields the FILE form takes from the command line.
 FLAGS = {"units": "--units", "order": "--order", "axis": "--axis", "origin": "--origin", "file": "FILE"}
 
 
-def flagged(err):
-    """A part error of the FILE form as a SceneError naming the command-line flag."""
+def flagged(err, typed: dict | None = None):
+    """A part error of the FILE form as a SceneError naming the command-line flag, with the
+    value as typed there when ``typed`` has it ({field: text})."""
     from ..errors import SceneError
     name = err.parameter.split("[")[0].split(".")[0]
-    return SceneError(FLAGS[name] if name in FLAGS else err.parameter, err.value, err.reason)
+    value = (typed or {}).get(name, err.value)
+    return SceneError(FLAGS[name] if name in FLAGS else err.parameter, value, err.reason)
 
 
 def check(args):

@@ -19,6 +19,7 @@ from tests.app.test_simulate_cli import pair_file      # a torsional pair: rotor
 NUMBERS = ["nan", "inf", "-inf", "0", "-1", "1e308", "abc", ""]
 NAMES = ["", "nope", "rotr"]
 S = "SCENE"
+P = "PART"
 
 #: (subcommand and its valid arguments, flag, values tried, the values that are valid there).
 #: A flag's value replaces the base one; "-inf" is passed as --flag=-inf (else argparse takes it
@@ -56,6 +57,14 @@ OPTIONS = [
     (["study", "planet_count", "--out", "OUT"], "--scheduler", [""], set()),
     (["study", "planet_count", "--out", "OUT"], "--workers", NUMBERS + ["100000"], set()),
     (["modes"], "", ["", "nope", "nrel5m"], set()),
+    # flexgear part FILE (a steel bar of linear tetrahedra, tests/support/mesh_writers.kuhn_box)
+    (["part", P, "--units", "m"], "--units", ["", "nope", "mx", "m"], {"m"}),
+    (["part", P, "--units", "m"], "--order", NUMBERS + ["2"], {"2"}),
+    (["part", P, "--units", "m"], "--axis", ["", "nan,0,0", "0,0,0", "1,0", "abc", "1e308,0,0", "0,1,0"],
+     {"0,1,0"}),
+    (["part", P, "--units", "m"], "--origin", ["", "nan,0,0", "1,2", "abc", "0,0,0"], {"0,0,0"}),
+    (["part", P, "--units", "m"], "--mesh-size", NUMBERS + ["0.01"], set()),
+    (["part", P, "--units", "m"], "--modes", NUMBERS + ["101", "3"], {"3"}),
     (["modes", S, "--cache-dir"], "", [""], set()),
 ]
 #: what a flag's value feeds when the error is the analysis' own (--fmin 0 Hz on a free chain)
@@ -71,9 +80,19 @@ def scene(tmp_path_factory):
     return pair_file(tmp_path_factory.mktemp("cli"))
 
 
-def _argv(i: int, value: str, scene: str, out: str) -> list:
+@pytest.fixture(scope="module")
+def part(tmp_path_factory):
+    import meshio
+    from tests.support.mesh_writers import kuhn_box
+    pts, tets = kuhn_box((0.1, 0.02, 0.02), (5, 1, 1))
+    path = tmp_path_factory.mktemp("cli-part") / "bar.vtu"
+    meshio.write(path, meshio.Mesh(pts, [("tetra", tets)]))
+    return str(path)
+
+
+def _argv(i: int, value: str, scene: str, out: str, part: str = "") -> list:
     base, flag, _, _ = OPTIONS[i]
-    argv = [scene if a == S else out if a == "OUT" else a for a in base]
+    argv = [scene if a == S else out if a == "OUT" else part if a == P else a for a in base]
     if not flag:                                    # a positional value (the scene) or a value-only option
         return argv + [value] if argv[-1] != "--cache-dir" else [argv[-1], value, *argv[:-1]]
     if flag in argv and flag not in ("--output",):
@@ -96,11 +115,11 @@ def _value_forms(value: str) -> list:
 
 
 @pytest.mark.parametrize("i, value", CASES, ids=[f"{OPTIONS[i][0][0]}{OPTIONS[i][1]}={v!r}" for i, v in CASES])
-def test_option_value_is_refused_in_one_line_or_runs(scene, tmp_path, capsys, monkeypatch, i, value):
+def test_option_value_is_refused_in_one_line_or_runs(scene, part, tmp_path, capsys, monkeypatch, i, value):
     monkeypatch.chdir(tmp_path)                      # a run may write partial results into the working folder
     out = tmp_path / "out"
     _, flag, _, valid = OPTIONS[i]
-    rc = main(_argv(i, value, scene, str(out)))
+    rc = main(_argv(i, value, scene, str(out), part))
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     if value in valid:
         assert rc == 0, err

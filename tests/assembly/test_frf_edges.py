@@ -138,7 +138,7 @@ def test_zero_hz_on_a_free_model_is_refused_and_on_a_held_one_answered(method):
 @pytest.mark.parametrize("method", ["modal", "direct"])
 def test_overflowing_frequency_is_refused(method):
     for fmax in (1e308, 1e160):
-        with pytest.raises(SceneError, match="overflows"):
+        with pytest.raises(SceneError, match="overflows|not physical"):
             frequency_response(assemble(_chain(c=30.0)), "torque:a", "torque:s", [1.0, fmax], method=method)
 
 
