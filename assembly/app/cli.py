@@ -248,7 +248,6 @@ def cmd_study(args) -> int:
 
     from fe_components.meshing import default_cache_dir
 
-    from .output import check_output_dir
     from .progress import Progress
     from .study_engine import run_study
     from .study_file import read_study
@@ -256,20 +255,20 @@ def cmd_study(args) -> int:
 
     study = read_study(args.study)
     out = Path(args.out).absolute()
-    check_output_dir(out)       # refuse a foreign folder before the (possibly long) study
     mode = "serial" if args.serial else "scheduler" if args.scheduler else "local"
     progress = Progress(enabled=False if args.quiet else None)
     t0 = time.perf_counter()
-    with progress.bar(f"{study.name}: {len(study.variants)} variants ({mode})", total=len(study.variants),
-                      unit="variant") as bar:
-        failed = []
+    with holding_out(args):     # a foreign or busy folder refused, and locked, before the (possibly long) study
+        with progress.bar(f"{study.name}: {len(study.variants)} variants ({mode})", total=len(study.variants),
+                          unit="variant") as bar:
+            failed = []
 
-        def tick(row):
-            failed.extend([row["variant"]] if row["status"] != "ok" else [])
-            bar.update(1)
-            bar.set_postfix_str(f"{len(failed)} failed", refresh=False)
-        rows = run_study(study, mode, args.scheduler, args.workers, str(default_cache_dir().absolute()), tick)
-    info = study_to_dir(study, rows, out, mode, time.perf_counter() - t0)
+            def tick(row):
+                failed.extend([row["variant"]] if row["status"] != "ok" else [])
+                bar.update(1)
+                bar.set_postfix_str(f"{len(failed)} failed", refresh=False)
+            rows = run_study(study, mode, args.scheduler, args.workers, str(default_cache_dir().absolute()), tick)
+        info = study_to_dir(study, rows, out, mode, time.perf_counter() - t0)
     if not args.quiet:
         print(f"{study.name}: {info['variants']} variants ({info['failed']} failed) in {info['time_s']:.1f} s "
               f"-> {out / 'index.html'}")
