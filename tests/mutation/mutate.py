@@ -46,6 +46,7 @@ MODULES = {
     "element": ({"assembly/elements.py": ["Element.stiffness", "Element.damping", "_rank_one_sum",
                                           "relative_spring", "line_of_action", "gear_mesh"]},
                 ["tests/assembly/test_core_elements.py", "tests/assembly/test_helix_thrust.py",
+                 "tests/assembly/test_line_of_action.py",
                  "tests/assembly/test_static_forces.py", "tests/assembly/test_core_validation.py",
                  "tests/assembly/test_bearing_directions.py", "tests/app/test_reference.py"]),
     "reduction": ({"cms/craig_bampton.py": ["CraigBamptonReductor.reduce", "CraigBamptonReductor.reconstruct",
@@ -73,7 +74,8 @@ MODULES = {
                                             "equilibrium", "_torque_balance", "_mesh_row", "_constraint_reactions",
                                             "_add_rigid_directions", "_ratio_check"]},
                  ["tests/assembly/test_static_forces.py", "tests/assembly/test_static_loads.py",
-                  "tests/assembly/test_helix_thrust.py", "tests/assembly/test_bearing_directions.py"]),
+                  "tests/assembly/test_helix_thrust.py", "tests/assembly/test_bearing_directions.py",
+                  "tests/assembly/test_reaction_rows.py"]),
 }
 
 
