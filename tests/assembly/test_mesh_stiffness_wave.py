@@ -125,3 +125,26 @@ def test_a_scene_mesh_takes_the_wave_of_its_teeth():
         want = [_coefficient(h, c, 0.35, eps_b) for h in range(1, 7)]
         np.testing.assert_allclose(a, want, rtol=0, atol=1e-9)
         assert np.all(p == 0.0)
+
+
+def test_stage_meshes_take_their_own_pairs_contact_ratio_and_planet_phase():
+    """A stage with teeth and both variations given as steps (the 5 MW transient scene's
+    first stage): each sun-planet mesh takes the sun-planet pair's contact ratio, each
+    planet-ring mesh the planet-ring pair's (1.115 and 1.278 for stage 1: they differ), and
+    planet n's meshes are phased by z psi_n with z the counting gear's teeth (Parker 2000,
+    J. Sound Vib. 236: the mesh of planet n lags planet 0's by z_s psi_n / z_r psi_n)."""
+    from assembly.gear_data import stage_contact_ratios
+    from assembly.planetary import expand_stages
+    from assembly.schema import load_scene
+
+    sc = load_scene("nrel5mw_transient.toml")
+    (i, st), = [(i, s) for i, s in enumerate(sc.stages) if s.variation_sun and s.variation_ring][:1]
+    eps_sun, eps_ring = stage_contact_ratios(st)
+    assert abs(eps_sun - eps_ring) > 0.01
+    meshes = {m.name: m for m in expand_stages(sc)["meshes"]}
+    for n, psi in enumerate(st.planet_angles()):
+        sun, ring = meshes[f"{st.name}.sun-planet{n}"].variation, meshes[f"{st.name}.planet{n}-ring"].variation
+        assert sun.contact_ratio == pytest.approx(eps_sun, rel=1e-12)
+        assert ring.contact_ratio == pytest.approx(eps_ring, rel=1e-12)
+        assert sun.phase == pytest.approx(st.variation_sun.phase + st.sun.teeth * psi, rel=1e-12, abs=1e-12)
+        assert ring.phase == pytest.approx(st.variation_ring.phase + st.ring.teeth * psi, rel=1e-12, abs=1e-12)
