@@ -163,3 +163,13 @@ def test_a_long_frequency_list_gives_each_frequency_its_own_answer():
         alone = frequency_response(model, "torque:c", OUTS, f[pick], result=res, modes_hz=CUTOFF)
         for name in OUTS:
             np.testing.assert_allclose(every.outputs[name][pick], alone.outputs[name], rtol=1e-12)
+
+
+def test_the_frf_reports_the_models_natural_frequencies():
+    """FRF.natural_hz: the undamped elastic natural frequencies, sqrt(lambda) / (2 pi) of the
+    model's own eigenproblem K phi = lambda M phi (scipy here), as the FRF's modal cutoff
+    counts them."""
+    model = assemble(chain(Damping(modal_ratio=0.01)))
+    lam, _ = _modes(model)
+    r = frequency_response(model, "torque:c", OUTS, F, modes_hz=CUTOFF)
+    np.testing.assert_allclose(r.natural_hz, np.sqrt(lam) / (2 * np.pi), rtol=1e-10)
