@@ -70,7 +70,7 @@ MODULES = {
                                                          "amplification"],
                     "assembly/dynamics/transient.py": ["_weighted", "integrate"]},
                    ["tests/assembly/test_integrators.py", "tests/assembly/test_simulate.py",
-                    "tests/assembly/test_transient_physics.py", "tests/assembly/test_transient_partial.py"]),
+                    "tests/assembly/test_transient_physics.py"]),
     "reaction": ({"assembly/reactions.py": ["_shift", "element_wrenches", "static_report", "support_reactions",
                                             "equilibrium", "_torque_balance", "_mesh_row", "_constraint_reactions",
                                             "_add_rigid_directions", "_ratio_check"]},
