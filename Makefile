@@ -12,7 +12,7 @@ SYSTEM_PKGS := libglu1-mesa libgl1 libegl1 libxcursor1 libxft2 libxinerama1 libg
                libsuitesparse-dev libopenblas0-pthread build-essential
 STAMP := $(VENV)/.flexgear-installed
 
-.PHONY: setup sysdeps run test test-fast fuzz bench clean clean-cache
+.PHONY: setup sysdeps run test test-fast fuzz mutate bench clean clean-cache
 
 sysdeps:
 	@if ! dpkg -s $(SYSTEM_PKGS) >/dev/null 2>&1 || ! $(PYTHON) -c 'import ensurepip' >/dev/null 2>&1; then \
@@ -49,6 +49,14 @@ fuzz: setup
 	FLEXGEAR_FUZZ_SCALE=20 HYPOTHESIS_PROFILE=explore $(PY) -m pytest -q tests/hard_cases/test_fuzz_scenes.py \
 	  tests/hard_cases/test_fuzz_solve.py tests/hard_cases/test_scene_files.py tests/hard_cases/test_magnitudes.py \
 	  tests/cms/test_cms_persistence.py tests/fe_components/test_fe_mesh_cache.py
+
+# Mutation pass over the physics modules (tests/mutation/mutate.py): one small wrong change at
+# a time, the quick tests that cover it; a table of kill rates and the survivors. CPU-heavy:
+# by default 30 mutants per module (seeded; about an hour on 2 cores), MUTATE_ARGS="--module frf"
+# for one module, MUTATE_ARGS= for every mutant.
+MUTATE_ARGS ?= --sample 30
+mutate: setup
+	nice -n 10 $(PY) tests/mutation/mutate.py $(MUTATE_ARGS)
 
 bench: setup
 	$(PY) -m pip install -q -e '.[bench]' || echo "note: exudyn not installed; cms bench runs without the Exudyn columns"

@@ -11,6 +11,7 @@ its load case loads every mesh on the flank the documented drive signs pick.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import os
 import re
@@ -163,10 +164,93 @@ def test_extra_carrier_keys_are_accepted():
     assert np.allclose(a, b) and np.allclose(np.degrees(a), [30.0, 150.0, 270.0])
 
 
-def test_reference_toml_snippets_parse_and_validate():
-    from assembly.schema import scene_from_dict
-    for block in FENCE.findall(REFERENCE.read_text(encoding="utf-8")):
-        scene_from_dict(tomllib.loads(block))
+#: The ```toml blocks of the docs and what each page's blocks are: "variant" (a scene file
+#: with ``extends``), "study" (a study file), or the shipped scene whose tables a fragment
+#: replaces. The walk-through's blocks are the shipped two_stage_quill.toml (tested below),
+#: README's are whole scenes (tests/app/test_readme_examples.py).
+SNIPPETS = {"static.md": "hs_parallel_stage.toml", "user_parts.md": "planetary_step_carrier.toml",
+            "simulate.md": "variant", "study.md": "study"}
+
+
+def _doc_snippets() -> list[tuple[str, int, str]]:
+    """(page, line, block) of every ```toml block of docs/*.md but the walk-through's."""
+    out = []
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        if page == WALKTHROUGH:
+            continue
+        text = page.read_text(encoding="utf-8")
+        out += [(page.name, text.count("\n", 0, m.start()) + 1, m.group(1)) for m in FENCE.finditer(text)]
+    return out
+
+
+def _merged(host, fragment):
+    """The host scene's tables with the fragment's keys put in: a table merges key by key, an
+    array of named tables entry by entry (the docs show the entries that matter), another
+    array replaces the host's, a table given where the host has an array (a
+    ``[stages.carrier]`` fragment of a one-stage scene) goes into its first entry; ``loads``
+    and ``load`` exclude each other."""
+    out = dict(host)
+    for key, value in fragment.items():
+        if key in ("load", "loads"):
+            out.pop("loads" if key == "load" else "load", None)
+        old = out.get(key)
+        if isinstance(value, dict) and isinstance(old, list) and old and isinstance(old[0], dict):
+            out[key] = [_merged(old[0], value)] + old[1:]
+        elif isinstance(value, dict) and isinstance(old, dict):
+            out[key] = _merged(old, value)
+        elif _named(value) and _named(old):                # e.g. interfaces: by name, others kept
+            mine = {v["name"]: v for v in value}
+            out[key] = [_merged(o, mine.pop(o["name"])) if o["name"] in mine else o for o in old] + list(mine.values())
+        else:
+            out[key] = value
+    return out
+
+
+def _named(value) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) and "name" in v for v in value)
+
+
+def _toml(value) -> str:
+    """A TOML value (inline tables and arrays): enough to write a scene back."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value) if math.isfinite(value) else ("inf" if value > 0 else "-inf" if value < 0 else "nan")
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    return "{" + ", ".join(f"{json.dumps(k)} = {_toml(v)}" for k, v in value.items()) + "}"
+
+
+def test_docs_toml_snippets_load(tmp_path):
+    """Every TOML snippet of the docs is read as what it is (a variant, a study, or a
+    fragment put into the shipped scene it comes from) and passes the scene checks; a page
+    with snippets must say what they are (SNIPPETS), and finding none fails."""
+    from assembly.app.study_file import read_study
+    from assembly.schema import SCENE_DIR, load_scene
+    found = _doc_snippets()
+    assert found, "no ```toml block found in docs/*.md"
+    assert {page for page, _, _ in found} == set(SNIPPETS), "say in SNIPPETS what a new page's blocks are"
+    (tmp_path / "parts").symlink_to(SCENE_DIR / "parts")          # the STEP carrier's part, beside the scene
+    for i, (page, line, block) in enumerate(found):
+        kind = SNIPPETS[page]
+        path = tmp_path / f"snippet_{i}.toml"
+        if kind == "study":
+            path.write_text(block, encoding="utf-8")
+            study = read_study(path)
+            assert study.variants, (page, line)
+            continue
+        if kind == "variant":
+            text = block
+        else:
+            data = _merged(tomllib.loads((SCENE_DIR / kind).read_text(encoding="utf-8")), tomllib.loads(block))
+            text = "".join(f"{json.dumps(k)} = {_toml(v)}\n" for k, v in data.items())
+        path.write_text(text, encoding="utf-8")
+        try:
+            load_scene(path)
+        except Exception as exc:
+            raise AssertionError(f"docs/{page}:{line}: {exc}") from exc
 
 
 QUILL = ROOT / "assembly" / "scenes" / "two_stage_quill.toml"

@@ -181,6 +181,13 @@ def test_a_run_that_leaves_every_bound_stops_with_a_named_partial_result():
         integrate(np.eye(1), None, np.zeros((1, 1)), lambda t: np.zeros(1), [1.0], [1 / math.sqrt(2)], 1e-3, 3.0,
                   nonlinear=_Blowup(), dof_names=["x"])
     p = e.value.partial
+    # every row keeps its own time (the steps'), and before the pole the rows follow the closed
+    # form to the trapezoidal rule's O(dt^2) error, amplified by the growth
+    assert len(p.time_s) == len(p.y) == len(p.iterations) > 1
+    np.testing.assert_allclose(p.time_s, np.arange(len(p.time_s)) * 1e-3, rtol=0, atol=1e-12)
+    early = p.time_s <= 1.0
+    np.testing.assert_allclose(p.y[early, 0], 1 / (1 - p.time_s[early] / math.sqrt(2)), rtol=1e-3)
+    assert p.time_s[-1] > 1.0
     assert not p.complete and np.all(np.isfinite(p.y))
     assert p.time_s[-1] < math.sqrt(2) + 0.05                 # stops at the blow-up, not at t_end
     assert "t = " in str(e.value) and ("x" in str(e.value) or "Newton" in str(e.value))

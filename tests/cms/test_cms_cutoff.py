@@ -50,3 +50,18 @@ def test_cutoff_stops_at_max_modes_plus_one():
                {"n_modes": 2.0}, {"n_modes": True}):
         with pytest.raises(ReductionError):
             CraigBamptonReductor(m.K, m.M, end, **kw)
+
+
+def test_cutoff_search_with_the_block_eigensolver_equals_single_solve():
+    # The block method does not deflate: each batch solves again for all modes found so far
+    # plus the next batch (n_found + k); the cutoff's 30 modes equal one solve of 30.
+    from cms.craig_bampton import SolverOptions
+    m = box(lengths=(1.0, 0.1, 0.1), divisions=(20, 2, 2), order=1)
+    end = m.dofs_where(lambda x: x[0] < 1e-9)
+    block = SolverOptions(eigen_method="block")
+    f_all = CraigBamptonReductor(m.K, m.M, end, n_modes=40).reduce().mode_frequencies_hz
+    cutoff = 0.5 * (f_all[29] + f_all[30])
+    a = CraigBamptonReductor(m.K, m.M, end, cutoff_hz=cutoff, options=block).reduce()
+    b = CraigBamptonReductor(m.K, m.M, end, n_modes=30).reduce()
+    assert a.n_modes == 30
+    np.testing.assert_allclose(a.eigenvalues, b.eigenvalues, rtol=1e-9)

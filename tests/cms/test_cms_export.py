@@ -12,7 +12,12 @@ significant digits), so every comparison is exact equality.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -252,25 +257,62 @@ def test_nastran_real_needs_a_decimal_point_and_refuses_non_finite():
         nastran_real(float("inf"))
 
 
-def test_pynastran_reads_the_dmig_bit_exact(se, tmp_path):
+#: pyNastran 1.4.1 (the current release) pins numpy < 2 and calls np.in1d, gone in NumPy
+#: 2.4, so it cannot run beside flexgear: it reads the file in an environment of its own,
+#: made once (about 15 s with pip's cache, 60 s without) and kept in pytest's cache folder.
+PYNASTRAN = ("pyNastran==1.4.1", "numpy<2", "scipy", "cpylog", "docopt-ng")
+READ_WITH_PYNASTRAN = """
+import json, sys
+import numpy as np
+from pyNastran.bdf.bdf import BDF
+model = BDF(debug=None)
+model.read_bdf(sys.argv[1], punch=True, xref=False)
+out = {"matrices": {}, "nodes": {str(g): n.xyz.tolist() for g, n in model.nodes.items()},
+       "spoints": sorted(int(s) for s in model.spoints)}
+for name in ("KAAX", "MAAX"):
+    matrix, rows, _ = model.dmig[name].get_matrix(is_sparse=False, apply_symmetry=True)[:3]
+    out["matrices"][name] = {"keys": [[int(v) for v in rows[i]] for i in range(len(rows))],
+                             "values": np.asarray(matrix, float).tolist()}
+print(json.dumps(out))   # floats as repr: the shortest decimal that reads back to the same binary64
+"""
+
+
+def _pynastran_python(request, tmp_path_factory) -> Path:
+    """The interpreter of a virtual environment holding PYNASTRAN (made if missing, with this
+    environment's pip: ``pip --python``; the base interpreter's site-packages are visible,
+    so a scipy there is not installed again)."""
+    cache = getattr(request.config, "cache", None)
+    root = cache.mkdir("pynastran-1.4.1") if cache is not None else tmp_path_factory.mktemp("pynastran")
+    venv, done = root / "venv", root / "venv.ok"
+    if not done.exists():
+        shutil.rmtree(venv, ignore_errors=True)
+        base = getattr(sys, "_base_executable", sys.executable)
+        subprocess.run([base, "-m", "venv", "--without-pip", "--system-site-packages", str(venv)], check=True,
+                       timeout=120)
+        out = subprocess.run([sys.executable, "-m", "pip", "--python", str(venv / "bin" / "python"), "install",
+                              "-q", "--no-deps", *PYNASTRAN], capture_output=True, text=True, timeout=600)
+        assert out.returncode == 0, f"cannot install {PYNASTRAN}: {out.stderr[-2000:]}"
+        done.write_text(" ".join(PYNASTRAN) + "\n")
+    return venv / "bin" / "python"
+
+
+@pytest.mark.slow   # the first run makes pyNastran's environment
+def test_pynastran_reads_the_dmig_bit_exact(se, tmp_path, request, tmp_path_factory):
     """A Nastran-family reader (pyNastran's BDF, bulk data only) accepts the file and gets the
     same binary64 matrices, GRIDs and SPOINTs."""
-    pytest.importorskip("pyNastran")
-    try:
-        from pyNastran.bdf.bdf import BDF
-    except AttributeError as exc:      # pyNastran 1.4.1 uses np.in1d, gone in NumPy 2.4
-        pytest.skip(f"pyNastran does not run with NumPy {np.__version__}: {exc}")
-
+    python = _pynastran_python(request, tmp_path_factory)
     path = write_dmig(tmp_path / "bar.dmig", se)
-    model = BDF(debug=None)
-    model.read_bdf(str(path), punch=True, xref=False)
+    out = subprocess.run([str(python), "-c", READ_WITH_PYNASTRAN, str(path)], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    got = json.loads(out.stdout)
     want = dof_map(se).keys()
     for name, ref in (("KAAX", se.K), ("MAAX", se.M)):
-        matrix, rows, _ = model.dmig[name].get_matrix(is_sparse=False, apply_symmetry=True)[:3]
-        keys = [tuple(int(v) for v in rows[i]) for i in range(len(rows))]
-        assert np.array_equal(_in_order(np.asarray(matrix), keys, want), ref), name
-    assert {g: n.xyz.tolist() for g, n in model.nodes.items()} == {1: ENDS["a"], 2: ENDS["b"]}
-    assert sorted(model.spoints) == list(range(1001, 1001 + se.n_modes))
+        keys = [tuple(k) for k in got["matrices"][name]["keys"]]
+        matrix = np.array(got["matrices"][name]["values"])
+        assert np.array_equal(_in_order(matrix, keys, want), ref), name
+    assert got["nodes"] == {"1": ENDS["a"], "2": ENDS["b"]}
+    assert got["spoints"] == list(range(1001, 1001 + se.n_modes))
 
 
 def test_is_export_knows_its_own_files_and_no_other(se, tmp_path):
