@@ -13,43 +13,14 @@ import math
 import pytest
 
 from assembly.app.cli import main
+from tests.app.test_frf_cli import C, J1, J2, K, SCENE
 
-K, J1, J2 = 1.0e4, 2.0, 3.0
 F_N = math.sqrt(K * (J1 + J2) / (J1 * J2)) / (2 * math.pi)
 
-SCENE = """
-name = "two inertias"
-[[bodies]]
-name = "a"
-mass = 10.0
-polar_inertia = 2.0
-[[bodies]]
-name = "b"
-mass = 10.0
-polar_inertia = 3.0
-position = [0.0, 0.0, 1.0]
-[[bearings]]
-body = "a"
-k_radial = inf
-k_axial = inf
-k_tilt = inf
-[[bearings]]
-body = "b"
-k_radial = inf
-k_axial = inf
-k_tilt = inf
-[[shafts]]
-name = "s"
-body1 = "a"
-body2 = "b"
-k_torsion = 1.0e4
-c_torsion = {c}
-"""
-
-
 def _scene(tmp_path, c):
+    """test_frf_cli's two-inertia scene with the shaft damper ``c`` (N m s/rad)."""
     p = tmp_path / f"two_{c}.toml"
-    p.write_text(SCENE.format(c=c))
+    p.write_text(SCENE.replace(f"c_torsion = {C}", f"c_torsion = {c}"))
     return str(p)
 
 

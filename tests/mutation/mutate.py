@@ -273,6 +273,8 @@ def main(argv=None) -> int:
                     help="module(s) to mutate (default: all)")
     ap.add_argument("--sample", type=int, default=0, help="at most N mutants per module, drawn with a fixed seed")
     ap.add_argument("--seed", type=int, default=26)
+    ap.add_argument("--function", action="append", metavar="NAME",
+                    help="mutate only these functions (e.g. after a change to them)")
     ap.add_argument("--list", action="store_true", help="list the mutants and stop")
     ap.add_argument("--json", type=Path, help="also write the results to this file")
     ap.add_argument("--rerun", type=Path, help="a --json file of an earlier run: run its survivors again (the "
@@ -283,7 +285,8 @@ def main(argv=None) -> int:
     plan = {}
     for name in names:
         files, tests = MODULES[name]
-        ms = [m for path, fns in files.items() for m in mutants_of(path, fns)]
+        ms = [m for path, fns in files.items() for m in mutants_of(path, fns)
+              if not args.function or m.function in args.function]
         if args.sample and len(ms) > args.sample:
             ms = sorted(random.Random(f"{args.seed}:{name}").sample(ms, args.sample), key=lambda m: (m.file, m.start))
         plan[name] = (ms, tests)
