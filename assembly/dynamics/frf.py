@@ -506,9 +506,12 @@ def _direct(model, result, src: Channel, outs: list, omega: np.ndarray):
     A free model whose rigid-body modes ``Phi_r`` (mass-normalised, from the structure,
     :func:`assembly.nullity.rigid_body_modes`) no damper acts on is solved deflated, by
     inertia relief: ``q = -Phi_r Phi_r' f / w^2 + q_e`` with ``q_e`` from the bordered system
-    ``[[K - w^2 M + i w C, M Phi_r], [Phi_r' M, 0]] [q_e; mu] = [f - M Phi_r Phi_r' f; 0]``,
-    whose condition stays that of the static problem as w -> 0 (the plain matrix's grows as
-    1/w^2); section loads read ``q_e`` alone (their rigid-body part is zero by structure). The
+    ``[[K - w^2 M + i w C, M Phi_r], [Phi_r' M, 0]] [q_e; mu] = [f; 0]``, whose condition stays
+    that of the static problem as w -> 0 (the plain matrix's grows as 1/w^2). Its first rows
+    times ``Phi_r'`` give ``mu = Phi_r' f`` (``Phi_r' K = Phi_r' C = 0``, ``Phi_r' M q_e = 0``):
+    the multiplier takes the rigid-body part of ``f``, so ``q_e`` answers ``f - M Phi_r Phi_r'
+    f`` without that being formed. Section loads read ``q_e`` alone (their rigid-body part is
+    zero by structure). The
     bound returned is eps x LAPACK's condition estimate of the matrix solved at the lowest
     frequency. Where a damper acts on a rigid-body mode the plain matrix is solved; its smallest
     eigenvalues are then about ``w c_r`` (``c_r`` the rigid-body modes' damping, mass-scaled)
@@ -533,7 +536,7 @@ def _direct(model, result, src: Channel, outs: list, omega: np.ndarray):
     if deflate:
         MP = M @ Pr
         y_r = Pr.T @ F                                               # rigid-body modal input
-        rhs = np.concatenate([F - MP @ y_r, np.zeros(Pr.shape[1])])
+        rhs = np.concatenate([F, np.zeros(Pr.shape[1])])
         rigid_out = np.where(sec[:, None], 0.0, Ok @ Pr) @ y_r       # section loads: none
         border = np.block([[np.zeros((n, n)), MP], [MP.T, np.zeros((Pr.shape[1], Pr.shape[1]))]])
     H = np.empty((len(omega), len(outs)), complex)

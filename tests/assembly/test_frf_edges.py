@@ -226,3 +226,71 @@ def test_fuzzed_grids_give_a_finite_answer_or_one_error(fmin, span, points, log,
 
 FUZZ_MODELS = {"undamped": assemble(_chain()), "damped": assemble(_chain(c=30.0)),
                "ground_damped": assemble(_chain(c_g=5.0, c=3.0)), "held": assemble(_chain(c=3.0, ground_k=1e4))}
+
+
+def _three(c_ac=5.0) -> Scene:
+    """Three unit inertias a-b-c on two shafts k = 1e4 N m/rad, free to spin, and a torsional
+    damper c_ac between a and c: modes 0, sqrt(k) (a and c opposite, b still: damped) and
+    sqrt(3 k) (a and c alike, b opposite: the damper between a and c does not move)."""
+    bodies = tuple(Body(name=n, mass=10.0, polar_inertia=1.0, position=(0, 0, z)) for n, z in zip("abc", (0, 1, 2)))
+    bearings = tuple(Bearing(body=n, k_radial=INF, k_axial=INF, k_tilt=INF) for n in "abc") + (
+        Bearing(body="a", frame="c", k_radial=0.0, k_axial=0.0, k_tilt=0.0, c_torsion=c_ac),)
+    return Scene(name="three", bodies=bodies, bearings=bearings,
+                 shafts=(Shaft(name="s1", body1="a", body2="b", k_torsion=1e4),
+                         Shaft(name="s2", body1="b", body2="c", k_torsion=1e4)))
+
+
+@pytest.mark.parametrize("method", ["modal", "direct"])
+def test_the_undamped_mode_named_is_the_one_no_damper_moves(method):
+    # mode 2 (15.9 Hz) is damped by the a-c damper, mode 3 (27.6 Hz) is not: only mode 3 is named;
+    # a band that ends 0.5 % below mode 3 names nothing (the band is the frequencies asked)
+    f_a, f_s = math.sqrt(1e4) / (2 * math.pi), math.sqrt(3e4) / (2 * math.pi)
+    model = assemble(_three())
+    r = frequency_response(model, "torque:a", "torque:s1", np.linspace(1.0, 2 * f_s, 40), method=method)
+    assert len(r.warnings) == 1 and r.warnings[0].startswith(f"1 mode(s) in the band asked have no damping: "
+                                                             f"3 ({f_s:.6g} Hz)")
+    r = frequency_response(model, "torque:a", "torque:s1", np.linspace(1.0, f_s / 1.005, 40), method=method)
+    assert r.warnings == ()
+    assert f_a < f_s / 1.005
+
+
+def test_the_cutoff_warning_states_the_residual_terms_error():
+    # the warning's bound is the exact error of an undamped left-out mode's residual term at fmax,
+    # x^2 / (1 - x) of its static share with x = (fmax / f_mode)^2 (module notes)
+    k = 4.0e4
+    model = assemble(_grounded_pair(k))
+    f2 = math.sqrt(k * (3 + math.sqrt(5)) / 2) / (2 * math.pi)
+    fmax = f2 / 2.2
+    x = (fmax / f2) ** 2
+    r = frequency_response(model, "torque:b", "motion:b:spin", np.linspace(0.5, fmax, 5), modes_hz=2.05 * fmax)
+    said = float(r.warnings[0].split("error up to ")[1].split(" ")[0])
+    assert said == float(f"{x * x / (1 - x):.2g}")
+
+
+def test_undamped_modes_named_in_a_planetary_stage_are_those_no_damper_moves():
+    # Lin & Parker's N = 4 stage with one damper, on the ring's torsion: its rotational and
+    # translational modes move the ring, its planet modes (sun, ring and carrier at rest) do
+    # not. The modes named must be exactly those with phi' C phi = 0, computed here from the
+    # undamped modes and the damping matrix, and no others, wherever the band starts.
+    scene = load_scene("lin_parker_n4").with_values({"stages[0].ring.bearing.c_torsion": 50.0})
+    model = assemble(scene)
+    from assembly.dynamics.damping import damping_matrix
+    from assembly.modal import solve_modes
+    res = solve_modes(model)
+    C = damping_matrix(model).toarray()
+    fr = res.frequencies_hz
+    zeta = np.einsum("ij,ij->j", res.shapes, C @ res.shapes) / (4 * np.pi * np.maximum(fr, 1e-300))
+    elastic = np.arange(res.n_rigid, len(fr))
+    assert 0 < np.sum(zeta[elastic] < 1e-9) < len(elastic)           # some modes damped, some not
+    gaps = [math.sqrt(a * b) for a, b in zip(fr[elastic][:-1], fr[elastic][1:]) if b > a * (1 + 1e-3)]
+    for lo, hi in ((1.0, fr[-1] * 1.1), (gaps[1], fr[-1] * 1.1), (1.0, gaps[len(gaps) // 2]), (gaps[2], gaps[-2])):
+        inside = [i for i in elastic if lo <= fr[i] <= hi]           # band edges between the modes
+        want = [i + 1 for i in inside if zeta[i] < 1e-9]
+        r = frequency_response(model, "torque:stage.sun", "motion:stage.sun:spin", np.linspace(lo, hi, 7))
+        named = [w for w in r.warnings if "no damping" in w]
+        if not want:
+            assert not named
+            continue
+        assert named and named[0].startswith(f"{len(want)} mode(s)"), named
+        got = [int(t.split(" (")[0]) for t in named[0].split(": ", 1)[1].split("; ")[0].split(", ")]
+        assert got == want[:8]

@@ -49,6 +49,7 @@ FORMS = {
     "rayleigh_alpha": dict(damping=Damping(rayleigh_alpha=2 * 0.05 * W1)),
     "modal_ratio": dict(damping=Damping(modal_ratio=0.05)),
     "class_ratios": dict(damping=Damping(class_ratios={"rotational": 0.05})),
+    "element_and_beta": dict(c=0.5 * C_S, damping=Damping(rayleigh_beta=0.5 * BETA)),
     "all_forms": dict(c=0.3 * C_S, damping=Damping(modal_ratio=0.01, rayleigh_alpha=0.05, rayleigh_beta=0.2 * BETA)),
 }
 
@@ -171,6 +172,10 @@ def test_simulate_names_undamped_modes_in_band():
     for form in FORMS.values():
         r = simulate(dataclasses.replace(chain(**form), simulation=sim), 0.01, 1e-3, ["torque:shaft"])
         assert not [w for w in r.warnings if "no damping" in w]
+    # the band is the scene's band_hz: the mode 0.5 % above it is not named
+    above = dataclasses.replace(chain(), simulation=sim, band_hz=W1 / (2 * math.pi) / 1.005)
+    r = simulate(above, 0.01, 1e-3, ["torque:shaft"])
+    assert not [w for w in r.warnings if "no damping" in w]
 
 
 @pytest.mark.gmsh
