@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import axis_frame, rigid_transfer
+from .mechanics.kinematics import axis_frame, rigid_transfer
 
 ABS_DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 

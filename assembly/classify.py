@@ -29,6 +29,7 @@ from . import arguments
 from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
 from .harmonics import body_nodal_diameters
 from .locality import energy_table, group_shares, mode_scopes, total_share
+from .modal import modes_argument
 
 #: Relative energy below which a class condition counts as zero. Exact models give
 #: zeros to round-off; FE-based bodies are symmetric only to mesh accuracy (~1e-4).
@@ -68,7 +69,7 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
     """Class and scope of every mode (see the module doc). ``nodal_diameters``: count them
     for the elastic modes (back-expands each such mode of a flexible body to its FE mesh,
     which loads the body's FE model once)."""
-    arguments.modes("result", result)
+    modes_argument("result", result)
     arguments.flag("nodal_diameters", nodal_diameters)
     model = result.model
     names = list(model.bodies)
@@ -188,8 +189,8 @@ def subspace_mac(A: np.ndarray, B: np.ndarray, groups_b, W) -> np.ndarray:
 def pair_modes(res_a, res_b, W=None):
     """Pair modes of two models of the same scene by (subspace) MAC on the absolute body
     motions. Returns a list of (i_a, i_b, mac). ``W`` defaults to res_b's mass matrix."""
-    arguments.modes("res_a", res_a)
-    arguments.modes("res_b", res_b)
+    modes_argument("res_a", res_a)
+    modes_argument("res_b", res_b)
     if list(res_a.model.bodies) != list(res_b.model.bodies):
         raise arguments.refuse("res_b", res_b, f"not the same bodies as res_a: {list(res_b.model.bodies)} against "
                                                f"{list(res_a.model.bodies)}")

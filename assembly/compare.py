@@ -20,6 +20,8 @@ from .classify import classify_modes, pair_modes
 from .modal import solve_modes
 from .model import assemble
 from .scene import with_fidelity
+from .modal import modes_argument
+from .scene import scene_argument
 
 log = logging.getLogger(__name__)
 FIDELITIES = ("torsional", "rigid", "flexible")
@@ -59,9 +61,9 @@ def compare(scene, n_rows: int | None = None, given=None, flexible_components: b
     """Solve every variant of ``scene`` (:func:`variants`) and pair their modes. ``given`` is
     an already solved ModalResult of the scene as given (rigid or flexible), reused instead
     of solved again."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     arguments.optional(arguments.integer, "n_rows", n_rows, 0)
-    arguments.optional(arguments.modes, "given", given)
+    arguments.optional(modes_argument, "given", given)
     arguments.flag("flexible_components", flexible_components)
     res, times = {}, {}
     vs = variants(scene, flexible_components)

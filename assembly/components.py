@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .kinematics import axis_frame
+from .mechanics.kinematics import axis_frame
 from .scene import FlexOptions
 
 log = logging.getLogger(__name__)

@@ -9,7 +9,7 @@ the torsional model of the scene (:func:`assembly.scene.with_fidelity` ``"torsio
 * the speed ratios of every body from the model's single rigid-body mode (gear geometry
   only, :func:`assembly.loads.single_rigid_mode`);
 * ``k`` from the static condensation of ``K`` onto the rotor and generator rotations
-  (:func:`assembly.condensation.condense`): every mesh, shaft and bearing flexibility in
+  (:func:`assembly.mechanics.condensation.condense`): every mesh, shaft and bearing flexibility in
   between, in series and parallel as the scene joins them;
 * ``J_R`` and ``J_G`` from the rigid-body mode's kinetic energy, split into the rotor body
   and the rest reflected to the generator shaft.
@@ -26,12 +26,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import arguments
-from .condensation import condense
+from .mechanics.condensation import condense
 from .errors import MechanismError, SceneError, SolverError
 from .loads import axial_rotation, single_rigid_mode
 from .model import assemble
 from .scene import with_fidelity
 from .validate import body_origins
+from .scene import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -199,7 +200,7 @@ def two_mass(model, rotor: str, generator: str) -> TwoMass:
 def derive_two_mass(scene, rotor: str | None = None, generator: str | None = None) -> TwoMass:
     """:func:`two_mass` of ``scene``'s torsional model between its rotor and generator
     (:func:`chain_ends`), with its ``damping`` when the scene has damping."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     from .dynamics.damped_modes import has_damping           # dynamics builds on this module
     from .dynamics.drivetrain_damping import two_mass_damping
     ends = chain_ends(scene, rotor, generator)

@@ -25,6 +25,7 @@ from . import arguments
 from .errors import SceneError
 from .schema import _hints, _join, scene_from_dict, to_dict
 from .scene import Scene
+from .scene import scene_argument
 
 _STEP = re.compile(r"\s*(?:([^.\[\]\s]+)|\[\s*(-?\d+)\s*\]|\[\s*'([^']*)'\s*\]|\[\s*\"([^\"]*)\"\s*\])\s*")
 
@@ -151,7 +152,7 @@ def get_value(scene: Scene, path: str) -> Any:
     """The value at ``path`` as stored in the scene (angles in rad; ``<angle>_deg`` in
     degrees; a table as a plain dict; a field left at its default gives the default)."""
     import math
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     steps = parse_path(arguments.text("path", path))
     found = _locate(to_dict(scene), steps, path, create=False)
     if found is None:  # an optional table on the way is not given
@@ -198,13 +199,13 @@ def value_kind(scene: Scene, path: str) -> str:
 def with_value(scene: Scene, path: str, value) -> Scene:
     """New validated scene with the field at ``path`` set to ``value`` (``None`` removes
     an optional field: its default applies)."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     return with_values(scene, {arguments.text("path", path): value})
 
 
 def with_values(scene: Scene, changes: dict) -> Scene:
     """New scene with every ``{path: value}`` of ``changes`` set, validated once."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     for path in arguments.table("changes", changes):
         arguments.text("changes", path)
     data = to_dict(scene)

@@ -31,7 +31,7 @@ from cms.errors import CacheError, ModeLimitError
 
 from .components import CacheDirs, build_fe, mesh_entry, mesh_size, placement
 from .errors import SceneError, SolverError
-from .kinematics import block_rotation, rigid_transfer
+from .mechanics.kinematics import block_rotation, rigid_transfer
 from .scene import MAX_MODES, FlexOptions
 
 log = logging.getLogger(__name__)

@@ -175,7 +175,7 @@ def mesh_helix(t, internal: bool) -> float:
     flank normal of an external gear whose teeth turn positively about +z along +z
     (``GearTeeth.helix_angle`` > 0, right hand) lies in the plane of action at minus the
     base helix angle beta_b; of an internal gear 1, at +beta_b (ISO 21771 involute helicoid;
-    :func:`assembly.elements.line_of_action`)."""
+    :func:`assembly.mechanics.elements.line_of_action`)."""
     b = base_helix_angle(t.pressure_angle, t.helix_angle)
     return b if internal else -b
 

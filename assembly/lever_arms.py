@@ -2,7 +2,7 @@
 
 A shaft, or a bearing between two bodies, joins bodies that turn about parallel axes. When
 those axis lines lie a hair apart -- more than the round-off of the coordinates
-(:data:`assembly.nullity.DROP_RTOL`), less than the alignment tolerance of a shaft
+(:data:`assembly.mechanics.nullity.DROP_RTOL`), less than the alignment tolerance of a shaft
 (:data:`assembly.shafts.AXIS_TOLERANCE` of the model's size) -- their common rotation strains
 the element's translational springs by the offset times the angle: a lever arm, and a
 stiffness k delta^2 against a rotation that is free with the axes joined. The structure
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
-from .nullity import coordinate_scale, rigid_body_count
+from .mechanics.nullity import coordinate_scale, rigid_body_count
 from .shafts import AXIS_TOLERANCE
 
 #: Stage members that sit at the stage's centre.

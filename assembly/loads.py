@@ -4,7 +4,7 @@ directions as constraint rows, and the motions the held model still allows.
 Applied loads (:func:`applied_loads`): the torque case's couple ``torque`` (N m) about the
 input body's axis -- on a flexible body at the named interface master -- and every point
 load of ``forces``: a force (N) and a moment (N m) at a point of a rigid body (through its
-rigid lever arm, :func:`assembly.kinematics.rigid_transfer`) or at an interface master of
+rigid lever arm, :func:`assembly.mechanics.kinematics.rigid_transfer`) or at an interface master of
 a flexible body. Each enters the load vector on the absolute coordinates ``z`` by virtual
 work through the body's ``motion_at``: ``F += P' [f, m]``.
 
@@ -17,7 +17,7 @@ body's local axes, relative to the housing. Each is one row ``c`` of constraints
 housing frame and on a flexible body's master it is one coordinate, which is then simply
 dropped (as a ``[[fixed]]`` DOF is). A direction a constraint already holds (fixed DOF,
 rigid bearing direction, torsional fidelity) gives a zero row and is left out.
-Zero-energy motions come from the structure of the spring rows (:mod:`assembly.nullity`),
+Zero-energy motions come from the structure of the spring rows (:mod:`assembly.mechanics.nullity`),
 never from small eigenvalues, so a held model that can still move is named before any
 solve, and the unheld model's single rigid-body mode gives the kinematic speed ratio of
 the chain (gear geometry only: base radii and centres).
@@ -30,8 +30,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from .components import global_masters
-from .kinematics import block_rotation
-from .nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
+from .mechanics.kinematics import block_rotation
+from .mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
 from .scene import DOF_NAMES
 
 
@@ -143,8 +143,8 @@ def _rows(model, body: str, interface, dofs, support, where: str) -> list[Held]:
 def free_motions(model, rows: np.ndarray | None = None) -> np.ndarray:
     """(n_q x n_free) zero-energy motions of ``model`` with the constraint ``rows``
     (n_c x n_q, or None) held at zero: the null space of the unit spring rows (and the held
-    rows) on the motions that strain no body (:func:`assembly.nullity.zero_motion_basis`),
-    read with :data:`assembly.nullity.STRUCT_RTOL` like the rigid-body count."""
+    rows) on the motions that strain no body (:func:`assembly.mechanics.nullity.zero_motion_basis`),
+    read with :data:`assembly.mechanics.nullity.STRUCT_RTOL` like the rigid-body count."""
     W = zero_motion_basis(model)
     if W.shape[1] == 0:
         return np.zeros((model.K.shape[0], 0))

@@ -4,7 +4,7 @@
 Each solve reports its largest relative eigen-residual (norm-wise backward error
 ``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``, of the scaled problem it solved)
 and groups repeated frequencies. The number of rigid-body modes comes from the model's
-structure (:mod:`assembly.nullity`); :mod:`assembly.resolution` checks that the solve
+structure (:mod:`assembly.mechanics.nullity`); :mod:`assembly.resolution` checks that the solve
 resolves them and every elastic mode to FREQ_RTOL, and names the offending scene field
 otherwise. The same rules hold for the dense (all modes) and the sparse (lowest modes)
 path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii.
@@ -23,7 +23,8 @@ from threadpoolctl import threadpool_limits
 
 from . import arguments, resolution
 from .errors import SceneError, SolverError
-from .nullity import rigid_body_count
+from .mechanics.nullity import rigid_body_count
+from .model import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -105,7 +106,7 @@ def solve_modes(model, n_modes: int | None = None, check: bool = True) -> ModalR
     of them, n - 1 for a sparse model above DENSE_MAX DOFs) modes of ``model``.
 
     The number of rigid-body (0 Hz) modes comes from the model's structure
-    (:func:`assembly.nullity.rigid_body_count`), never from the size of the computed
+    (:func:`assembly.mechanics.nullity.rigid_body_count`), never from the size of the computed
     eigenvalues; :func:`assembly.resolution.check` then verifies that the solve resolves
     them and the lowest elastic mode (SceneError naming the field otherwise). ``check=False``
     records that error in ``info["resolution"]`` instead of raising (``frequency_rtol`` is
@@ -113,7 +114,7 @@ def solve_modes(model, n_modes: int | None = None, check: bool = True) -> ModalR
     residuals and the dense round-off bound overestimates (it takes max K_ii / M_ii for the
     highest eigenvalue).
     """
-    arguments.model("model", model)
+    model_argument("model", model)
     arguments.flag("check", check)
     if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
                                 or n_modes < 1):
@@ -246,3 +247,8 @@ def mechanisms(result, top: int = 3) -> list:
         idx = np.argsort(-e)[:top]
         out.append(", ".join(f"{result.model.dof_names[j]} {100 * e[j]:.0f} %" for j in idx if e[j] > 0.01))
     return out
+
+
+def modes_argument(name: str, value) -> ModalResult:
+    """``value``, a :class:`ModalResult` (SceneError naming the argument ``name`` otherwise)."""
+    return arguments.instance(name, value, ModalResult, "the modes of a model (solve_modes(model))")

@@ -23,12 +23,13 @@ from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
-from .elements import Element, gear_mesh, relative_spring
+from .mechanics.elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
-from .kinematics import axis_frame, block_rotation, rigid_transfer
+from .mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
 from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
 from .shafts import beam_elements
 from .validate import body_origins
+from .scene import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -208,11 +209,11 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     beside a component and replaced by its mesh's are logged (a warning naming the body,
     both values and their difference) and listed in ``model.info``.
     """
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     arguments.flag("full_fe", full_fe)
     arguments.optional(arguments.table, "bodies", bodies)
     arguments.optional(arguments.instance, "caches", caches, CacheDirs, "a CacheDirs (or None)")
-    arguments.optional(arguments.scene, "source", source)
+    arguments.optional(scene_argument, "source", source)
     t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)
@@ -325,3 +326,8 @@ def _frame_interface(scene: Scene, body) -> str | None:
         if br.body == body.name and (br.frame is None or br.frame == body.frame) and br.frame_interface:
             return br.frame_interface
     return None
+
+
+def model_argument(name: str, value) -> AssembledModel:
+    """``value``, a :class:`AssembledModel` (SceneError naming the argument ``name`` otherwise)."""
+    return arguments.instance(name, value, AssembledModel, "an assembled model (assemble(scene))")

@@ -5,7 +5,7 @@ teeth reach: its gear centre (the ``gear_mesh`` interface master of a component,
 position) at the other gear's centre plus or minus ``a_w d``, with
 ``a_w = |r_b1 + r_b2| / cos(alpha_wt)`` from the mesh's (derived or typed) numbers and
 ``d = cos(theta) e1 + sin(theta) e2`` the direction of the line of centres from gear 1 to
-gear 2 in gear 1's axes (:func:`assembly.kinematics.axis_frame` of its axis; ``theta`` the
+gear 2 in gear 1's axes (:func:`assembly.mechanics.kinematics.axis_frame` of its axis; ``theta`` the
 mesh's ``centre_line_angle``, rad, default 0). The placed body's ``position`` follows from
 its gear centre (a pinion component's gear sits ``gear_center`` along its axis).
 
@@ -30,7 +30,7 @@ import numpy as np
 from fe_components.errors import GeometryError
 
 from .errors import SceneError
-from .kinematics import axis_frame
+from .mechanics.kinematics import axis_frame
 from .schema import keep_degrees
 
 #: A typed position of a placed body must agree to this fraction of the centre distance.

@@ -21,7 +21,7 @@ from fe_components.params import CarrierParams
 from fe_components.part_file import PartFile
 
 from .errors import SceneError
-from .kinematics import axis_frame
+from .mechanics.kinematics import axis_frame
 from .mesh_excitation import stage_variations
 from .planet_spacing import planets_field
 from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage

@@ -3,7 +3,7 @@ section loads, support and constraint reactions, the output reaction torque, and
 checks (equilibrium of all external loads; torque balance and ratio for a torque case).
 
 Every spring's force is its stiffness times its relative deflection, ``f = k * (B @ w)``
-(:class:`assembly.elements.Element`, ``w`` the attachment motions); the wrench it puts on
+(:class:`assembly.mechanics.elements.Element`, ``w`` the attachment motions); the wrench it puts on
 each attached body is ``-B' f`` (force N and moment N m at the element's point, global
 axes). A held direction (a fixed DOF, a rigid bearing direction, the five held DOFs of a
 torsional body, the output hold) carries the reaction that balances the spring wrenches on
@@ -33,7 +33,7 @@ import numpy as np
 
 from . import arguments
 from .constraints import constrained_dofs
-from .kinematics import block_rotation
+from .mechanics.kinematics import block_rotation
 from .loads import applied_loads, load_point, speed_ratio
 from .scene import DOF_NAMES, HOUSING
 from .static import StaticResult

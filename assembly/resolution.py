@@ -12,7 +12,7 @@ round-off level instead of 0, and an elastic mode far below the highest one lose
 digits. :func:`check` compares the computed spectrum with that bound:
 
 - the first ``n_zero`` eigenvalues (rigid-body modes, counted from the structure by
-  :mod:`assembly.nullity`) must lie within the round-off bound;
+  :mod:`assembly.mechanics.nullity`) must lie within the round-off bound;
 - the lowest elastic frequency must be resolved to FREQ_RTOL.
 
 Otherwise it raises :class:`~assembly.errors.SceneError` naming the field at fault: first

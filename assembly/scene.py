@@ -272,7 +272,7 @@ class GearMesh:
     ``center1``/``center2`` default to the bodies' positions (the gear's mid-face centre).
     ``contact_point``: 'pitch' (default; one shared point, no strain under common rigid
     motion) or 'tangent' (each gear's base-circle tangent point, the convention of the
-    published Kahraman/Peeters helical-pair table; see :func:`assembly.elements.gear_mesh`).
+    published Kahraman/Peeters helical-pair table; see :func:`assembly.mechanics.elements.gear_mesh`).
 
     From teeth: when both gears carry teeth (``Body.teeth`` or their component's), leave
     out ``base_radius1/2``, ``pressure_angle`` and ``helix_angle``: they are derived (ISO
@@ -291,7 +291,7 @@ class GearMesh:
     it must be given.
 
     ``damping`` (N s/m, default 0): a viscous damper beside the mesh spring, along the same
-    line of action (:func:`assembly.elements.gear_mesh`).
+    line of action (:func:`assembly.mechanics.elements.gear_mesh`).
 
     Time-domain runs only (``flexgear simulate``; other analyses use the linear spring):
     ``backlash`` (m, normal backlash along the line of action): the teeth touch on the
@@ -349,7 +349,7 @@ class Shaft:
     its length is their distance and its axis their direction (parallel to body1's axis).
     The k_* fields and ``position`` are then derived and must be left out. ``stations``
     (:class:`Station`, e.g. the bearing seats) split it into Timoshenko elements
-    (:mod:`assembly.beam`) and become rigid bodies ``<name>.<station>`` of stage label
+    (:mod:`assembly.mechanics.beam`) and become rigid bodies ``<name>.<station>`` of stage label
     ``stage`` (:mod:`assembly.shafts`); the shaft's mass is lumped at its nodes.
 
     Damping: a spring shaft takes viscous dampers ``c_torsion``, ``c_bending`` (N m s/rad),
@@ -816,7 +816,7 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
     a beam shaft's stations make follow the scene's default fidelity (never flexible): all
     bodies chosen, that default becomes ``fidelity`` too."""
     allowed = get_args(Fidelity)
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     if not isinstance(fidelity, str) or fidelity not in allowed:
         raise SceneError("fidelity", arguments.shown(fidelity), f"must be one of {list(allowed)}"
                          + arguments.nearest(fidelity, allowed))
@@ -852,7 +852,7 @@ def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial
     """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
     its own bearings and the bearing tables of its planetary stages (kept as stages).
     ``k_radial`` (``k_tilt``) scales ``k_radial_x``/``k_radial_y`` too where those are given."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     factor = arguments.number("factor", factor, gt=0.0)
     directions = arguments.names("directions", directions)
     for d in directions:
@@ -871,3 +871,8 @@ def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial
            for role in ("sun", "ring", "carrier")}) for st in scene.as_given("stages"))
     return dataclasses.replace(scene, bearings=tuple(scaled(b) for b in scene.bearings), stages=stages,
                                bodies=scene.as_given("bodies"), meshes=scene.as_given("meshes"))
+
+
+def scene_argument(name: str, value) -> Scene:
+    """``value``, a :class:`Scene` (SceneError naming the argument ``name`` otherwise)."""
+    return arguments.instance(name, value, Scene, "a Scene (load_scene(path) reads one from a file)")

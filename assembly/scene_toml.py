@@ -18,6 +18,7 @@ from . import arguments
 from .atomic_file import write_text_atomic
 from .scene import Scene
 from .schema import to_dict
+from .scene import scene_argument
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
@@ -82,13 +83,13 @@ def _table(d: dict, path: tuple, lines: list) -> None:
 
 def scene_to_toml(scene: Scene) -> str:
     """TOML text of ``scene`` (SI units, angles in rad, defaults left out)."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     return toml_text(to_dict(scene, defaults=False))
 
 
 def save_scene(scene: Scene, path) -> Path:
     """Write ``scene`` as TOML to ``path`` atomically (:func:`assembly.atomic_file.write_text_atomic`):
     the file is the old one or the whole new one, never half-written."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     arguments.file_path("path", path)
     return write_text_atomic(path, scene_to_toml(scene))

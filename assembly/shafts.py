@@ -6,7 +6,7 @@ master node on a component body) to body2's ``p2``; length ``L = |p2 - p1|`` (m)
 ``(p2 - p1) / L``, which must be parallel to body1's axis. Each station sits ``at`` metres
 from ``p1`` and becomes a rigid body ``<shaft name>.<station name>`` (the scene's default
 fidelity, never flexible) carrying the lumped half masses of its two elements
-(:func:`assembly.beam.node_mass`); the half masses at the end bodies stay with the first and
+(:func:`assembly.mechanics.beam.node_mass`); the half masses at the end bodies stay with the first and
 last elements (``Element.mass``), since an end body may be a meshed component.
 """
 from __future__ import annotations
@@ -19,10 +19,10 @@ import numpy as np
 from fe_components.sizes import SHAFT_DIAMETER, SLENDERNESS, unit_hint
 
 from .attach import interface_point
-from .beam import node_mass, section, timoshenko_element
+from .mechanics.beam import node_mass, section, timoshenko_element
 from .components import global_masters
 from .errors import SceneError
-from .kinematics import unit
+from .mechanics.kinematics import unit
 from .scene import HOUSING, Body, Shaft
 
 #: Largest angle (rad) between a beam shaft's axis and body1's axis that counts as parallel.

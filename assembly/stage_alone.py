@@ -16,6 +16,7 @@ import math
 from . import arguments
 from .errors import SceneError
 from .scene import SPLIT_STIFFNESSES, BearingSpec, Scene
+from .scene import scene_argument
 
 ROLES = ("sun", "ring", "carrier")
 
@@ -28,7 +29,7 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
     members on the given bearing to the housing instead, and must hold one for every floating
     member. ``planar``: every bearing of the stage (members' and planets') rigid axially and
     in tilt (``inf``), Lin & Parker's planar model. SceneError naming the field otherwise."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     arguments.flag("planar", planar)
     stages = scene.as_given("stages")
     names = [st.name for st in stages]

@@ -24,8 +24,10 @@ from . import arguments
 from .errors import MechanismError, SceneError
 from .loads import free_motions, held_directions, load_vector
 from .model import assemble
-from .nullity import STRUCT_RTOL
+from .mechanics.nullity import STRUCT_RTOL
 from .scene import LoadCase
+from .model import model_argument
+from .scene import scene_argument
 
 #: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
 DENSE_MAX = 3000
@@ -71,8 +73,8 @@ def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> 
     """:class:`StaticResult` of every (path, load case) in ``cases`` on one model
     (default :meth:`Scene.load_cases`); cases holding the same directions share one
     factorisation."""
-    arguments.scene("scene", scene)
-    arguments.optional(arguments.model, "model", model)
+    scene_argument("scene", scene)
+    arguments.optional(model_argument, "model", model)
     if cases is not None:
         if not isinstance(cases, (list, tuple)):
             raise arguments.refuse("cases", cases, "must be a list of (name, LoadCase) pairs")

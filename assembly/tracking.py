@@ -24,6 +24,7 @@ import numpy as np
 
 from . import arguments
 from .classify import pair_shapes
+from .modal import modes_argument
 
 #: MAC below which a step of a branch is flagged (the threshold of the fidelity comparison).
 MAC_THRESHOLD = 0.8
@@ -61,7 +62,7 @@ def track_modes(results: list, threshold: float = MAC_THRESHOLD) -> list[Branch]
     if not isinstance(results, (list, tuple)):
         raise arguments.refuse("results", results, "must be a list of the modes of each step (solve_modes results)")
     for k, r in enumerate(results):
-        arguments.modes(f"results[{k}]", r)
+        modes_argument(f"results[{k}]", r)
     arguments.number("threshold", threshold, ge=0.0, le=1.0)
     if not results:
         return []

@@ -29,7 +29,7 @@ from .body_names import body_references, scene_body_names, unknown_body_reason
 from .constraints import can_constrain
 from .errors import SceneError
 from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
-from .kinematics import unit
+from .mechanics.kinematics import unit
 from .planet_spacing import check_planet_assembly, check_planet_spacing
 from .scene_sizes import positions_plausible
 from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,

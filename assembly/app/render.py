@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..kinematics import axis_frame, rigid_transfer
+from ..mechanics.kinematics import axis_frame, rigid_transfer
 
 log = logging.getLogger(__name__)
 

@@ -36,6 +36,8 @@ from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
 from .phasing import RULE_CLASSES, excited_class
+from ..model import model_argument
+from ..scene import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -183,11 +185,11 @@ def campbell(scene, speed_range, reference: str | None = None, points: int = 41,
     ``model``: the assembled scene (assembled here when None). Sizes over the memory budget
     are refused (:func:`check_size`) before the model is assembled and again once its
     natural-frequency lines are known."""
-    arguments.scene("scene", scene)
+    scene_argument("scene", scene)
     lo, hi = check_speed_range(speed_range)
     points, harmonics = arguments.integer("points", points, 2), arguments.integer("harmonics", harmonics, 1)
     arguments.flag("gyroscopic", gyroscopic)
-    arguments.optional(arguments.model, "model", model)
+    arguments.optional(model_argument, "model", model)
     sources = len(scene.stages) + len(scene.meshes)
     check_size(points, harmonics, sources, 0)                  # before assembling: the orders alone
     ref = reference_body(scene, reference)

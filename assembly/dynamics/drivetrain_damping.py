@@ -1,7 +1,7 @@
 """DTTorDmp: the torsional damping (N m s/rad, low-speed side) of a scene's two-mass model.
 
 Element dampers: the damping matrix on q condensed with the same static condensation as
-the stiffness (:func:`assembly.condensation.condense_along`: every interior coordinate
+the stiffness (:func:`assembly.mechanics.condensation.condense_along`: every interior coordinate
 settles as the springs say) onto the rotor and generator rotations. For dampers between
 the two ends only (shafts, meshes, bearings between bodies) it is ``c [[1, -1/s],
 [-1/s, 1/s^2]]`` (s the speed ratio) and DTTorDmp = c, its (0, 0) entry. Exact for the
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from ..condensation import condense_along
+from ..mechanics.condensation import condense_along
 from ..drivetrain import RANK_ONE_RTOL, own_rotation_column
 from ..errors import SolverError
 from .damping import damping_matrix

@@ -76,11 +76,13 @@ from threadpoolctl import threadpool_limits
 
 from ..errors import SceneError, SolverError
 from ..modal import SMALL_DENSE
-from ..nullity import rigid_body_count, rigid_body_modes
+from ..mechanics.nullity import rigid_body_count, rigid_body_modes
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_on_q, needs_modes, section_factors, section_share
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
 from .modal_ratios import mode_ratios
+from ..modal import modes_argument
+from ..model import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -147,12 +149,12 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
     from .. import arguments as check                # each argument's kind, one SceneError naming it
-    check.model("model", model)
+    model_argument("model", model)
     check.text("input", input)
     outputs = check.names("outputs", outputs)
     frequency_hz = check.frequencies("frequency_hz", frequency_hz)
     check.one_of("method", method, METHODS, "method")
-    check.optional(check.modes, "result", result)
+    check.optional(modes_argument, "result", result)
     check.optional(check.number, "modes_hz", modes_hz, "Hz", gt=0.0, infinite="every mode")
     check.flag("residual", residual)
     t0 = time.perf_counter()
@@ -504,7 +506,7 @@ def _direct(model, result, src: Channel, outs: list, omega: np.ndarray):
     (:func:`assembly.dynamics.damping.section_share`).
 
     A free model whose rigid-body modes ``Phi_r`` (mass-normalised, from the structure,
-    :func:`assembly.nullity.rigid_body_modes`) no damper acts on is solved deflated, by
+    :func:`assembly.mechanics.nullity.rigid_body_modes`) no damper acts on is solved deflated, by
     inertia relief: ``q = -Phi_r Phi_r' f / w^2 + q_e`` with ``q_e`` from the bordered system
     ``[[K - w^2 M + i w C, M Phi_r], [Phi_r' M, 0]] [q_e; mu] = [f; 0]``, whose condition stays
     that of the static problem as w -> 0 (the plain matrix's grows as 1/w^2). Its first rows

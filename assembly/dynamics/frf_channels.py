@@ -260,7 +260,7 @@ def _bearing_channels(model, rest: str, elements: dict, arg: str, name: str) -> 
 
 def bearing_directions(model, el) -> list:
     """Directions (local names) of the rows of a bearing element: those with a spring or a
-    damper, as :func:`assembly.elements.relative_spring` keeps them."""
+    damper, as :func:`assembly.mechanics.elements.relative_spring` keeps them."""
     br = model.scene.bearings[el.item[1]]
     k = br.diagonal()
     keep = ((k > 0) & ~np.isinf(k)) | (br.damping_diagonal() > 0)

@@ -40,7 +40,7 @@ from ..drivetrain import chain_ends, rigid_mode
 from ..errors import MechanismError, SceneError
 from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
-from ..nullity import rigid_body_count
+from ..mechanics.nullity import rigid_body_count
 from ..scene_time import Simulation
 from .damping import damping_matrix, damping_on_q, every_mode, needs_modes, section_share
 from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
@@ -50,6 +50,8 @@ from .load_series import constant, file_history, generator_history, ramp, range_
 from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
 from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, check_history, integrate, tangent
+from ..model import model_argument
+from ..scene import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -238,10 +240,10 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     fit the memory budget is refused (SceneError at ``t_end``) before anything is assembled or
     allocated (:func:`assembly.dynamics.transient.check_history`)."""
     from .. import arguments as check                # each argument's kind, one SceneError naming it
-    check.scene("scene", scene)
+    scene_argument("scene", scene)
     t_end, dt = check.number("t_end", t_end, "s", gt=0.0), check.number("dt", dt, "s", gt=0.0)
     outputs = None if outputs is None else check.names("outputs", outputs, empty=True)
-    check.optional(check.model, "model", model)
+    check.optional(model_argument, "model", model)
     check.optional(check.file_path, "base_dir", base_dir)
     speed = check.optional(check.number, "speed", speed, "rad/s")
     check.function("progress", progress)

@@ -342,7 +342,7 @@ def test_mesh_helix_is_minus_gear1_teeth_helix():
     profile turns by tan(beta) / r_p per unit z) is the line of action of a mesh whose
     helix angle is negative, on either flank (involute helicoid: the normal lies in the
     plane of action at the base helix angle, ISO 21771)."""
-    from assembly.elements import line_of_action
+    from assembly.mechanics.elements import line_of_action
     from fe_components.involute import flank_half_angle
     from fe_components.params import GearTeeth
 

@@ -8,7 +8,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from assembly.beam import cowper_kappa, section, timoshenko_element
+from assembly.mechanics.beam import cowper_kappa, section, timoshenko_element
 from assembly.energy import _element_energy, kinetic_by_element, kinetic_energy_by_body
 from assembly.errors import SceneError
 from assembly.modal import solve_modes

@@ -11,7 +11,7 @@ m = rho pi r^2 L, J_polar = m r^2 / 2, J_transverse = m (3 r^2 + L^2) / 12 about
 of mass at L / 2 (e.g. Meriam & Kraige, Engineering Mechanics: Dynamics, appendix D). The P2
 mesh of its curved surface holds them to 1e-3 (tests/fe_components/test_fe_validation.py);
 measured here 7e-5 (mass) and 1.4e-4 (polar), both from one radius deficit. A beam shaft's station carries half of each of its two elements,
-rho A (l_left + l_right) / 2 (lumped mass, assembly/beam.py).
+rho A (l_left + l_right) / 2 (lumped mass, assembly/mechanics/beam.py).
 """
 from __future__ import annotations
 

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from assembly.elements import gear_mesh, line_of_action
-from assembly.kinematics import rigid_transfer
+from assembly.mechanics.elements import gear_mesh, line_of_action
+from assembly.mechanics.kinematics import rigid_transfer
 from assembly.model import assemble
 from assembly.scene import Fixed
 from assembly.schema import load_scene

@@ -1,4 +1,4 @@
-"""Kinematic chain and two-mass equivalent (assembly.drivetrain, assembly.condensation).
+"""Kinematic chain and two-mass equivalent (assembly.drivetrain, assembly.mechanics.condensation).
 
 Chain of the closed forms: rotor J_R -- torsional shaft k1 -- wheel (base radius r_w)
 -- spur mesh k_m -- pinion (r_p) -- shaft k2 -- generator J_G, every body on rigid
@@ -24,7 +24,7 @@ import pytest
 
 from assembly import (Bearing, BearingSpec, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
                       assemble, solve_modes, with_fidelity)
-from assembly.condensation import condense
+from assembly.mechanics.condensation import condense
 from assembly.drivetrain import chain_ends, derive_two_mass, speed_ratios, two_mass_frequencies
 from assembly.schema import load_scene
 

@@ -1,4 +1,4 @@
-"""The line of action of a parallel-axis mesh (assembly.elements.line_of_action) is a property
+"""The line of action of a parallel-axis mesh (assembly.mechanics.elements.line_of_action) is a property
 of the pair, not of how the scene names it.
 
 * Naming the gears the other way round describes the same contact: the same pitch point and
@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from assembly.elements import line_of_action
+from assembly.mechanics.elements import line_of_action
 
 ALPHA = math.radians(22.0)
 PAIRS = [(0.05, 0.08), (0.03, -0.09), (-0.09, 0.03)]           # external; internal; ring as gear 1

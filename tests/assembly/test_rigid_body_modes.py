@@ -1,4 +1,4 @@
-"""Rigid-body modes from the structure (assembly.nullity.rigid_body_modes): a basis of the
+"""Rigid-body modes from the structure (assembly.mechanics.nullity.rigid_body_modes): a basis of the
 motions that strain no spring and no flexible body, K Phi_r = 0, as many as
 rigid_body_count says.
 
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
-from assembly.nullity import rigid_body_count, rigid_body_modes
+from assembly.mechanics.nullity import rigid_body_count, rigid_body_modes
 from assembly.schema import load_scene
 
 INF = math.inf

@@ -10,7 +10,7 @@ import pytest
 
 from assembly import Bearing, Body, FlexOptions, LoadCase, PointLoad, Scene, Support, load_scene
 from assembly.errors import MechanismError, SceneError
-from assembly.kinematics import unit
+from assembly.mechanics.kinematics import unit
 from assembly.reactions import static_report
 from assembly.schema import scene_from_dict, shipped_scenes
 from assembly.scene_toml import scene_to_toml

@@ -134,7 +134,7 @@ def test_same_mass_properties_in_the_scene(axis, models, tmp_path):
 def test_a_part_drawn_in_the_assembly_sits_where_it_was_drawn(models):
     """The convention's point: a body given the part's axis and ``position = origin`` puts
     every file point back where the file has it (global = position + axis_frame(axis) local)."""
-    from assembly.kinematics import axis_frame
+    from assembly.mechanics.kinematics import axis_frame
 
     part, fe, _ = models["oblique"]
     pts_file = _to_file(models["original"][1].nodes, OBLIQUE)   # what the file holds, node for node

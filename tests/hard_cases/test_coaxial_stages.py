@@ -137,7 +137,7 @@ def _offset(rng: random.Random, size: str) -> np.ndarray:
 
 SIZES = ("0", "ulp", "1e-12", "1e-9", "1e-6")
 #: A lever arm below this many metres is the coordinates' rounding (1e-10 of the
-#: coordinates' magnitude, 0.4 m: assembly.nullity.DROP_RTOL): harmless, accepted.
+#: coordinates' magnitude, 0.4 m: assembly.mechanics.nullity.DROP_RTOL): harmless, accepted.
 ROUNDING = 1e-10 * 0.4
 
 

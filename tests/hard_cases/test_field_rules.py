@@ -418,7 +418,7 @@ def test_python_api_lists_are_accepted():
 
 
 def test_huge_axis_refused_and_unit_vector_safe():
-    from assembly.kinematics import unit
+    from assembly.mechanics.kinematics import unit
     import numpy as np
     # 1e200 squared overflows: the norm of the raw vector would be inf
     np.testing.assert_allclose(unit([1e200, 0.0, 1e200]), [2 ** -0.5, 0.0, 2 ** -0.5], rtol=1e-15)

@@ -6,7 +6,7 @@ Class of scenes: the Kahraman pairs (spur and helical, 12 DOFs) and Lin & Parker
 its inertias each scaled over many decades. Every outcome must be either a SceneError
 naming a field that exists in the scene (with its value), or frequencies that match an
 60-digit solve (mpmath) of the same model with every bearing kept elastic, to the
-documented bound. Rules: assembly/resolution.py, assembly/constraints.py, assembly/nullity.py.
+documented bound. Rules: assembly/resolution.py, assembly/constraints.py, assembly/mechanics/nullity.py.
 """
 import copy
 import dataclasses

@@ -43,7 +43,7 @@ ACCEPTED = Path(__file__).with_name("accepted.toml")
 #: module key -> (source files with their physics functions, the quick tests that cover them).
 #: A test entry is a path or a path with ``-k`` selection after "::-k ".
 MODULES = {
-    "element": ({"assembly/elements.py": ["Element.stiffness", "Element.damping", "_rank_one_sum",
+    "element": ({"assembly/mechanics/elements.py": ["Element.stiffness", "Element.damping", "_rank_one_sum",
                                           "relative_spring", "line_of_action", "gear_mesh"]},
                 ["tests/assembly/test_core_elements.py", "tests/assembly/test_helix_thrust.py",
                  "tests/assembly/test_line_of_action.py",
@@ -60,7 +60,7 @@ MODULES = {
                                           "cutoff_check", "_residual_bound", "undamped_warnings"],
              "assembly/dynamics/damping.py": ["scene_modal_damping", "section_factors", "damping_in_modes",
                                               "damping_on_q", "section_share"],
-             "assembly/nullity.py": ["_null_space"],
+             "assembly/mechanics/nullity.py": ["_null_space"],
              "assembly/dynamics/simulate.py": ["_scene_share", "undamped_band"]},
             ["tests/assembly/test_frf.py", "tests/assembly/test_frf_residual_terms.py",
              "tests/assembly/test_frf_truncation.py", "tests/assembly/test_frf_phasing.py",

@@ -106,7 +106,7 @@ def timoshenko_element(name: str, body_a: Optional[str], body_b: Optional[str], 
 
     Both bodies' motions are taken at the element's ``point`` ``p_a`` (as every element
     does), and body b's is carried to ``p_b`` by a rigid arm folded into ``B`` and the mass
-    (as :func:`assembly.elements.gear_mesh` does for its two contact points): exact for a
+    (as :func:`assembly.mechanics.elements.gear_mesh` does for its two contact points): exact for a
     rigid body and for a flexible body's interface master alike, since rigid transfers
     compose. ``lumped``: whether the element carries the half mass of node a / node b (a
     shaft's end bodies cannot hold it; its stations' bodies do)."""

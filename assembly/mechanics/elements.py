@@ -28,7 +28,7 @@ class Element:
     scene table entry that made the element (e.g. ``("bearings", 2)``, expanded scene), so
     that a spring can be named in an error message. ``mass`` (optional, kg and kg m^2):
     a mass matrix on the same stacked attachment motions, for an element that carries
-    mass of its own (a beam shaft's half masses at its end bodies, :mod:`assembly.beam`).
+    mass of its own (a beam shaft's half masses at its end bodies, :mod:`assembly.mechanics.beam`).
     ``c`` (optional; N s/m, N m s/rad): viscous dampers, one per row of ``B`` beside ``k``
     (a row may carry a damper without a spring, ``k = 0``); None: no damper.
     """

@@ -12,7 +12,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import MechanismError
+from ..errors import MechanismError
 
 #: Pivots of the LU factors of K_ii below this fraction of the largest are taken as zero:
 #: an interior motion without stiffness (K_ii singular) once the kept coordinates are held.
