@@ -1,5 +1,8 @@
 """Where springs attach: body positions, or interface master nodes of component bodies.
 
+A component body's local point ``x`` sits at ``position + R x`` with ``R = axis_frame(axis)``
+(local z = the body's axis).
+
 Master positions come from the component geometry alone (no meshing), so a scene is
 validated -- and its rigid and torsional variants attach their springs at the very same
 points as the flexible one -- before anything is meshed.
@@ -8,8 +11,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from .components import global_masters
 from .errors import SceneError
+from .mechanics.kinematics import axis_frame
+
+
+def local_masters(params) -> dict:
+    """Interface name -> master position in the component's local axes (m); no meshing."""
+    from fe_components.geometry import interface_defs
+    return {d.name: np.asarray(d.master, float) for d in interface_defs(params)}
+
+
+def placement(body):
+    """(origin (3,), R (3x3)) mapping local component points to global: x_g = o + R x."""
+    return np.asarray(body.position, float), axis_frame(body.axis)
+
+
+def global_masters(body) -> dict:
+    """Interface name -> global master position (m) of a placed component body."""
+    o, R = placement(body)
+    return {k: o + R @ v for k, v in local_masters(body.component).items()}
 
 
 def component_masters(scene) -> dict:

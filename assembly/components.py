@@ -22,9 +22,8 @@ import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 
-from .mechanics.kinematics import axis_frame
+from .attach import placement
 from .scene import FlexOptions
 
 log = logging.getLogger(__name__)
@@ -46,23 +45,6 @@ class CacheDirs:
 
     meshes: Path = field(default_factory=default_cache_root)
     superelements: Path = field(default_factory=lambda: default_cache_root() / "cms")
-
-
-def local_masters(params) -> dict:
-    """Interface name -> master position in the component's local axes (m); no meshing."""
-    from fe_components.geometry import interface_defs
-    return {d.name: np.asarray(d.master, float) for d in interface_defs(params)}
-
-
-def placement(body):
-    """(origin (3,), R (3x3)) mapping local component points to global: x_g = o + R x."""
-    return np.asarray(body.position, float), axis_frame(body.axis)
-
-
-def global_masters(body) -> dict:
-    """Interface name -> global master position (m) of a placed component body."""
-    o, R = placement(body)
-    return {k: o + R @ v for k, v in local_masters(body.component).items()}
 
 
 def mesh_size(params, options: FlexOptions) -> float:

@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from .scene import DOF_NAMES, SPLIT_STIFFNESSES, Bearing, Body, Scene, derive
+from .scene import DOF_NAMES, SPLIT_STIFFNESSES, Scene, derive
+from .validate import can_constrain
 
 log = logging.getLogger(__name__)
 
@@ -23,15 +24,6 @@ log = logging.getLogger(__name__)
 #: documented accuracy (:data:`assembly.resolution.FREQ_RTOL`), so that a few constrained
 #: directions acting on one mode still add up to less than it.
 CONSTRAINT_RTOL = 1e-7
-
-
-def can_constrain(bearing: Bearing, body: Body) -> bool:
-    """Whether a direction of ``bearing`` may become an exact constraint: only on a plain
-    rigid body (no component), at the body's own position, to its own reference frame,
-    since the independent coordinates are the body's motion relative to that frame."""
-    own_frame = bearing.frame is None or bearing.frame == body.frame
-    at_body = bearing.position is None or np.allclose(bearing.position, body.position, rtol=0, atol=1e-12)
-    return body.component is None and own_frame and at_body
 
 
 #: Fields of one radial or tilt direction: a bearing turned by ``radial_angle`` acts along

@@ -31,7 +31,7 @@ from .errors import MechanismError, SceneError, SolverError
 from .loads import axial_rotation, single_rigid_mode
 from .model import assemble
 from .scene import with_fidelity
-from .validate import body_origins
+from .paths import body_origins
 from .scene import scene_argument
 
 log = logging.getLogger(__name__)

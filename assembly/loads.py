@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .components import global_masters
+from .attach import global_masters
 from .mechanics.kinematics import block_rotation
 from .mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
 from .scene import DOF_NAMES

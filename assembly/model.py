@@ -27,8 +27,8 @@ from .mechanics.elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
 from .mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
 from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
-from .shafts import beam_elements
-from .validate import body_origins
+from .shaft_elements import beam_elements
+from .paths import body_origins
 from .scene import scene_argument
 
 log = logging.getLogger(__name__)

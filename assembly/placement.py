@@ -42,7 +42,7 @@ def _gear_offset(body, interface, path: str) -> np.ndarray:
     """Global vector from the body's position to its gear centre (0 for a plain body)."""
     if body.component is None:
         return np.zeros(3)
-    from .components import local_masters
+    from .attach import local_masters
     try:
         masters = local_masters(body.component)
     except GeometryError as err:  # a carrier without its pins

@@ -42,7 +42,7 @@ HOUSING = "housing"
 DEFAULT_BAND_HZ = 3000.0
 #: Tables, plots, images and modal stresses show the modes up to this multiple of the band
 #: (:attr:`Scene.display_limit_hz`); modes above it are flagged "outside the band". Matches
-#: the default Craig-Bampton cutoff factor (assembly.flexible.CUTOFF_FACTOR), so with default
+#: the default Craig-Bampton cutoff factor (assembly.cutoffs.CB_CUTOFF_FACTOR), so with default
 #: reductions every mode shown lies below every flexible body's cutoff.
 DISPLAY_BAND_FACTOR = 1.5
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -87,7 +87,7 @@ class FlexOptions:
 
     ``mesh_size`` (m; default from the component's thinnest wall), ``order`` (2 = P2
     tetrahedra), ``n_modes`` or ``cutoff_hz`` (Hz) of fixed-interface modes (default:
-    CUTOFF_FACTOR x the scene's band), ``couplings`` {interface: 'rbe2'|'rbe3'},
+    CB_CUTOFF_FACTOR x the scene's band), ``couplings`` {interface: 'rbe2'|'rbe3'},
     ``residual_vectors`` (default on): add the static response of the interior to the
     inertia of the interface motion (``cms.craig_bampton``), which carries the
     quasi-static part of every truncated mode for one more block solve.

@@ -9,7 +9,7 @@ the code it describes (the module named in brackets).
 """
 from __future__ import annotations
 
-from .flexible import CUTOFF_FACTOR
+from .cutoffs import CB_CUTOFF_FACTOR
 from .scene import DEFAULT_BAND_HZ, HOUSING, MAX_MODES, MAX_NAME_LENGTH
 
 #: The damper fields of a bearing table (:class:`Bearing`, :class:`BearingSpec`).
@@ -102,7 +102,7 @@ FIELDS: dict[str, dict[str, str]] = {
         "mesh_size": "Element size (default from the component's thinnest wall).",
         "order": "Tetrahedron order: 2 = P2 (default), 1 = P1 (locks for nu near 0.5).",
         "n_modes": f"Fixed-interface modes kept (0 = Guyan); instead of `cutoff_hz`; at most {MAX_MODES}.",
-        "cutoff_hz": f"Keep fixed-interface modes below this frequency (default {CUTOFF_FACTOR:g} x `band_hz`).",
+        "cutoff_hz": f"Keep fixed-interface modes below this frequency (default {CB_CUTOFF_FACTOR:g} x `band_hz`).",
         "couplings": "Table {interface = 'rbe2' | 'rbe3'} overriding an interface's coupling.",
         "material": "Material of the component (default steel).",
         "residual_vectors": "Add the static interior response to interface motion (Dickens et al. 1997).",
@@ -520,7 +520,7 @@ NOTES: dict[str, str] = {
         "`polar_inertia`/2 (a thin disc). Give `mass` and `polar_inertia` (or `inertia_tensor`), "
         "or a `component`, not both."),
     "FlexOptions": (
-        f"Either `n_modes` or `cutoff_hz`, not both. Without either the cutoff is {CUTOFF_FACTOR:g} x "
+        f"Either `n_modes` or `cutoff_hz`, not both. Without either the cutoff is {CB_CUTOFF_FACTOR:g} x "
         f"the scene's `band_hz` (itself {DEFAULT_BAND_HZ:g} Hz when not given); a cutoff that would keep "
         f"more than {MAX_MODES} modes is refused. Also written inline: "
         "`flex = { mesh_size = 0.012 }`."),

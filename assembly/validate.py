@@ -26,17 +26,26 @@ from fe_components.part_file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .body_names import body_references, scene_body_names, unknown_body_reason
-from .constraints import can_constrain
 from .errors import SceneError
-from .flexible import CUTOFF_FACTOR, cutoff_source, weyl_mode_count
+from .paths import body_origins, element_paths
+from .cutoffs import CB_CUTOFF_FACTOR, cutoff_source, weyl_mode_count
 from .mechanics.kinematics import unit
 from .planet_spacing import check_planet_assembly, check_planet_spacing
 from .scene_sizes import positions_plausible
-from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Body,
+from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Bearing, Body,
                     FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
 from .shafts import check_along_axis, check_slenderness, shaft_ends, shaft_line, station_body
 from .validate_loads import check_load
+
+
+def can_constrain(bearing: Bearing, body: Body) -> bool:
+    """Whether a direction of ``bearing`` may become an exact constraint: only on a plain
+    rigid body (no component), at the body's own position, to its own reference frame,
+    since the independent coordinates are the body's motion relative to that frame."""
+    own_frame = bearing.frame is None or bearing.frame == body.frame
+    at_body = bearing.position is None or np.allclose(bearing.position, body.position, rtol=0, atol=1e-12)
+    return body.component is None and own_frame and at_body
 
 
 def _nonzero_axis(path, axis) -> None:
@@ -356,37 +365,6 @@ def unique_names(items, path, attr="name") -> None:
 
 
 #: Stage role of a body -> the table of the stage it comes from.
-_STAGE_TABLE = {"sun": "sun", "ring": "ring", "carrier": "carrier", "planet": "planets"}
-
-
-def body_origins(scene, expanded) -> dict:
-    """Body name -> the path of the table that made it: ``bodies[i]``, a shaft's station
-    (``shafts[i].stations[j]``), or the member table of the stage (``stages[i].sun``,
-    ``.ring``, ``.carrier``, ``.planets``)."""
-    origin = {b.name: f"bodies[{i}]" for i, b in enumerate(scene.bodies)}
-    for i, s in enumerate(scene.shafts):
-        for j, st in enumerate(s.stations):
-            origin.setdefault(station_body(s, st), f"shafts[{i}].stations[{j}]")
-    for i, st in enumerate(scene.stages):
-        for b in expanded.bodies:
-            if b.stage == st.name and b.name not in origin:
-                origin[b.name] = f"stages[{i}].{_STAGE_TABLE[b.role]}"
-    return origin
-
-
-def element_paths(scene, expanded, key: str, origin: dict, attr: str):
-    """(path, item) of every bearing or mesh of the expanded scene: ``key[i]`` for the
-    user's own tables; for a stage's, the bearing table of its member
-    (``stages[0].planets.bearing``) or the stage itself (a mesh: ``stages[0]``)."""
-    own = len(getattr(scene, key))
-    for i, item in enumerate(getattr(expanded, key)):
-        if i < own:
-            yield f"{key}[{i}]", item
-        else:
-            member = origin[getattr(item, attr)]
-            yield (f"{member}.bearing" if key == "bearings" else member.split(".")[0]), item
-
-
 def body_table(expanded, origin: dict) -> dict:
     """Name -> body; duplicate names and an empty scene are errors."""
     names = {}
@@ -556,7 +534,7 @@ def couplings_name_interfaces(expanded, masters: dict, origin: dict) -> None:
 def cutoffs_bounded(scene, expanded, origin: dict) -> None:
     """The Craig-Bampton cutoff of every flexible body needs at most MAX_MODES
     fixed-interface modes, judged before anything is meshed by Weyl's mode count on a
-    lower bound of the component's volume (:func:`assembly.flexible.weyl_mode_count`,
+    lower bound of the component's volume (:func:`assembly.cutoffs.weyl_mode_count`,
     which underestimates: only a cutoff that surely needs too many modes is refused here;
     the reduction itself stops at MAX_MODES + 1 modes for the rest)."""
     band = scene.band
@@ -564,7 +542,7 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
         opts = b.flex or FlexOptions()
         if b.fidelity != "flexible" or b.component is None or opts.n_modes is not None:
             continue
-        cutoff = opts.cutoff_hz if opts.cutoff_hz is not None else CUTOFF_FACTOR * band
+        cutoff = opts.cutoff_hz if opts.cutoff_hz is not None else CB_CUTOFF_FACTOR * band
         volume = volume_lower_bound(b.component)
         n = weyl_mode_count(volume, opts.material, cutoff)
         if n > MAX_MODES:

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..components import CacheDirs, forget_fe_models
-from ..flexible import CUTOFF_FACTOR
+from ..cutoffs import CB_CUTOFF_FACTOR
 from ..modal import solve_modes
 from ..model import assemble, build_body_models
 from ..scene import FlexOptions, scale_bearings
@@ -123,7 +123,7 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
               file=out)
         out.flush()
     if n_variants:
-        rows.append(_study(scene, band, n_variants, CUTOFF_FACTOR, n_cmp, out))
+        rows.append(_study(scene, band, n_variants, CB_CUTOFF_FACTOR, n_cmp, out))
     return rows
 
 

@@ -107,7 +107,7 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
 
 
 def main(argv=None, out=None) -> int:
-    from ..dynamics.frf import CUTOFF_FACTOR, frequency_response
+    from ..dynamics.frf import MODAL_CUTOFF_FACTOR, frequency_response
     from ..modal import solve_modes
     from ..model import assemble
     from ..schema import load_scene
@@ -133,7 +133,7 @@ def main(argv=None, out=None) -> int:
     res = solve_modes(model)
     t_modes = time.perf_counter() - t0
     rows = []
-    for label, cutoff in ((f"modal, modes to {CUTOFF_FACTOR:g} x fmax", CUTOFF_FACTOR * a.fmax),
+    for label, cutoff in ((f"modal, modes to {MODAL_CUTOFF_FACTOR:g} x fmax", MODAL_CUTOFF_FACTOR * a.fmax),
                           ("modal, every mode", np.inf)):
         rows.append((label, cutoff, frequency_response(model, source, outputs, f, result=res, modes_hz=cutoff)))
     t0 = time.perf_counter()

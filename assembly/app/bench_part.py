@@ -16,7 +16,7 @@ the same size (two 15 mm cheeks of 270 mm, the same seats and bores; 17.9 and 15
 Both are built at the same element size (P2), each case in a fresh spawned process with an
 empty temporary mesh cache, with the scene's flex options (couplings, material, order) and
 the scene's reduction: Craig-Bampton with every fixed-interface mode below
-``CUTOFF_FACTOR x band_hz`` (1.5 x 3000 Hz = 4500 Hz), residual vectors on, at most
+``CB_CUTOFF_FACTOR x band_hz`` (1.5 x 3000 Hz = 4500 Hz), residual vectors on, at most
 ``MAX_MODES`` modes, called as :func:`assembly.flexible._reduce` calls it. One more row
 builds the STEP carrier again in a fresh process from the mesh cache its cold row filled:
 what the mesh cache saves. The superelement cache of a scene run is not used.
@@ -67,7 +67,7 @@ class Case:
 
 def load_cases() -> dict[str, Case]:
     """The two carriers as their shipped scenes define them (pins, flex options, cutoff)."""
-    from ..flexible import cutoff_for
+    from ..cutoffs import cutoff_for
     from ..planetary import carrier_pins
     from ..scene import FlexOptions
     from ..schema import load_scene

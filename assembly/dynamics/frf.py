@@ -40,7 +40,7 @@ omega c_r)`` to first order in ``(omega^2 - i omega c_r) / lambda_r``):
 (``c_r`` the diagonal of ``C_m``; the damping coupling between kept and truncated modes is
 taken to first order, :func:`_modal`). For an undamped mode at ``omega_r`` the term's
 error is ``x^2 / (1 - x)`` of that mode's static share, ``x = (omega/omega_r)^2``: with
-the default cutoff, :data:`CUTOFF_FACTOR` x the highest frequency asked, below 1.3e-6;
+the default cutoff, :data:`MODAL_CUTOFF_FACTOR` x the highest frequency asked, below 1.3e-6;
 it diverges as ``omega`` reaches ``omega_r``. A cutoff below :data:`MIN_CUTOFF_RATIO` x
 the highest frequency asked (a mode just above it would be off by more than 8 % of its
 static share, or diverge) is refused; one whose lowest left-out mode gives a bound above
@@ -91,7 +91,7 @@ METHODS = ("modal", "direct")
 BLOCK = 2048
 #: Default modal cutoff: modes up to this multiple of the highest frequency asked are
 #: superposed, the rest enter by their residual flexibility (module notes).
-CUTOFF_FACTOR = 30.0
+MODAL_CUTOFF_FACTOR = 30.0
 #: The lowest mode left out by the modal cutoff must lie at least this multiple above the
 #: highest frequency asked: at 2x its residual term is off by 8.3 % of its static share
 #: (module notes), and the series diverges as the frequency reaches the mode.
@@ -144,7 +144,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     :mod:`assembly.dynamics.frf_channels`) at ``frequency_hz`` (Hz, >= 0; > 0 when the
     model has a rigid-body mode). ``result``: the model's :class:`assembly.modal.ModalResult`
     with every mode, if already solved. ``modes_hz`` (Hz): the modal cutoff of
-    ``method="modal"`` (module notes); default :data:`CUTOFF_FACTOR` x ``max(frequency_hz)``,
+    ``method="modal"`` (module notes); default :data:`MODAL_CUTOFF_FACTOR` x ``max(frequency_hz)``,
     ``inf`` for every mode; ``residual=False`` drops the modes above it altogether (plain
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
@@ -167,7 +167,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         raise SceneError("frequency_hz", float(f.max()), "its angular frequency squared overflows a double: no "
                                                           "response can be computed there")
     if modes_hz is None:
-        modes_hz = CUTOFF_FACTOR * float(f.max()) if f.max() > 0 else np.inf
+        modes_hz = MODAL_CUTOFF_FACTOR * float(f.max()) if f.max() > 0 else np.inf
     if not (modes_hz > 0):
         raise SceneError("modes_hz", modes_hz, "the modal cutoff must be a frequency > 0 Hz")
     if method == "modal" and residual:
@@ -233,13 +233,13 @@ def cutoff_check(modes_hz: float, fmax_hz: float, lowest_left_out_hz: float | No
                          f"below {MIN_CUTOFF_RATIO:g} x the highest frequency asked ({fmax_hz:.6g} Hz): a mode left "
                          f"out just above the cutoff answers with a residual term off by "
                          f"{_residual_bound(fmax_hz / modes_hz):.3g} of its static share there (inf: the series "
-                         f"diverges); use at least {CUTOFF_FACTOR:g} x {fmax_hz:.6g} Hz (the default), or inf")
+                         f"diverges); use at least {MODAL_CUTOFF_FACTOR:g} x {fmax_hz:.6g} Hz (the default), or inf")
     f_t = modes_hz if lowest_left_out_hz is None else lowest_left_out_hz
     bound = _residual_bound(fmax_hz / f_t)
     if bound > CUTOFF_WARN:
         return [f"modal cutoff {modes_hz:.6g} Hz: the modes left out (from {f_t:.6g} Hz) answer with an error up "
                 f"to {bound:.2g} of their static share at {fmax_hz:.6g} Hz (the default cutoff, "
-                f"{CUTOFF_FACTOR:g} x fmax: {_residual_bound(1.0 / CUTOFF_FACTOR):.2g})"]
+                f"{MODAL_CUTOFF_FACTOR:g} x fmax: {_residual_bound(1.0 / MODAL_CUTOFF_FACTOR):.2g})"]
     return []
 
 

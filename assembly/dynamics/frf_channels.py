@@ -104,7 +104,7 @@ def _interfaces(model, body: str) -> list:
     bm = model.bodies[body]
     if bm.flexible:
         return sorted(bm.masters)
-    from ..components import global_masters
+    from ..attach import global_masters
     b = next(b for b in model.scene.bodies if b.name == body)
     return sorted(global_masters(b)) if b.component is not None else []
 

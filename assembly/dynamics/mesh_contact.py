@@ -23,7 +23,7 @@ import numpy as np
 
 from ..loads import axial_rotation
 from ..scene import HOUSING
-from ..validate import body_origins, element_paths
+from ..paths import body_origins, element_paths, stage_mesh_side
 from .frf_channels import _strain_rows
 from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear
@@ -76,8 +76,8 @@ class Meshes(Nonlinear):
             if v is not None:
                 gear = m.gear1 if v.counting_gear == "gear1" else m.gear2
                 a, p = series(v)
-                where = (f"{path}.variation_sun" if "sun-planet" in m.name else f"{path}.variation_ring") \
-                    if path.startswith("stages") else f"{path}.variation"
+                where = (f"{path}.variation_{stage_mesh_side(scene, m)}" if path.startswith("stages")
+                         else f"{path}.variation")
                 check_positive(a, p, where + (".amplitudes" if v.amplitudes is not None else ".step"))
                 r = v.teeth * (spin_row(model, gear) - (spin_row(model, frame) if frame else 0.0))
                 z, ph = v.teeth, v.phase

@@ -72,7 +72,7 @@ def test_frequencies_decrease_as_modes_are_added(reduced):
 
 def test_default_cutoff_within_half_percent_in_band(scene, full, reduced):
     # the product's accuracy target for reduced models: every coupled mode inside the scene's band within 0.5 %
-    # of full FE at the default cutoff (CUTOFF_FACTOR x band)
+    # of full FE at the default cutoff (CB_CUTOFF_FACTOR x band)
     band = full < scene.band_hz
     assert band.sum() >= 3
     err = np.abs(reduced["default"][band] / full[band] - 1)

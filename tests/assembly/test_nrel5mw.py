@@ -19,7 +19,8 @@ import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
 from assembly.attach import component_masters
-from assembly.components import CacheDirs, global_masters, mass_properties
+from assembly.attach import global_masters
+from assembly.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
 from assembly.drivetrain import derive_two_mass, speed_ratios, two_mass_frequencies
 from assembly.scene import BearingSpec, derive, with_fidelity

@@ -356,7 +356,7 @@ def test_unbounded_cutoff_refused_naming_the_body(base, keys, who):
         scene_from_dict(_flex_tree(base, keys, cutoff_hz=1e9))
     assert e.value.path == _path(keys) + ".flex.cutoff_hz" and who in str(e.value)
     tree = copy.deepcopy(BASES[base])
-    tree["band_hz"] = 1e9  # the default cutoff is CUTOFF_FACTOR x band
+    tree["band_hz"] = 1e9  # the default cutoff is CB_CUTOFF_FACTOR x band
     with pytest.raises(SceneError) as e:
         scene_from_dict(tree)
     first = "stage.carrier" if "planetary" in base else "pinion"  # the first flexible body
