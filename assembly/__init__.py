@@ -12,19 +12,19 @@ from fe_components.lazy import lazy_exports
 
 # ``compare`` and ``stage_alone`` are also the names of submodules: importing a submodule
 # rebinds the package attribute to the module, so these functions are bound here once, eagerly
-# (``from assembly import stage_alone`` gave the module once assembly.stage_alone was imported).
+# (``from assembly import stage_alone`` gave the module once assembly.scene.stage_alone was imported).
 from .compare import compare
 from .errors import MechanismError, SceneError, SolverError
-from .scene import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
+from .scene.tables import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
                     Planets, PointLoad, Scene, Shaft, Support, scale_bearings, with_fidelity)
-from .stage_alone import stage_alone
+from .scene.stage_alone import stage_alone
 
 #: Public name -> submodule, imported on first use.
 _EXPORTS = {
     "classify_modes": "classify", "pair_modes": "classify", "CacheDirs": "components",
-    "get_value": "edit", "with_value": "edit", "with_values": "edit",
-    "solve_modes": "modal", "assemble": "model", "load_scene": "schema", "scene_from_dict": "schema",
-    "save_scene": "scene_toml", "scene_to_toml": "scene_toml", "Branch": "tracking", "track_modes": "tracking",
+    "get_value": "scene.edit", "with_value": "scene.edit", "with_values": "scene.edit",
+    "solve_modes": "modal", "assemble": "model", "load_scene": "scene.schema", "scene_from_dict": "scene.schema",
+    "save_scene": "scene.save", "scene_to_toml": "scene.save", "Branch": "tracking", "track_modes": "tracking",
     "check_part": "part_check", "check_body_part": "part_check",
 }
 

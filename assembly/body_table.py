@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .paths import body_origins
+from .scene.paths import body_origins
 
 #: Mass properties of a component that differ from the typed ones by more than this
 #: (relative) are reported as replaced: a P2 mesh of curved surfaces holds its volume to

@@ -19,9 +19,9 @@ from .body_table import body_properties, replaced, replaced_note
 from .classify import classify_modes, pair_modes
 from .modal import solve_modes
 from .model import assemble
-from .scene import with_fidelity
+from .scene.tables import with_fidelity
 from .modal import modes_argument
-from .scene import scene_argument
+from .scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 FIDELITIES = ("torsional", "rigid", "flexible")

@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 
-from .attach import placement
-from .scene import FlexOptions
+from .scene.attach import placement
+from .scene.tables import FlexOptions
 
 log = logging.getLogger(__name__)
 

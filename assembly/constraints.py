@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from .scene import DOF_NAMES, SPLIT_STIFFNESSES, Scene, derive
-from .validate import can_constrain
+from .scene.tables import DOF_NAMES, SPLIT_STIFFNESSES, Scene, derive
+from .scene.validate import can_constrain
 
 log = logging.getLogger(__name__)
 

@@ -4,7 +4,7 @@ Aero-elastic codes (OpenFAST ElastoDyn) model the drivetrain as two inertias joi
 torsional spring: the rotor ``J_R`` on the low-speed shaft, the generator ``J_G`` on the
 high-speed shaft, the gear ratio ``N`` between them and the spring ``k`` on the low-speed
 side (Jonkman et al. (2009), NREL/TP-500-38060, section 5). Everything here is read off
-the torsional model of the scene (:func:`assembly.scene.with_fidelity` ``"torsional"``):
+the torsional model of the scene (:func:`assembly.scene.tables.with_fidelity` ``"torsional"``):
 
 * the speed ratios of every body from the model's single rigid-body mode (gear geometry
   only, :func:`assembly.loads.single_rigid_mode`);
@@ -30,9 +30,9 @@ from .mechanics.condensation import condense
 from .errors import MechanismError, SceneError, SolverError
 from .loads import axial_rotation, single_rigid_mode
 from .model import assemble
-from .scene import with_fidelity
-from .paths import body_origins
-from .scene import scene_argument
+from .scene.tables import with_fidelity
+from .scene.paths import body_origins
+from .scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

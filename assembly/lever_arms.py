@@ -3,7 +3,7 @@
 A shaft, or a bearing between two bodies, joins bodies that turn about parallel axes. When
 those axis lines lie a hair apart -- more than the round-off of the coordinates
 (:data:`assembly.mechanics.nullity.DROP_RTOL`), less than the alignment tolerance of a shaft
-(:data:`assembly.shafts.AXIS_TOLERANCE` of the model's size) -- their common rotation strains
+(:data:`assembly.scene.shafts.AXIS_TOLERANCE` of the model's size) -- their common rotation strains
 the element's translational springs by the offset times the angle: a lever arm, and a
 stiffness k delta^2 against a rotation that is free with the axes joined. The structure
 then has one rigid-body mode less, and its place is taken by an "elastic" mode of
@@ -23,7 +23,7 @@ import numpy as np
 
 from .errors import SceneError
 from .mechanics.nullity import coordinate_scale, rigid_body_count
-from .shafts import AXIS_TOLERANCE
+from .scene.shafts import AXIS_TOLERANCE
 
 #: Stage members that sit at the stage's centre.
 CENTRAL = ("sun", "ring", "carrier")

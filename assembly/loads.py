@@ -29,10 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .attach import global_masters
+from .scene.attach import global_masters
 from .mechanics.kinematics import block_rotation
 from .mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
-from .scene import DOF_NAMES
+from .scene.tables import DOF_NAMES
 
 
 @dataclass(frozen=True)

@@ -19,17 +19,17 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import arguments
-from .attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .scene.attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
 from .mechanics.elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
 from .mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
-from .scene import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
+from .scene.tables import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
 from .shaft_elements import beam_elements
-from .paths import body_origins
-from .scene import scene_argument
+from .scene.paths import body_origins
+from .scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

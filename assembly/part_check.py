@@ -4,7 +4,7 @@ rigid-body modes expected, then the first elastic ones), the interfaces its rule
 its file held and what was left out, and the element order. SI units, the part's local axes.
 
 :func:`check_part` takes a :class:`fe_components.part_file.PartFile` (and how it is meshed,
-:class:`assembly.scene.FlexOptions`); :func:`check_body_part` the part of a scene's body, as
+:class:`assembly.scene.tables.FlexOptions`); :func:`check_body_part` the part of a scene's body, as
 the scene builds it (its ``flex`` table, the same caches). ``flexgear part`` prints either.
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Optional
 import numpy as np
 
 from .errors import SceneError, SolverError
-from .scene import FlexOptions
+from .scene.tables import FlexOptions
 
 log = logging.getLogger(__name__)
 

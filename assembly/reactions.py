@@ -35,7 +35,7 @@ from . import arguments
 from .constraints import constrained_dofs
 from .mechanics.kinematics import block_rotation
 from .loads import applied_loads, load_point, speed_ratio
-from .scene import DOF_NAMES, HOUSING
+from .scene.tables import DOF_NAMES, HOUSING
 from .static import StaticResult
 
 _FORCE = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")

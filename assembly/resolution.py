@@ -35,7 +35,7 @@ import numpy as np
 from fe_components.params import component_kind
 
 from .errors import SceneError
-from .paths import body_origins, element_paths
+from .scene.paths import body_origins, element_paths
 
 log = logging.getLogger(__name__)
 

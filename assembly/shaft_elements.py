@@ -1,13 +1,13 @@
 """The Timoshenko elements of a beam shaft (``[[shafts]]`` with ``diameter``): one element
-between consecutive nodes of the shaft as the scene lays it out (:func:`assembly.shafts.beam_nodes`:
+between consecutive nodes of the shaft as the scene lays it out (:func:`assembly.scene.shafts.beam_nodes`:
 body1's point, the stations by ``at``, body2's point)."""
 from __future__ import annotations
 
 import dataclasses
 
 from .mechanics.beam import section, timoshenko_element
-from .scene import Shaft
-from .shafts import beam_nodes
+from .scene.tables import Shaft
+from .scene.shafts import beam_nodes
 
 
 def beam_elements(s: Shaft, i: int, by_name: dict, masters: dict, name: str) -> list:

@@ -25,9 +25,9 @@ from .errors import MechanismError, SceneError
 from .loads import free_motions, held_directions, load_vector
 from .model import assemble
 from .mechanics.nullity import STRUCT_RTOL
-from .scene import LoadCase
+from .scene.tables import LoadCase
 from .model import model_argument
-from .scene import scene_argument
+from .scene.tables import scene_argument
 
 #: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
 DENSE_MAX = 3000

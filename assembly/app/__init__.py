@@ -10,7 +10,7 @@ __all__ = ["run_report"]
 
 
 def run_report(scene, out, *, progress: bool = False, **options):
-    """Run the ``flexgear run`` pipeline on ``scene`` (a :class:`~assembly.scene.Scene`, a
+    """Run the ``flexgear run`` pipeline on ``scene`` (a :class:`~assembly.scene.tables.Scene`, a
     scene file or the name of a shipped example) into the folder ``out`` (replaced as a
     whole when the run succeeds, never half-written) and return the run's context
     (:class:`~assembly.app.pipeline.RunContext`: ``scene``, ``model``, ``result``,
@@ -23,7 +23,7 @@ def run_report(scene, out, *, progress: bool = False, **options):
     import dataclasses
 
     from .. import arguments
-    from ..scene import Scene
+    from ..scene.tables import Scene
     from .pipeline import RunOptions, run_pipeline
     from .progress import Progress
 

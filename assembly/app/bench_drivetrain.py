@@ -33,8 +33,8 @@ from ..classify import pair_modes
 from ..components import CacheDirs, forget_fe_models
 from ..modal import solve_modes
 from ..model import assemble
-from ..scene import with_fidelity
-from ..schema import load_scene
+from ..scene.tables import with_fidelity
+from ..scene.schema import load_scene
 
 #: Modes of the unreduced model solved beyond the reduced model's in-band count: the reduced
 #: frequencies bound the full ones from above (Rayleigh-Ritz), so the full model has at

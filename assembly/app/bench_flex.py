@@ -22,11 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from ..components import CacheDirs, forget_fe_models
-from ..cutoffs import CB_CUTOFF_FACTOR
+from ..scene.cutoffs import CB_CUTOFF_FACTOR
 from ..modal import solve_modes
 from ..model import assemble, build_body_models
-from ..scene import FlexOptions, scale_bearings
-from ..schema import load_scene
+from ..scene.tables import FlexOptions, scale_bearings
+from ..scene.schema import load_scene
 
 
 def _with_flex(scene, **kw):

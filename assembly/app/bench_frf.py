@@ -110,7 +110,7 @@ def main(argv=None, out=None) -> int:
     from ..dynamics.frf import MODAL_CUTOFF_FACTOR, frequency_response
     from ..modal import solve_modes
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
 
     out = out or sys.stdout
     p = argparse.ArgumentParser(prog="flexgear bench frf", description=__doc__.split("\n\n")[0])

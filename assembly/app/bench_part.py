@@ -10,7 +10,7 @@ The cost of a user's part: STEP import + mesh + assemble + couple + reduce of th
 windows of ``planetary_step_carrier.toml`` (``assembly/scenes/parts/carrier_windows.step``,
 six cylinder interface rules), against the same steps for the built-in parametric carrier
 (:class:`~fe_components.params.CarrierParams`) of ``planetary_flexible_carrier.toml``, its
-pins set by the stage (:func:`assembly.planetary.carrier_pins`): two steel carriers of about
+pins set by the stage (:func:`assembly.scene.planetary.carrier_pins`): two steel carriers of about
 the same size (two 15 mm cheeks of 270 mm, the same seats and bores; 17.9 and 15.8 kg).
 
 Both are built at the same element size (P2), each case in a fresh spawned process with an
@@ -61,16 +61,16 @@ class Case:
 
     kind: str                 # "step" or "builtin"
     params: object
-    flex: object              # assembly.scene.FlexOptions
+    flex: object              # assembly.scene.tables.FlexOptions
     cutoff_hz: float | None
 
 
 def load_cases() -> dict[str, Case]:
     """The two carriers as their shipped scenes define them (pins, flex options, cutoff)."""
-    from ..cutoffs import cutoff_for
-    from ..planetary import carrier_pins
-    from ..scene import FlexOptions
-    from ..schema import load_scene
+    from ..scene.cutoffs import cutoff_for
+    from ..scene.planetary import carrier_pins
+    from ..scene.tables import FlexOptions
+    from ..scene.schema import load_scene
 
     out = {}
     for kind, name in SCENES.items():
@@ -110,7 +110,7 @@ def build_and_reduce(case: Case, size: float, cache_dir: str) -> dict:
     from fe_components.part_file import PartFile
     from fe_components.part_geometry import part_geometry
 
-    from ..scene import MAX_MODES
+    from ..scene.tables import MAX_MODES
 
     flex, params = case.flex, case.params
     t = {}

@@ -156,7 +156,7 @@ def flexible_sizes(scene_name: str, cache_dir: str) -> str:
     from fe_components.meshing import cache_root
 
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     with cache_root(cache_dir):
         m = assemble(load_scene(scene_name))
     flex = [f"{b} {m.bodies[b].info.get('n_full_dofs')} -> {m.bodies[b].ndof}"

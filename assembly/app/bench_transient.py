@@ -48,7 +48,7 @@ DT_5MW = 1e-4                     # s
 
 def rated_5mw(name: str):
     """The NREL 5 MW scene ``name`` at rated operation, every mesh angle-driven with backlash."""
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     scene = load_scene(name)
     ch = {"simulation": {"speed": RATED_SPEED, "generator": {"torque": GENERATOR_TORQUE},
                          "loads": [{"body": "rotor", "value": GENERATOR_TORQUE * RATIO}]}}
@@ -66,7 +66,7 @@ def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]
     from ..dynamics.integrators import _effective, _Solver
     from ..dynamics.simulate import model_matrices, scheme_of
     from ..modal import SMALL_DENSE
-    from ..scene_time import Simulation
+    from ..scene.time_domain import Simulation
     n = model.K.shape[0]
     M, K, C, _ = model_matrices(model)
     solver = _Solver(_effective(M, C, K, dt, scheme_of(scene.simulation or Simulation())))
@@ -116,7 +116,7 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
     from ..dynamics.mesh_contact import spin_row
     from ..loads import single_rigid_mode
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     scene = load_scene(name)
     ld = scene.load
     model = assemble(scene)
@@ -209,7 +209,7 @@ def _drivetrain(cases, a, out) -> None:
 def _reduced_vs_unreduced(a, out) -> None:
     from ..dynamics.simulate import STEPS_PER_PERIOD
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     sname = "hs_parallel_stage"
     band = load_scene(sname).band
     dt = a.dt or 1.0 / (STEPS_PER_PERIOD * band)

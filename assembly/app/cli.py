@@ -161,7 +161,7 @@ def scene_file(args) -> str:
     """The scene file ``args.scene`` names. A bare name may be a file here or a shipped
     example, so the file it resolved to is announced on stderr; a path with a folder part
     is read as given (never a shipped example)."""
-    from ..schema import SCENE_DIR, is_bare_name, resolve_scene_path
+    from ..scene.schema import SCENE_DIR, is_bare_name, resolve_scene_path
 
     path = resolve_scene_path(args.scene)
     if is_bare_name(args.scene) and not getattr(args, "quiet", False):
@@ -173,7 +173,7 @@ def scene_file(args) -> str:
 def cmd_modes(args) -> int:
     from ..modal import solve_modes
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .tables import modes_json, modes_table
 
     scene = load_scene(scene_file(args))
@@ -187,7 +187,7 @@ def cmd_modes(args) -> int:
 
 def cmd_compare(args) -> int:
     from ..compare import compare
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .tables import comparison_table
 
     scene = load_scene(scene_file(args))
@@ -207,7 +207,7 @@ def cmd_static(args) -> int:
     from ..errors import SceneError
     from ..model import assemble
     from ..reactions import static_report
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from ..static import solve_static_cases
     from .static_tables import static_json, static_text
 
@@ -296,7 +296,7 @@ def cmd_export_elastodyn(args) -> int:
     """``flexgear export elastodyn``: the two-mass drivetrain as an ElastoDyn fragment, to
     ``--out`` (atomically, with a summary on stdout) or to stdout."""
     from ..drivetrain import derive_two_mass
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .elastodyn import fragment_text, write_fragment
     from .output import OutputDirError
 
@@ -326,7 +326,7 @@ def cmd_campbell(args) -> int:
     """``flexgear campbell``: natural frequencies, excitation orders and their crossings over
     a speed range of the reference body (rpm): a table, ``--json``, or files in ``--out``."""
     from ..dynamics.campbell import campbell
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .campbell import campbell_json, campbell_to_dir, crossings_text
 
     path = scene_file(args)
@@ -351,7 +351,7 @@ def cmd_frf(args) -> int:
     or files in ``--out``."""
     from ..dynamics.frf import check_frf_size, frequency_response
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .frf import frequencies, frf_json, frf_to_dir, summary_text
 
     size = {"len(frequency_hz)": "--points"}
@@ -429,7 +429,7 @@ def cmd_simulate(args) -> int:
     run that stops keeps its partial result (:func:`_stopped`) and exits with 1."""
     from ..dynamics.simulate import simulate
     from ..dynamics.transient import Diverged, check_history
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .progress import Progress
     from .simulate import sim_to_dir, summary_text
 
@@ -583,7 +583,7 @@ def _too_many(modes: int):
 def cmd_demo(args) -> int:
     from ..modal import solve_modes
     from ..model import assemble
-    from ..schema import load_scene, shipped_scenes
+    from ..scene.schema import load_scene, shipped_scenes
     from .tables import modes_table
 
     for p in shipped_scenes():

@@ -107,7 +107,7 @@ def export(scene, name: str, out_dir, formats=FORMATS, version: str = "") -> lis
 def run(args) -> int:
     """``flexgear export superelement SCENE --body NAME --out DIR [--format npz,dmig]``
     (``args.format``: the tuple :func:`parse_formats` made)."""
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .cli import scene_file
     from .elastodyn import flexgear_version
     from .output import OutputDirError

@@ -34,7 +34,7 @@ def _file_part(args):
     from fe_components.errors import GeometryError
     from fe_components.part_file import PartFile
 
-    from ..scene import FlexOptions
+    from ..scene.tables import FlexOptions
     from .cli import UsageError
 
     if args.body is not None:
@@ -91,7 +91,7 @@ def check(args):
 
     from ..errors import SceneError
     from ..part_check import check_body_part, check_part
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     from .cli import UsageError, scene_file
 
     if Path(args.target).suffix.lower() in CAD_SUFFIXES + MESH_SUFFIXES:

@@ -40,11 +40,11 @@ from ..compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
 from ..compare import compare
 from ..energy import NEGLIGIBLE_STRAIN_SHARE
 from ..errors import MechanismError, SceneError, SolverError
-from ..gear_data import ISO_SOURCE, iso_stiffnesses
+from ..scene.gears import ISO_SOURCE, iso_stiffnesses
 from ..modal import solve_modes
 from ..model import assemble
-from ..scene import DISPLAY_BAND_FACTOR, Scene
-from ..schema import load_scene
+from ..scene.tables import DISPLAY_BAND_FACTOR, Scene
+from ..scene.schema import load_scene
 from ..reactions import static_report
 from ..static import solve_static_cases
 from . import strict_json
@@ -612,7 +612,7 @@ DEFAULT_STEPS = [
 def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=None,
                  steps: list | None = None) -> RunContext:
     """Run ``steps`` (default :data:`DEFAULT_STEPS`) on ``scene`` (path, shipped name or a
-    :class:`~assembly.scene.Scene`) and place the results in ``out_dir`` atomically. Returns the final context."""
+    :class:`~assembly.scene.tables.Scene`) and place the results in ``out_dir`` atomically. Returns the final context."""
 
     options = options or RunOptions()
     progress = progress or Progress(enabled=False)

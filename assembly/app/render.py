@@ -177,7 +177,7 @@ def plain_radius_cap(scene, rp: dict) -> float:
 
 def _station_shaft_radii(scene) -> dict:
     """Station body name -> outer radius (m) of its beam shaft."""
-    from ..shafts import station_body
+    from ..scene.shafts import station_body
     return {station_body(s, st): 0.5 * s.diameter for s in scene.shafts if s.is_beam for st in s.stations}
 
 

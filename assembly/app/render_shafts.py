@@ -1,8 +1,8 @@
 """Beam shafts drawn as cylinders of their diameter between their nodes (m).
 
-A beam shaft (:attr:`assembly.scene.Shaft.is_beam`) is a chain of Timoshenko elements
+A beam shaft (:attr:`assembly.scene.tables.Shaft.is_beam`) is a chain of Timoshenko elements
 between consecutive nodes: body1's attachment point, its stations, body2's attachment point
-(:func:`assembly.shafts.beam_nodes`). Each element is drawn as a tube of the shaft's outer
+(:func:`assembly.scene.shafts.beam_nodes`). Each element is drawn as a tube of the shaft's outer
 radius along its centre line. In a mode shape the centre line follows the nodes' motions
 [u, theta] with the cubic Hermite shape functions of a beam element (the element's own
 bending interpolation): for xi = s / L in [0, 1],
@@ -39,8 +39,8 @@ class ShaftSegment:
 def shaft_segments(model) -> list:
     """:class:`ShaftSegment` of every element of every beam shaft of an assembled model,
     in the order of ``model.elements`` (matched by the element's scene item)."""
-    from ..attach import component_masters
-    from ..shafts import beam_nodes
+    from ..scene.attach import component_masters
+    from ..scene.shafts import beam_nodes
     sc = model.scene
     by_name = {b.name: b for b in sc.bodies}
     masters = None

@@ -90,7 +90,7 @@ def resolve_study_path(path) -> Path:
 
 def read_study(path) -> Study:
     """Read, check and expand the study file at ``path`` (module notes)."""
-    from ..schema import load_scene, resolve_scene_path
+    from ..scene.schema import load_scene, resolve_scene_path
     p = resolve_study_path(path)
     try:
         data = tomllib.loads(p.read_text(encoding="utf-8"))

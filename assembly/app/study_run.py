@@ -85,7 +85,7 @@ def finite(results: dict) -> dict:
 def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, settings: dict) -> dict:
     from ..errors import SceneError
     from ..model import assemble
-    from ..schema import load_scene
+    from ..scene.schema import load_scene
     scene = load_scene(scene_source).with_values(variant.values)
     if analysis == "modes":
         from ..modal import solve_modes

@@ -1,6 +1,6 @@
 """A design study's variants: scene fields named by path, their values, and the design.
 
-A study names any scene field by its path (:mod:`assembly.edit`: ``bearings[2].k_radial``,
+A study names any scene field by its path (:mod:`assembly.scene.edit`: ``bearings[2].k_radial``,
 ``stages[0].planets.count``, ``bodies.wheel.flex.cutoff_hz``), with ``[*]`` for every item
 of a list (``meshes[*].stiffness``: one value set on each). ``path`` may also be a list of
 paths that take the same value (a common factor on several stiffnesses); ``name`` names the
@@ -39,9 +39,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..edit import get_value, value_kind
+from ..scene.edit import get_value, value_kind
 from ..errors import SceneError
-from ..schema import to_dict
+from ..scene.schema import to_dict
 from .study_keys import DESIGN, PARAMETER, TABLE, TABLES, check_keys
 
 DESIGNS = ("grid", "lhs", "random")
@@ -102,7 +102,7 @@ def expand_path(scene, path: str, field: str) -> list[str]:
 
 def _nearest(scene, path: str, reason: str = "") -> str:
     """`` (nearest valid path: P)``: among the fields the failing table has (listed in
-    ``reason`` by :mod:`assembly.edit`), else among the scene's given paths."""
+    ``reason`` by :mod:`assembly.scene.edit`), else among the scene's given paths."""
     parent = path.rsplit(".", 1)[0] if "." in path else ""
     fields = re.search(r"it has: ([^;]+)", reason)
     pool = [f"{parent}.{f.strip()}" for f in fields.group(1).split(",")] if fields and parent else []
@@ -122,7 +122,7 @@ def _kind(value) -> str:
 
 def check_types(kinds: list[str], path: str, values, field: str, scale: bool) -> None:
     """Refuse (SceneError at ``field``) values that do not fit fields of ``kinds``
-    (:func:`assembly.edit.value_kind` of each path; ``path`` is the first, named in the
+    (:func:`assembly.scene.edit.value_kind` of each path; ``path`` is the first, named in the
     message): numbers for numbers, whole numbers for an integer field, text for text,
     true/false for a switch; ``scale`` needs number fields."""
     kinds = set(kinds) - {"other"}

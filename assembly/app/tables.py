@@ -12,7 +12,7 @@ from ..energy import kinetic_by_body, strain_by_body, strain_by_element
 from ..flexible import FlexibleBodyModel
 from ..locality import energy_table, group_shares
 from ..modal import mechanisms
-from ..scene import DISPLAY_BAND_FACTOR
+from ..scene.tables import DISPLAY_BAND_FACTOR
 
 
 def in_band(result) -> np.ndarray:

@@ -37,7 +37,7 @@ from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
 from .phasing import RULE_CLASSES, excited_class
 from ..model import model_argument
-from ..scene import scene_argument
+from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

@@ -55,7 +55,7 @@ import numpy as np
 from ..arguments import nearest
 from ..errors import SceneError
 from ..loads import load_point
-from ..scene import DOF_NAMES
+from ..scene.tables import DOF_NAMES
 
 AXES = ("x", "y", "z")
 MOTIONS = DOF_NAMES + ("spin",)
@@ -104,7 +104,7 @@ def _interfaces(model, body: str) -> list:
     bm = model.bodies[body]
     if bm.flexible:
         return sorted(bm.masters)
-    from ..attach import global_masters
+    from ..scene.attach import global_masters
     b = next(b for b in model.scene.bodies if b.name == body)
     return sorted(global_masters(b)) if b.component is not None else []
 

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..loads import axial_rotation
-from ..scene import HOUSING
-from ..paths import body_origins, element_paths, stage_mesh_side
+from ..scene.tables import HOUSING
+from ..scene.paths import body_origins, element_paths, stage_mesh_side
 from .frf_channels import _strain_rows
 from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear

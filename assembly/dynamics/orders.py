@@ -20,8 +20,8 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass
 
-from ..gear_data import body_teeth
-from ..scene import HOUSING
+from ..scene.gears import body_teeth
+from ..scene.tables import HOUSING
 from .phasing import equally_spaced
 
 log = logging.getLogger(__name__)

@@ -41,7 +41,7 @@ from ..errors import MechanismError, SceneError
 from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count
-from ..scene_time import Simulation
+from ..scene.time_domain import Simulation
 from .damping import damping_matrix, damping_on_q, every_mode, needs_modes, section_share
 from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
 from .integrators import check_step, generalized_alpha, hht, newmark
@@ -51,7 +51,7 @@ from .mesh_contact import Meshes, spin_row
 from .drive_torques import ShaftTorques
 from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, check_history, integrate, tangent
 from ..model import model_argument
-from ..scene import scene_argument
+from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

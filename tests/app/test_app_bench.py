@@ -41,7 +41,7 @@ def test_bench_drivetrain_prints_sizes_times_and_the_in_band_error(tmp_path):
     from assembly.app.bench_drivetrain import main
     from assembly.modal import solve_modes
     from assembly.model import assemble
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
     from tests.support.shaft_scene import shaft_scene
 
     flex, rigid = tmp_path / "flex.toml", tmp_path / "rigid.toml"

@@ -13,7 +13,7 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.model import assemble
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 from cms.export import dof_map, read_dmig, read_dmig_points, read_npz
 
 SCENE = "planetary_flexible_carrier.toml"

@@ -22,8 +22,8 @@ import pytest
 from assembly.app.cli import main
 from assembly.errors import SceneError
 from assembly.part_check import check_body_part, check_part
-from assembly.schema import load_scene
-from assembly.scene import FlexOptions
+from assembly.scene.schema import load_scene
+from assembly.scene.tables import FlexOptions
 from fe_components.gmsh_session import gmsh_model
 from fe_components.part_file import PartFile, PartFileError
 from tests.support.mesh_writers import kuhn_box

@@ -16,8 +16,8 @@ from assembly.app.pipeline import ModeSelectionError, RunOptions, run_pipeline
 from assembly.app.tables import in_band, modes_table
 from assembly.modal import solve_modes
 from assembly.model import assemble
-from assembly.scene import DISPLAY_BAND_FACTOR
-from assembly.schema import SCENE_DIR, load_scene
+from assembly.scene.tables import DISPLAY_BAND_FACTOR
+from assembly.scene.schema import SCENE_DIR, load_scene
 
 SHIPPED = SCENE_DIR / "lin_parker_n4.toml"   # rigid planetary stage: 21 modes, no flexible body
 SIZE = (320, 240)

@@ -98,7 +98,7 @@ def test_geometry_rules():
 
 def test_width_from_transverse_inertia():
     from assembly.app.render import _width_from_inertia
-    from assembly.scene import Body
+    from assembly.scene.tables import Body
 
     r, L, mass = 0.05, 0.08, 3.0
     jp = mass * r ** 2 / 2

@@ -228,7 +228,7 @@ def test_the_api_writes_a_partial_result_by_the_same_rules(tmp_path, monkeypatch
     from assembly.app.simulate import sim_to_dir
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
 
     _stop_after_10(monkeypatch)
     with pytest.raises(Diverged) as stopped:

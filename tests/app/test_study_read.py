@@ -28,8 +28,8 @@ from assembly.app.study_engine import CONNECT_TIMEOUT_S, SchedulerUnreachable, r
 from assembly.app.study_file import read_study
 from assembly.app.study_spec import MAX_VARIANTS, variants
 from assembly.errors import SceneError
-from assembly.scene_toml import toml_text
-from assembly.schema import load_scene
+from assembly.scene.save import toml_text
+from assembly.scene.schema import load_scene
 from tests.app.test_simulate_cli import pair_file
 from tests.support.fuzz import at
 

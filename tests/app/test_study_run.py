@@ -11,7 +11,7 @@ from assembly.app.study_run import run_variant
 from assembly.app.study_spec import variants
 from assembly.modal import solve_modes
 from assembly.model import assemble
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 
 def test_rows_are_the_variants_own_modal_solves():

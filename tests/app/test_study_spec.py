@@ -10,7 +10,7 @@ import pytest
 
 from assembly.app.study_spec import variants
 from assembly.errors import SceneError
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 
 @pytest.fixture(scope="module")

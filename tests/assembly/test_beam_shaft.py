@@ -13,9 +13,9 @@ from assembly.energy import _element_energy, kinetic_by_element, kinetic_energy_
 from assembly.errors import SceneError
 from assembly.modal import solve_modes
 from assembly.model import assemble
-from assembly.scene import Bearing, Body, Fixed, Scene, Shaft, Station, with_fidelity
-from assembly.scene_toml import scene_to_toml
-from assembly.schema import scene_from_dict
+from assembly.scene.tables import Bearing, Body, Fixed, Scene, Shaft, Station, with_fidelity
+from assembly.scene.save import scene_to_toml
+from assembly.scene.schema import scene_from_dict
 from fe_components.material import STEEL, Material
 
 E, NU, RHO = STEEL.E, STEEL.nu, STEEL.rho

@@ -30,8 +30,8 @@ from assembly.body_table import AGREEMENT, body_properties
 from assembly.modal import solve_modes
 from assembly.model import assemble
 from assembly.reactions import static_report
-from assembly.scene_toml import toml_text
-from assembly.schema import load_scene, scene_from_dict
+from assembly.scene.save import toml_text
+from assembly.scene.schema import load_scene, scene_from_dict
 from assembly.static import solve_static_cases
 
 RHO = 7850.0

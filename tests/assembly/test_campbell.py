@@ -28,7 +28,7 @@ from assembly.dynamics.campbell import campbell, check_speed_range, line_crossin
 from assembly.dynamics.gyroscopic import gyroscopic_matrix, whirl_frequencies
 from assembly.dynamics.phasing import equally_spaced, excited_class
 from assembly.modal import solve_modes
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 from tests.support.campbell_scene import campbell_scene
 
 Z_PINION, Z_WHEEL, Z_SUN, Z_RING = 21, 83, 20, 80   # tests/support/campbell_scene.py

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from assembly.app.cli import main
-from assembly.schema import SCENE_DIR, shipped_scenes
+from assembly.scene.schema import SCENE_DIR, shipped_scenes
 
 EXPECTED_SCENES = {"peeters_parallel_torsional.toml", "kahraman_beta0.toml", "kahraman_beta20.toml",
                    "lin_parker_n3.toml", "lin_parker_n4.toml", "lin_parker_n5.toml"}

@@ -22,7 +22,7 @@ import pytest
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble, solve_modes
 from assembly.dynamics.damped_modes import damped_modes, has_damping
 from assembly.dynamics.damping import damping_matrix
-from assembly.scene import Damping, GearMesh
+from assembly.scene.tables import Damping, GearMesh
 
 INF = math.inf
 J1, J2, K = 2.0, 3.0, 1.0e4          # kg m^2, kg m^2, N m/rad
@@ -177,8 +177,8 @@ DAMPED = {"stages[0].c_mesh_sun": 1.0e3, "stages[0].c_mesh_ring": 2.0e3,
 def test_damping_fields_round_trip_through_toml():
     import tomllib
 
-    from assembly.schema import load_scene, scene_from_dict
-    from assembly.scene_toml import scene_to_toml
+    from assembly.scene.schema import load_scene, scene_from_dict
+    from assembly.scene.save import scene_to_toml
     scene = load_scene("nrel5mw.toml").with_values(DAMPED)
     back = scene_from_dict(tomllib.loads(scene_to_toml(scene)))
     assert back == scene
@@ -208,7 +208,7 @@ BAD = [  # (field path to set, value, path the error names)
 
 @pytest.mark.parametrize("path,value,named", BAD, ids=[b[2] + "=" + repr(b[1]) for b in BAD])
 def test_bad_damping_names_its_field(path, value, named):
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
     with pytest.raises(SceneError) as err:
         load_scene("nrel5mw.toml").with_values({path: value})
     assert err.value.path == named

@@ -26,7 +26,7 @@ from assembly import (Bearing, BearingSpec, Body, Fixed, GearMesh, MechanismErro
                       assemble, solve_modes, with_fidelity)
 from assembly.mechanics.condensation import condense
 from assembly.drivetrain import chain_ends, derive_two_mass, speed_ratios, two_mass_frequencies
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 INF = math.inf
 ALPHA = math.radians(20.0)

@@ -1,13 +1,13 @@
-"""Changing a scene field by path (assembly.edit, Scene.with_value): every path form, one
+"""Changing a scene field by path (assembly.scene.edit, Scene.with_value): every path form, one
 validation for several changes, errors that name the caller's path."""
 import dataclasses
 import math
 
 import pytest
 
-from assembly.edit import get_value, parse_path, with_value, with_values
+from assembly.scene.edit import get_value, parse_path, with_value, with_values
 from assembly.errors import SceneError
-from assembly.schema import given_in_degrees, load_scene
+from assembly.scene.schema import given_in_degrees, load_scene
 
 HS = load_scene("hs_parallel_stage.toml")
 LP3 = load_scene("lin_parker_n3.toml")
@@ -121,7 +121,7 @@ def test_teeth_edit_derives_new_gear_numbers():
     # hs_parallel_stage derives its mesh numbers from the teeth and places the wheel by
     # the mesh; a new tooth count must re-derive them (ISO 21771: r_b = z m_n cos(alpha_t) /
     # (2 cos beta), a_w = (r_b1 + r_b2) / cos(alpha_wt)), not contradict the old numbers.
-    from assembly.gear_data import body_teeth
+    from assembly.scene.gears import body_teeth
     from fe_components.gear_pair import pair_geometry
     t1 = dataclasses.replace(HS.bodies[0].component.teeth, n_teeth=24)
     out = [pair_geometry(t1, HS.bodies[1].component.teeth).centre_distance, 0.0, 0.295]   # moves with the wheel

@@ -27,8 +27,8 @@ import pytest
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
 from assembly.modal import solve_modes
-from assembly.scene import Damping
-from assembly.schema import load_scene
+from assembly.scene.tables import Damping
+from assembly.scene.schema import load_scene
 
 INF = math.inf
 J1, J2, K, C = 2.0, 3.0, 1.0e4, 30.0         # kg m^2, kg m^2, N m/rad, N m s/rad

@@ -34,8 +34,8 @@ from hypothesis import given, settings, strategies as st
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.frf_channels import input_channel, output_channels, output_rows
-from assembly.scene import Damping
-from assembly.schema import load_scene
+from assembly.scene.tables import Damping
+from assembly.scene.schema import load_scene
 from tests.support.fuzz import examples
 
 INF = math.inf

@@ -23,7 +23,7 @@ from assembly.classify import classify_modes
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.phasing import excited_class
 from assembly.modal import solve_modes
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 N, Z_SUN = 5, 23                        # planets; sun teeth (any Z_s: only h Z_s mod N matters)
 SUN = ("motion:stage.sun:rz", "motion:stage.sun:x", "motion:stage.sun:y")

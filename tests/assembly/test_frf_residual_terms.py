@@ -26,7 +26,7 @@ import scipy.linalg as sla
 from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
 from assembly.modal import solve_modes
-from assembly.scene import Damping
+from assembly.scene.tables import Damping
 
 INF = math.inf
 FMAX = 60.0                                   # Hz, top of the band

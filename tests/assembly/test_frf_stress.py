@@ -19,7 +19,7 @@ import pytest
 from assembly import SceneError, assemble
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.frf_channels import von_mises_peak
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 from cms.stress import von_mises
 
 

@@ -12,9 +12,9 @@ import pytest
 from assembly import assemble, solve_modes
 from assembly.compare import compare
 from assembly.errors import SceneError
-from assembly.gear_data import RING_CENTRE_TOLERANCE
-from assembly.schema import SCENE_DIR, load_scene, scene_from_dict
-from assembly.scene import with_fidelity
+from assembly.scene.gears import RING_CENTRE_TOLERANCE
+from assembly.scene.schema import SCENE_DIR, load_scene, scene_from_dict
+from assembly.scene.tables import with_fidelity
 from fe_components.gear_pair import base_radius, pair_geometry, working_centre_distance
 from fe_components.params import GearTeeth
 

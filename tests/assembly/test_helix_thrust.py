@@ -32,7 +32,7 @@ import math
 import pytest
 
 from assembly.reactions import static_report
-from assembly.schema import scene_from_dict
+from assembly.scene.schema import scene_from_dict
 from assembly.static import solve_static
 
 M_N, ALPHA_N, BETA, WIDTH = 0.004, 20.0, 15.0, 0.04      # m, deg, deg, m

@@ -1,4 +1,4 @@
-"""Mesh stiffness left out: ISO 6336-1 method B from the teeth (assembly.gear_data)."""
+"""Mesh stiffness left out: ISO 6336-1 method B from the teeth (assembly.scene.gears)."""
 import copy
 import math
 import tomllib
@@ -6,9 +6,9 @@ import tomllib
 import pytest
 
 from assembly.errors import SceneError
-from assembly.gear_data import iso_stiffnesses
-from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene_toml import scene_to_toml
+from assembly.scene.gears import iso_stiffnesses
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
+from assembly.scene.save import scene_to_toml
 from fe_components.gear_pair import pair_geometry, tip_alteration, transverse_contact_ratio
 from fe_components.mesh_stiffness import mesh_stiffness
 from fe_components.params import GearTeeth

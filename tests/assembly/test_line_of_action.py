@@ -5,7 +5,7 @@ of the pair, not of how the scene names it.
   the same line, the compression measured from the other side (n' = -n). The helix of the
   line of action flips with gear 1 (beta' = -beta: gear 1's flank normal lies at minus its
   base helix angle for an external gear, plus for an internal one, and the mate's hand is
-  opposite, resp. equal -- ISO 21771; assembly.gear_data.mesh_helix). The flank that
+  opposite, resp. equal -- ISO 21771; assembly.scene.gears.mesh_helix). The flank that
   closes when the new gear 1 turns positively: the same flank for an external pair (turning
   the driven gear against its driver closes the flank the driver loads), the other sense for
   an internal one (planet and ring turn the same way).

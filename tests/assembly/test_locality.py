@@ -16,8 +16,8 @@ from assembly.app.tables import modes_table
 from assembly.errors import SceneError
 from assembly.locality import GLOBAL, LOCAL_SHARE, energy_table, group_shares, rayleigh_error, total_share
 from assembly.modal import solve_modes as _solve
-from assembly.scene import BearingSpec
-from assembly.stage_alone import stage_alone
+from assembly.scene.tables import BearingSpec
+from assembly.scene.stage_alone import stage_alone
 
 
 @pytest.fixture(scope="module")

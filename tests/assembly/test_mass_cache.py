@@ -21,7 +21,7 @@ import assembly.components as components
 import fe_components.meshing as meshing
 from assembly import mass_cache
 from assembly.components import CacheDirs, build_fe, forget_fe_models, local_mass_properties, mesh_entry
-from assembly.scene import FlexOptions
+from assembly.scene.tables import FlexOptions
 from fe_components.meshing import MeshOptions, ensure_mesh
 from fe_components.params import CylinderParams
 
@@ -196,7 +196,7 @@ def test_a_folder_that_cannot_take_the_entry_costs_only_its_reuse(clean, tmp_pat
 
 def test_warm_rigid_scene_assembles_the_same_model_without_reading_a_mesh(clean, cache, tmp_path, monkeypatch):
     from assembly.model import assemble
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
     path = tmp_path / "shaft.toml"
     path.write_text(shaft_scene("rigid"))
     scene = load_scene(path)

@@ -99,7 +99,7 @@ def test_series_value_and_derivatives():
 def test_a_scene_mesh_takes_the_wave_of_its_teeth():
     """A spur pair with teeth and `variation = {step}`: the contact ratio comes from the
     teeth (ISO 21771 path of contact / base pitch), the amplitudes are the wave's."""
-    from assembly.schema import scene_from_dict
+    from assembly.scene.schema import scene_from_dict
     from fe_components.gear_pair import pair_geometry
 
     def body(name, z, beta):
@@ -133,9 +133,9 @@ def test_stage_meshes_take_their_own_pairs_contact_ratio_and_planet_phase():
     planet-ring mesh the planet-ring pair's (1.115 and 1.278 for stage 1: they differ), and
     planet n's meshes are phased by z psi_n with z the counting gear's teeth (Parker 2000,
     J. Sound Vib. 236: the mesh of planet n lags planet 0's by z_s psi_n / z_r psi_n)."""
-    from assembly.gear_data import stage_contact_ratios
-    from assembly.planetary import expand_stages
-    from assembly.schema import load_scene
+    from assembly.scene.gears import stage_contact_ratios
+    from assembly.scene.planetary import expand_stages
+    from assembly.scene.schema import load_scene
 
     sc = load_scene("nrel5mw_transient.toml")
     (i, st), = [(i, s) for i, s in enumerate(sc.stages) if s.variation_sun and s.variation_ring][:1]

@@ -16,7 +16,7 @@ import pytest
 from assembly.dynamics.simulate import simulate, static_start
 from assembly.dynamics.transient import Diverged, Nonlinear, integrate
 from assembly.errors import SceneError
-from assembly.schema import scene_from_dict
+from assembly.scene.schema import scene_from_dict
 
 from tests.support.fuzz import examples
 from tests.support.gear_pair_scene import gear_pair

@@ -11,7 +11,7 @@ import pytest
 
 from assembly import assemble, load_scene, solve_modes
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR
+from assembly.scene.schema import SCENE_DIR
 from fe_components.part_file import PartFile
 from fe_components.part_geometry import part_geometry
 

@@ -92,7 +92,7 @@ def test_torque_balance_counts_the_moment_of_the_other_loads():
     """A torque case with a point force beside the torque: about the input axis the input
     torque, the output reaction, the housing reactions and the force's own moment sum to
     zero; the force's moment is its arm times its tangential part (0.2 m x 50 N = 10 N m)."""
-    from assembly.scene import PointLoad
+    from assembly.scene.tables import PointLoad
     lc = LoadCase(input="pinion", output="wheel", torque=100.0,
                   forces=(PointLoad(body="pinion", force=(0.0, 50.0, 0.0), point=(0.2, 0.0, 0.0)),))
     sc = dataclasses.replace(pair(), load=lc)

@@ -15,7 +15,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.mechanics.nullity import rigid_body_count, rigid_body_modes
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 INF = math.inf
 

@@ -1,4 +1,4 @@
-"""Scene -> TOML (assembly.scene_toml): exact round trip for every shipped scene and for
+"""Scene -> TOML (assembly.scene.save): exact round trip for every shipped scene and for
 fuzzed ones (inf, tuples, nested tables, stages, odd strings); atomic save; typed
 component parameters written as a table with their kind."""
 import copy
@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from assembly.errors import SceneError
-from assembly.schema import component_from_table, load_scene, scene_from_dict, shipped_scenes, to_dict
-from assembly.scene_toml import save_scene, scene_to_toml, toml_text
+from assembly.scene.schema import component_from_table, load_scene, scene_from_dict, shipped_scenes, to_dict
+from assembly.scene.save import save_scene, scene_to_toml, toml_text
 from fe_components.errors import GeometryError
 from fe_components.reference import CARRIER, PINION_SMOOTH
 

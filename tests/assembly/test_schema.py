@@ -6,7 +6,7 @@ import math
 import pytest
 
 from assembly.errors import SceneError
-from assembly.schema import component_from_table, from_dict
+from assembly.scene.schema import component_from_table, from_dict
 from fe_components.material import STEEL, Material
 from fe_components.reference import CARRIER, PINION_SMOOTH
 

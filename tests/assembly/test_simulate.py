@@ -11,7 +11,7 @@ import pytest
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Diverged, Nonlinear, integrate
 from assembly.errors import SceneError
-from assembly.schema import load_scene, scene_from_dict
+from assembly.scene.schema import load_scene, scene_from_dict
 
 # A torsional gear pair, 20/60 teeth-like radii (ratio 3): the rotor (gear 1) drives the
 # generator (gear 2) through one mesh; inertias and stiffness round numbers.

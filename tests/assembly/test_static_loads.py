@@ -12,8 +12,8 @@ from assembly import Bearing, Body, FlexOptions, LoadCase, PointLoad, Scene, Sup
 from assembly.errors import MechanismError, SceneError
 from assembly.mechanics.kinematics import unit
 from assembly.reactions import static_report
-from assembly.schema import scene_from_dict, shipped_scenes
-from assembly.scene_toml import scene_to_toml
+from assembly.scene.schema import scene_from_dict, shipped_scenes
+from assembly.scene.save import scene_to_toml
 from assembly.static import solve_static, solve_static_cases
 from fe_components.material import STEEL
 from fe_components.params import CylinderParams

@@ -33,7 +33,7 @@ from assembly.dynamics.mesh_variation import factor
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Nonlinear, integrate
 from assembly.model import assemble
-from assembly.schema import scene_from_dict
+from assembly.scene.schema import scene_from_dict
 from tests.support.gear_pair_scene import gear_pair
 
 

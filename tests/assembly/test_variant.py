@@ -4,7 +4,7 @@ import pytest
 
 from assembly.compare import variants
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, load_scene
+from assembly.scene.schema import SCENE_DIR, load_scene
 
 BASE = "two_stage_quill.toml"   # shipped: a rigid scene whose wheel is a component
 

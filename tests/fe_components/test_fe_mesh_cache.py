@@ -75,7 +75,7 @@ def test_corrupt_reference_mesh_falls_back_to_the_cache_in_a_scene(tmp_path, mon
     # mesh is generated in the cache folder (here by a stand-in for gmsh writing the clean bytes)
     import fe_components.reference as reference
     from assembly.components import CacheDirs, mesh_entry
-    from assembly.scene import FlexOptions
+    from assembly.scene.tables import FlexOptions
     ref = tmp_path / "ref"
     ref.mkdir()
     params, options = CASES["annulus"]

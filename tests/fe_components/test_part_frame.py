@@ -20,8 +20,8 @@ from scipy.spatial import cKDTree
 
 from assembly.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
-from assembly.scene import Body, FlexOptions
+from assembly.scene.schema import SCENE_DIR, from_dict
+from assembly.scene.tables import Body, FlexOptions
 from cms.eigen import free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
 from fe_components.gmsh_session import gmsh_model

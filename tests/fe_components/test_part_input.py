@@ -38,7 +38,7 @@ import numpy as np
 import pytest
 
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
+from assembly.scene.schema import SCENE_DIR, from_dict
 from fe_components.fe_model import build_component
 from fe_components.part_cad import step_length_unit
 from fe_components.part_file import SIZE_RANGE, InterfaceRule, PartFile, PartFileError

@@ -19,7 +19,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
+from assembly.scene.schema import SCENE_DIR, from_dict
 from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
 from fe_components.gmsh_session import gmsh_model

@@ -18,15 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assembly import (LoadCase, SceneError, assemble, classify_modes, compare, load_scene, pair_modes, save_scene,
-                      scale_bearings, scene_from_dict, scene_to_toml, solve_modes, stage_alone, track_modes,
-                      with_fidelity)
+from assembly import LoadCase, SceneError, assemble, classify_modes, compare, load_scene, pair_modes, save_scene, scale_bearings, scene_from_dict, scene_to_toml, solve_modes, track_modes, with_fidelity
+from assembly.scene.stage_alone import stage_alone
 from assembly.app import run_report
 from assembly.drivetrain import derive_two_mass
 from assembly.dynamics.campbell import campbell
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.simulate import simulate
-from assembly.edit import get_value, with_value, with_values
+from assembly.scene.edit import get_value, with_value, with_values
 from assembly.reactions import static_report
 from assembly.static import solve_static, solve_static_cases
 
@@ -207,7 +206,7 @@ def test_valid_arguments_of_other_forms_run(objects):
 
 
 def test_every_export_stays_what_it_names_after_its_submodule_is_imported():
-    # `from assembly import stage_alone` gave the module assembly.stage_alone when that
+    # `from assembly import stage_alone` gave the module assembly.scene.stage_alone when that
     # submodule had been imported first (an import binds the package attribute to the
     # submodule): in a fresh interpreter, each submodule named like an export is imported
     # before the export is looked up

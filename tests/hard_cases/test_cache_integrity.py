@@ -27,7 +27,7 @@ import assembly.flexible as flexible
 import fe_components.meshing as meshing
 from assembly.components import CacheDirs, forget_fe_models
 from assembly.flexible import flexible_body
-from assembly.scene import Body, FlexOptions
+from assembly.scene.tables import Body, FlexOptions
 from cms.errors import CacheError
 from fe_components.errors import MeshingError
 from fe_components.meshing import MeshOptions, ensure_mesh, mesh_path

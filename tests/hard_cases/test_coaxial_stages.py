@@ -27,9 +27,9 @@ import pytest
 from assembly.app.cli import main
 from assembly.compare import compare
 from assembly.errors import SceneError
-from assembly.scene_toml import toml_text
-from assembly.schema import SCENE_DIR, scene_from_dict, to_dict
-from assembly.shafts import AXIS_TOLERANCE
+from assembly.scene.save import toml_text
+from assembly.scene.schema import SCENE_DIR, scene_from_dict, to_dict
+from assembly.scene.shafts import AXIS_TOLERANCE
 
 from tests.support.fuzz import examples
 

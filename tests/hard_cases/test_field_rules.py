@@ -18,9 +18,9 @@ import typing
 import pytest
 
 from assembly.errors import SceneError
-from assembly.scene import (MAX_MODES, MAX_NAME_LENGTH, Bearing, BearingSpec, Body, FlexOptions, GearMesh,
+from assembly.scene.tables import (MAX_MODES, MAX_NAME_LENGTH, Bearing, BearingSpec, Body, FlexOptions, GearMesh,
                             LoadCase, Member, PlanetaryStage, Planets, Scene, Shaft)
-from assembly.schema import SCENE_DIR, component_from_table, scene_from_dict
+from assembly.scene.schema import SCENE_DIR, component_from_table, scene_from_dict
 from fe_components.errors import GeometryError
 from fe_components.material import Material
 from fe_components.params import COMPONENT_KINDS, CarrierParams, GearTeeth, ShaftSegment
@@ -432,7 +432,7 @@ def test_huge_axis_refused_and_unit_vector_safe():
 
 # ---------------------------------------------------------------- API entry points
 def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
-    from assembly.scene import with_fidelity
+    from assembly.scene.tables import with_fidelity
     sc = scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"]))
     for bad in ("bogus", "Rigid", None, 1):
         with pytest.raises(SceneError) as e:
@@ -462,7 +462,7 @@ def test_solve_modes_n_modes_checked():
 def test_derived_scenes_keep_stage_paths():
     # with_fidelity and scale_bearings keep planetary stages as stages, so an error of the
     # derived scene names the user's table (it used to name bodies[2] of an expanded copy)
-    from assembly.scene import scale_bearings, with_fidelity
+    from assembly.scene.tables import scale_bearings, with_fidelity
     tree = _flex_tree("planetary_flexible_carrier.toml", ("stages", 0, "carrier"), cutoff_hz=1e9)
     tree["stages"][0]["carrier"]["fidelity"] = "rigid"  # (a rigid carrier is not reduced: valid)
     sc = scene_from_dict(tree)

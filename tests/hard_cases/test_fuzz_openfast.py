@@ -26,7 +26,7 @@ from assembly.app.cli import main
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
 from assembly.model import assemble
-from assembly.schema import scene_from_dict
+from assembly.scene.schema import scene_from_dict
 from tests.hard_cases.test_fuzz_time_domain import scene
 from tests.support.fuzz import examples
 from tests.support.openfast_files import FAST7_HEADER, out_text, outb_bytes

@@ -89,7 +89,7 @@ def results(tmp_path_factory):
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
     from assembly.model import assemble
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
 
     scene_path = pair_file(tmp_path_factory.mktemp("scene"))
     scene = load_scene(scene_path)

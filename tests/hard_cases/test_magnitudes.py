@@ -28,8 +28,8 @@ import assembly.modal as am
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
 from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
-from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene import DEFAULT_BAND_HZ, DOF_NAMES, derive
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
+from assembly.scene.tables import DEFAULT_BAND_HZ, DOF_NAMES, derive
 
 from tests.support.fuzz import examples
 

@@ -15,7 +15,7 @@ from assembly.app.cli import main, user_errors
 from assembly.errors import SceneError
 from assembly.modal import solve_modes
 from assembly.model import assemble
-from assembly.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
+from assembly.scene.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
 
 from tests.support.fuzz import examples
 

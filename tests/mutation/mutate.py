@@ -69,7 +69,7 @@ MODULES = {
     "mesh_variation": ({"assembly/dynamics/mesh_variation.py": ["rectangular_wave", "series", "Series.__init__",
                                                                 "Series.__call__", "lowest_factor",
                                                                 "DeadZone.__init__", "DeadZone.__call__"],
-                        "assembly/mesh_excitation.py": ["overlap_ratio", "stage_variations"]},
+                        "assembly/scene/mesh_excitation.py": ["overlap_ratio", "stage_variations"]},
                        ["tests/assembly/test_mesh_stiffness_wave.py", "tests/assembly/test_simulate.py",
                         "tests/assembly/test_transient_physics.py"]),
     "integrator": ({"assembly/dynamics/integrators.py": ["hht", "generalized_alpha", "newmark",

@@ -1,5 +1,5 @@
 """A scene file that varies another: ``extends`` names the base scene file and ``[set]``
-changes fields of it by path (:mod:`assembly.edit`), so a design variant (another fidelity,
+changes fields of it by path (:mod:`assembly.scene.edit`), so a design variant (another fidelity,
 a softer bearing, a stiffer shaft) is a few lines instead of a copy of the whole scene::
 
     extends = "nrel5mw.toml"          # relative to this file's folder, or a shipped scene
@@ -9,14 +9,14 @@ a softer bearing, a stiffer shaft) is a few lines instead of a copy of the whole
     "bodies.wheel.fidelity" = "flexible"
 
 Only ``extends``, ``name``, ``description`` and ``set`` may appear at the top level of such
-a file. The result is an ordinary validated :class:`~assembly.scene.Scene`: errors in a
+a file. The result is an ordinary validated :class:`~assembly.scene.tables.Scene`: errors in a
 changed field name the path under ``set``, errors in the base name the base file.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import SceneError
+from ..errors import SceneError
 
 #: Keys a variant file may hold at its top level.
 VARIANT_KEYS = ("extends", "name", "description", "set")

@@ -29,8 +29,8 @@ import numpy as np
 
 from fe_components.errors import GeometryError
 
-from .errors import SceneError
-from .mechanics.kinematics import axis_frame
+from ..errors import SceneError
+from ..mechanics.kinematics import axis_frame
 from .schema import keep_degrees
 
 #: A typed position of a placed body must agree to this fraction of the centre distance.

@@ -10,8 +10,8 @@ springs.
 from __future__ import annotations
 
 from .attach import interface_point
-from .errors import SceneError
-from .scene import DOF_NAMES, HOUSING, LoadCase
+from ..errors import SceneError
+from .tables import DOF_NAMES, HOUSING, LoadCase
 
 _TORQUE_FIELDS = ("input", "output", "torque")
 

@@ -20,11 +20,11 @@ from fe_components.errors import GeometryError
 from fe_components.params import CarrierParams
 from fe_components.part_file import PartFile
 
-from .errors import SceneError
-from .mechanics.kinematics import axis_frame
+from ..errors import SceneError
+from ..mechanics.kinematics import axis_frame
 from .mesh_excitation import stage_variations
 from .planet_spacing import planets_field
-from .scene import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
+from .tables import Bearing, Body, Fixed, GearMesh, Member, PlanetaryStage
 
 
 def carrier_pins(st: PlanetaryStage, path: str) -> CarrierParams:

@@ -13,10 +13,10 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from . import arguments
-from .errors import SceneError
-from .scene import SPLIT_STIFFNESSES, BearingSpec, Scene
-from .scene import scene_argument
+from .. import arguments
+from ..errors import SceneError
+from .tables import SPLIT_STIFFNESSES, BearingSpec, Scene
+from .tables import scene_argument
 
 ROLES = ("sun", "ring", "carrier")
 

@@ -1,14 +1,14 @@
 """The rules a scene must obey, one function each (:class:`SceneError` with the field path).
 
 :func:`validate_scene` runs them in order: first every field on its own -- its type and
-the unit and range declared on it (:func:`assembly.schema.check_instance`: finite, of
+the unit and range declared on it (:func:`assembly.scene.schema.check_instance`: finite, of
 physical magnitude, in range; names without control characters or path separators), so
 no rule below ever compares a NaN or overflows -- and every name a field gives a body
-(:func:`references_exist`, which :class:`assembly.scene.Scene` runs before deriving gear
+(:func:`references_exist`, which :class:`assembly.scene.tables.Scene` runs before deriving gear
 numbers from teeth and placing bodies, the steps that read the bodies named), then each
 table on its own (bodies, meshes, shafts, fixed DOFs, planetary stages, flexible
 options), then the scene as a whole on its stages expanded (names, sizes against each
-other -- :mod:`assembly.scene_sizes` --, frames, component tables, attachment points, rigid
+other -- :mod:`assembly.scene.sizes` --, frames, component tables, attachment points, rigid
 bearings, mesh geometry, Craig-Bampton cutoffs, load case, connectivity).
 Error paths name the table the user wrote: ``stages[0].planets.count``,
 ``bearings[2].k_radial``, ``stages[0].carrier.component.cheek_spacing``.
@@ -26,13 +26,13 @@ from fe_components.part_file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .body_names import body_references, scene_body_names, unknown_body_reason
-from .errors import SceneError
+from ..errors import SceneError
 from .paths import body_origins, element_paths
 from .cutoffs import CB_CUTOFF_FACTOR, cutoff_source, weyl_mode_count
-from .mechanics.kinematics import unit
+from ..mechanics.kinematics import unit
 from .planet_spacing import check_planet_assembly, check_planet_spacing
-from .scene_sizes import positions_plausible
-from .scene import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Bearing, Body,
+from .sizes import positions_plausible
+from .tables import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Bearing, Body,
                     FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
 from .shafts import check_along_axis, check_slenderness, shaft_ends, shaft_line, station_body
@@ -148,7 +148,7 @@ def _drive_sign(obj, path: str) -> None:
 def check_shaft(s: Shaft, path: str) -> None:
     """Two different bodies (stiffness ranges: the field rules; a rigid joint is a bearing);
     a spring shaft gives k_torsion, a beam shaft (``diameter``) derives every k_* field and
-    names itself and its stations (where the stations lie: :mod:`assembly.shafts`)."""
+    names itself and its stations (where the stations lie: :mod:`assembly.scene.shafts`)."""
     if s.body1 == s.body2:
         raise SceneError(f"{path}.body2", s.body2, "a shaft needs two different bodies")
     if not s.is_beam:
@@ -209,7 +209,7 @@ def check_fixed(f: Fixed, path: str) -> None:
 
 
 def check_bearing(br, path: str) -> None:
-    """A bearing table (:class:`assembly.scene.Bearing` or ``BearingSpec``): ``k_axial``, and
+    """A bearing table (:class:`assembly.scene.tables.Bearing` or ``BearingSpec``): ``k_axial``, and
     for the radial and the tilt directions either the one stiffness of both (``k_radial``)
     or both per-direction ones (``k_radial_x`` and ``k_radial_y``), not both ways."""
     if br.k_axial is None:
@@ -337,7 +337,7 @@ def check_damping(d, path: str = "damping") -> None:
 def check_tables(scene) -> None:
     """Every field (type, unit, range), then every table on its own, in the order the user
     wrote them; between the two, the positions against the assembly's size (a unit slip:
-    :mod:`assembly.scene_sizes`), which the table rules would meet as a contradiction."""
+    :mod:`assembly.scene.sizes`), which the table rules would meet as a contradiction."""
     check_instance(scene)
     positions_plausible(scene)
     if scene.damping is not None:
@@ -387,9 +387,9 @@ def stage_elements_valid(scene, expanded, origin: dict) -> None:
 
 def references_exist(scene) -> None:
     """Every field that names a body names one of the scene's (its own bodies, stage
-    members, shaft stations; :mod:`assembly.body_names`), or the housing where a frame may
+    members, shaft stations; :mod:`assembly.scene.body_names`), or the housing where a frame may
     be it; a bearing joins two different bodies. Run on the tables as written, before gear
-    numbers are derived and bodies placed (:class:`assembly.scene.Scene` calls it first), so
+    numbers are derived and bodies placed (:class:`assembly.scene.tables.Scene` calls it first), so
     an unknown name is named with the nearest one the scene has, not met later as a gap
     in another rule (a misspelt ``gear2`` looked like a missing base radius)."""
     for i, s in enumerate(scene.shafts):    # else its stations have no names to refer to
@@ -442,7 +442,7 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
         shaft_points(s, names[s.body1], names[s.body2], masters, f"shafts[{i}]")
         if s.is_beam:
             check_slenderness(s, i, shaft_line(s, i, names, masters)[2])
-        else:   # the beam shafts' rule and tolerance (assembly.shafts.check_along_axis)
+        else:   # the beam shafts' rule and tolerance (assembly.scene.shafts.check_along_axis)
             check_along_axis(s, i, *shaft_ends(s, i, names, masters))
 
 
@@ -534,7 +534,7 @@ def couplings_name_interfaces(expanded, masters: dict, origin: dict) -> None:
 def cutoffs_bounded(scene, expanded, origin: dict) -> None:
     """The Craig-Bampton cutoff of every flexible body needs at most MAX_MODES
     fixed-interface modes, judged before anything is meshed by Weyl's mode count on a
-    lower bound of the component's volume (:func:`assembly.cutoffs.weyl_mode_count`,
+    lower bound of the component's volume (:func:`assembly.scene.cutoffs.weyl_mode_count`,
     which underestimates: only a cutoff that surely needs too many modes is refused here;
     the reduction itself stops at MAX_MODES + 1 modes for the rest)."""
     band = scene.band

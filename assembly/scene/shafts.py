@@ -18,10 +18,10 @@ import numpy as np
 from fe_components.sizes import SHAFT_DIAMETER, SLENDERNESS, unit_hint
 
 from .attach import global_masters, interface_point
-from .mechanics.beam import node_mass, section
-from .errors import SceneError
-from .mechanics.kinematics import unit
-from .scene import HOUSING, Body, Shaft
+from ..mechanics.beam import node_mass, section
+from ..errors import SceneError
+from ..mechanics.kinematics import unit
+from .tables import HOUSING, Body, Shaft
 
 #: Largest angle (rad) between a beam shaft's axis and body1's axis that counts as parallel.
 AXIS_TOLERANCE = 1e-6
@@ -59,7 +59,7 @@ def _ends(s: Shaft, i: int, by_name: dict, masters: dict):
 def _end_point(s: Shaft, k: int, body, masters: dict, path: str):
     """(global point, interface) where end ``k`` (1 or 2) of beam shaft ``s`` attaches: its
     ``position<k>`` on a body without a component (a rigid arm to the body), else the body's
-    attachment point (:func:`assembly.attach.interface_point`)."""
+    attachment point (:func:`assembly.scene.attach.interface_point`)."""
     given = getattr(s, f"position{k}")
     if given is not None and body.component is not None:
         raise SceneError(f"{path}.position{k}", list(given), f"body {body.name!r} is a component: "

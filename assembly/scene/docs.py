@@ -10,7 +10,7 @@ the code it describes (the module named in brackets).
 from __future__ import annotations
 
 from .cutoffs import CB_CUTOFF_FACTOR
-from .scene import DEFAULT_BAND_HZ, HOUSING, MAX_MODES, MAX_NAME_LENGTH
+from .tables import DEFAULT_BAND_HZ, HOUSING, MAX_MODES, MAX_NAME_LENGTH
 
 #: The damper fields of a bearing table (:class:`Bearing`, :class:`BearingSpec`).
 _BEARING_DAMPERS = {
@@ -476,7 +476,7 @@ FIELDS: dict[str, dict[str, str]] = {
 }
 
 #: class name -> {key -> description} of keys the schema accepts besides the fields
-#: (:func:`assembly.schema.component_from_table`): ``kind`` of every component table, and the
+#: (:func:`assembly.scene.schema.component_from_table`): ``kind`` of every component table, and the
 #: carrier's equally spaced planets.
 EXTRA_KEYS: dict[str, dict[str, str]] = {
     "CarrierParams": {
@@ -506,7 +506,7 @@ NOTES: dict[str, str] = {
         "**Variants.** A file whose top level holds `extends = \"<scene file>\"` (relative to its "
         "folder, or a shipped scene) describes that scene with the fields under `[set]` changed, "
         "each key a path such as `\"stages.stage1.carrier.fidelity\"` or `\"bearings[2].k_radial\"`; "
-        "besides `[set]` it may give only `name` and `description` [assembly.variant]."),
+        "besides `[set]` it may give only `name` and `description` [assembly.scene.variant]."),
     "Body": (
         "**Position.** A plain body's DOFs and inertia sit at its centre of mass, `position`; a gear's "
         "mesh centre defaults to it, so for a gear `position` is the centre of its mid-face. A body "

@@ -1,6 +1,6 @@
 """Filling in a mesh's stiffness variation from its gears' teeth (scene resolution).
 
-A :class:`assembly.scene_time.MeshVariation` given by ``step`` needs the profile contact
+A :class:`assembly.scene.time_domain.MeshVariation` given by ``step`` needs the profile contact
 ratio eps_alpha and the overlap ratio eps_beta of its pair; left out, they come from the
 teeth (ISO 21771 geometry, :func:`fe_components.gear_pair.transverse_contact_ratio`):
 eps_beta = b sin|beta| / (pi m_n) with b the face width, beta the reference helix angle and
@@ -13,8 +13,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from .errors import SceneError
-from .scene_time import MeshVariation
+from ..errors import SceneError
+from .time_domain import MeshVariation
 
 
 def overlap_ratio(face_width: float | None, helix_angle: float, normal_module: float) -> float:
@@ -57,7 +57,7 @@ def filled(v: MeshVariation, path: str, teeth: int | None, contact_ratio: float 
 def stage_variations(st, path: str, psi: float) -> tuple:
     """(sun-planet, planet-ring) variations of the planet at angle ``psi`` (rad) of stage
     ``st`` (None where the stage gives none): counted on the sun's / ring's teeth."""
-    from .gear_data import stage_contact_ratios      # gear_data reads this module's mesh_variation
+    from .gears import stage_contact_ratios      # gear_data reads this module's mesh_variation
     with_teeth = st.normal_module is not None
     ratios = stage_contact_ratios(st) if with_teeth and (st.variation_sun or st.variation_ring) else (None, None)
     eps_b = overlap_ratio(st.face_width, st.helix_angle, st.normal_module) if with_teeth else None

@@ -1,7 +1,7 @@
 """Where each part of an expanded scene came from: the table path a user wrote, for messages.
 
 A scene's stages and beam shafts expand into bodies, bearings and meshes of their own
-(:meth:`assembly.scene.Scene.expanded`); an error about one of those names the table that
+(:meth:`assembly.scene.tables.Scene.expanded`); an error about one of those names the table that
 made it -- ``stages[0].planets``, ``shafts[1].stations[0]``, ``stages[0].variation_ring`` --
 never an internal name the user did not write.
 """

@@ -3,8 +3,8 @@ to one the scene does not have.
 
 A scene's bodies are its own ``[[bodies]]``, the members each planetary stage makes
 (``<stage>.sun``, ``.ring``, ``.carrier`` and ``.planet0`` ... ``.planet<count - 1>``,
-:mod:`assembly.planetary`) and the stations of its beam shafts (``<shaft>.<station>``,
-:mod:`assembly.shafts`). All of them follow from the tables as written, before any gear
+:mod:`assembly.scene.planetary`) and the stations of its beam shafts (``<shaft>.<station>``,
+:mod:`assembly.scene.shafts`). All of them follow from the tables as written, before any gear
 number is derived, any body placed or any stage expanded, so a name that does not exist is
 refused before a rule that needs the body reads it (a misspelt ``gear2`` used to surface as
 a missing base radius of the other gear).
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import difflib
 
-from .scene import HOUSING
+from .tables import HOUSING
 
 #: Longest list of the scene's bodies an error message spells out (beyond it: the count).
 LISTED = 12

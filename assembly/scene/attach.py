@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import SceneError
-from .mechanics.kinematics import axis_frame
+from ..errors import SceneError
+from ..mechanics.kinematics import axis_frame
 
 
 def local_masters(params) -> dict:

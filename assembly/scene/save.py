@@ -1,11 +1,11 @@
-"""Scene -> TOML text and file: the inverse of :func:`assembly.schema.load_scene`.
+"""Scene -> TOML text and file: the inverse of :func:`assembly.scene.schema.load_scene`.
 
 ``scene_from_dict(tomllib.loads(scene_to_toml(scene))) == scene`` for every valid scene:
 floats are written by ``repr`` (the shortest text that reads back to the same double;
 ``inf`` for a rigid direction), angles in radians (no ``_deg`` rounding), fields at their
 default left out, a component (its fe_components parameter object) as a table with its
 ``kind`` first. The writer is generic over dataclasses and plain dicts
-(:func:`assembly.schema.to_dict`).
+(:func:`assembly.scene.schema.to_dict`).
 """
 from __future__ import annotations
 
@@ -14,11 +14,11 @@ import math
 import re
 from pathlib import Path
 
-from . import arguments
-from .atomic_file import write_text_atomic
-from .scene import Scene
+from .. import arguments
+from ..atomic_file import write_text_atomic
+from .tables import Scene
 from .schema import to_dict
-from .scene import scene_argument
+from .tables import scene_argument
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 

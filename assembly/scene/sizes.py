@@ -16,7 +16,7 @@ import numpy as np
 
 from fe_components.params import CarrierParams, CylinderParams, PinionParams, WheelParams
 
-from .errors import SceneError
+from ..errors import SceneError
 
 #: Positions lie within this many times the largest part of the assembly from its middle.
 POSITION_FACTOR = 100.0

@@ -16,15 +16,15 @@ import math
 
 import numpy as np
 
-from .errors import SceneError
-from .gear_data import RING_CENTRE_TOLERANCE
-from .scene import PlanetaryStage
+from ..errors import SceneError
+from .gears import RING_CENTRE_TOLERANCE
+from .tables import PlanetaryStage
 from .schema import as_written
 
 #: Largest part of a circular pitch by which a planet's given angle may miss the assembly
 #: condition: a residual of eps pitches displaces the tooth pattern the planet must meet by
 #: eps p_t = eps pi m_n / cos(beta) along the pitch circle; held to the same 0.01 m_n as the
-#: ring centre distance (:data:`assembly.gear_data.RING_CENTRE_TOLERANCE`, within the
+#: ring centre distance (:data:`assembly.scene.gears.RING_CENTRE_TOLERANCE`, within the
 #: backlash) for a spur stage, eps <= 0.01 / pi = 3.2e-3 pitches (0.015 deg of carrier angle
 #: for z_s + z_r = 75, whose pitch is 4.8 deg); a helical stage's transverse pitch is longer by
 #: 1 / cos(beta) (1.5 % at 10 deg). Round-off of angles written in degrees (1e-12) lies far below.

@@ -1,6 +1,6 @@
 """Scene data types: bodies, bearings, gear meshes, shafts, fixed DOFs, planetary stages,
 flexible-body options and the static load case. Data only: the rules a scene must obey
-live in :mod:`assembly.validate`, the stage builder in :mod:`assembly.planetary`.
+live in :mod:`assembly.scene.validate`, the stage builder in :mod:`assembly.scene.planetary`.
 
 All quantities SI: metres, kilograms, newtons, seconds, radians. Stiffnesses: translational
 N/m, rotational N m/rad. ``math.inf`` for a bearing stiffness means "rigid": that relative
@@ -14,7 +14,7 @@ from a valid one by a change that cannot invalidate it (:func:`derive`) skip tha
 
 Every number field declares its unit and range here (:func:`fe_components.fields.quantity`:
 finite, of physical magnitude, in range), every name field its rule (:func:`name_field`);
-:mod:`assembly.schema` checks both, the same way for a TOML table and for dataclasses
+:mod:`assembly.scene.schema` checks both, the same way for a TOML table and for dataclasses
 built in Python, before any other rule compares or combines them.
 """
 from __future__ import annotations
@@ -33,16 +33,16 @@ from fe_components.material import STEEL, Material
 from fe_components.params import MAX_PLANETS, ComponentParams, GearTeeth
 from fe_components.sizes import FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER
 
-from . import arguments
-from .errors import SceneError
-from .scene_time import MeshVariation, Simulation
+from .. import arguments
+from ..errors import SceneError
+from .time_domain import MeshVariation, Simulation
 
 HOUSING = "housing"
 #: Band of interest (Hz) when a scene does not give ``band_hz``.
 DEFAULT_BAND_HZ = 3000.0
 #: Tables, plots, images and modal stresses show the modes up to this multiple of the band
 #: (:attr:`Scene.display_limit_hz`); modes above it are flagged "outside the band". Matches
-#: the default Craig-Bampton cutoff factor (assembly.cutoffs.CB_CUTOFF_FACTOR), so with default
+#: the default Craig-Bampton cutoff factor (assembly.scene.cutoffs.CB_CUTOFF_FACTOR), so with default
 #: reductions every mode shown lies below every flexible body's cutoff.
 DISPLAY_BAND_FACTOR = 1.5
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -112,7 +112,7 @@ class Body:
     ``inertia_tensor`` in the body's local axes (x, y, axis) -- or instead a ``component``
     (:class:`fe_components.params.PinionParams`, ``WheelParams``, ``CarrierParams`` or
     ``CylinderParams``; a scene file gives a table with ``kind``, converted once by
-    :mod:`assembly.schema`, as is a plain dict given in Python), whose mesh then gives mass
+    :mod:`assembly.scene.schema`, as is a plain dict given in Python), whose mesh then gives mass
     and inertia at every fidelity; ``position`` is then where the component's local origin
     sits (its local z along ``axis``); ``mass`` and inertias typed beside a component are the
     values its mesh replaces, reported beside the mesh's and never used
@@ -126,16 +126,16 @@ class Body:
     ``profile_shift``, ...; angles may be given in degrees under ``<name>_deg``), or its
     component's ``teeth`` serve; giving both, they must be equal (one definition). A mesh
     between gears with teeth then derives base radii, working pressure angle and helix
-    (:mod:`assembly.gear_data`). ``internal = true``: the teeth are internal (a ring gear;
+    (:mod:`assembly.scene.gears`). ``internal = true``: the teeth are internal (a ring gear;
     ``teeth.n_teeth`` stays positive). ``position`` (m) left out: (0, 0, 0), or where a mesh
-    with ``place`` puts the body (:mod:`assembly.placement`).
+    with ``place`` puts the body (:mod:`assembly.scene.placement`).
 
     A body with ``teeth`` and without ``mass``, ``polar_inertia``, ``inertia_tensor`` and
     component takes its mass and inertias from its gear blank
     (:func:`fe_components.gear_blank.blank_mass_properties`: solid to the root circle, the
     tooth zone half metal, steel; a ring's rim 1.2 tooth depths thick), whose optional
     ``blank`` table (:class:`fe_components.gear_blank.GearBlank`) gives a bore, a ring's outer
-    diameter or a length other than the face width (:func:`assembly.gear_data.blank_body`).
+    diameter or a length other than the face width (:func:`assembly.scene.gears.blank_body`).
     """
 
     name: str = name_field()
@@ -220,7 +220,7 @@ class Bearing(SixStiffnesses):
     frame) at ``position`` (default: the body's position, or the master node of
     ``interface`` for a body with a component), in the body's axes.
     Translational stiffness N/m, rotational N m/rad; ``inf`` constrains that direction.
-    ``k_axial`` is required (:func:`assembly.validate.check_bearing`), as are ``k_radial`` or
+    ``k_axial`` is required (:func:`assembly.scene.validate.check_bearing`), as are ``k_radial`` or
     both ``k_radial_x``/``k_radial_y``, and ``k_tilt`` or both ``k_tilt_x``/``k_tilt_y``.
     ``radial_angle`` (rad) turns the bearing's local x about the body's axis from the body's
     local x (:meth:`axes`): a planet's bearing takes its planet's angle on the carrier, so its
@@ -266,7 +266,7 @@ class GearMesh:
     transverse operating pressure angle (rad, > 0); ``helix_angle`` (rad) is the line of
     action's inclination to the transverse plane (the base helix angle), positive when gear 1
     is left-hand (from teeth: minus gear 1's signed base helix angle, see
-    :func:`assembly.gear_data.mesh_helix`). ``drive_sign`` (+1/-1) picks the loaded flank: the
+    :func:`assembly.scene.gears.mesh_helix`). ``drive_sign`` (+1/-1) picks the loaded flank: the
     sense of rotation of gear 1 about its axis that closes the mesh with gear 2 held.
     The centre distance between the gear centres must equal (r1 + r2)/cos(pressure_angle).
     ``center1``/``center2`` default to the bodies' positions (the gear's mid-face centre).
@@ -276,14 +276,14 @@ class GearMesh:
 
     From teeth: when both gears carry teeth (``Body.teeth`` or their component's), leave
     out ``base_radius1/2``, ``pressure_angle`` and ``helix_angle``: they are derived (ISO
-    21771, :mod:`assembly.gear_data`): base radii ``z m_n cos(alpha_t) / (2 cos beta)``
+    21771, :mod:`assembly.scene.gears`): base radii ``z m_n cos(alpha_t) / (2 cos beta)``
     (negative for the gear whose body says ``internal``), the working transverse pressure
     angle from the profile shifts, and gear 1's helix angle. Numbers given as well must
     agree with the teeth (relative 1e-6), else the scene is refused naming both. A gear with
     teeth meshing a gear without: its base radius, if typed, must agree with its teeth.
     ``place`` ("gear1" or "gear2") puts that gear at the working centre distance from the
     other, along ``centre_line_angle`` (rad, in the other gear's axes from its local x;
-    default 0) -- see :mod:`assembly.placement`.
+    default 0) -- see :mod:`assembly.scene.placement`.
 
     ``stiffness`` (N/m) left out on a mesh between two gears with teeth: the ISO 6336-1
     (method B) mean mesh stiffness c_gamma_alpha b of solid gears, b the smaller face width
@@ -297,7 +297,7 @@ class GearMesh:
     ``backlash`` (m, normal backlash along the line of action): the teeth touch on the
     driving flank at compression delta > 0 and on the coast flank at delta < -backlash, and
     carry nothing in between (None: a linear spring in both senses); ``variation``: the
-    stiffness as a function of the gear angle (:class:`assembly.scene_time.MeshVariation`).
+    stiffness as a function of the gear angle (:class:`assembly.scene.time_domain.MeshVariation`).
     """
 
     gear1: str
@@ -350,7 +350,7 @@ class Shaft:
     The k_* fields and ``position`` are then derived and must be left out. ``stations``
     (:class:`Station`, e.g. the bearing seats) split it into Timoshenko elements
     (:mod:`assembly.mechanics.beam`) and become rigid bodies ``<name>.<station>`` of stage label
-    ``stage`` (:mod:`assembly.shafts`); the shaft's mass is lumped at its nodes.
+    ``stage`` (:mod:`assembly.scene.shafts`); the shaft's mass is lumped at its nodes.
 
     Damping: a spring shaft takes viscous dampers ``c_torsion``, ``c_bending`` (N m s/rad),
     ``c_axial`` and ``c_shear`` (N s/m) beside its springs (default 0); a beam shaft takes
@@ -471,7 +471,7 @@ class Planets:
     ``normal_module``; ``mass`` and ``polar_inertia`` left out then come from the planets'
     gear blank (``blank``; see :class:`PlanetaryStage`). ``fidelity`` left out: the scene's.
     With teeth the planets must also mesh with sun and ring at their angles (assembly
-    condition, :mod:`assembly.planet_spacing`)."""
+    condition, :mod:`assembly.scene.planet_spacing`)."""
 
     count: int = quantity("", integer=True, ge=1, le=MAX_PLANETS)
     mass: Optional[float] = quantity("kg", None, gt=0.0)
@@ -494,9 +494,9 @@ class PlanetaryStage:
     From teeth: ``normal_module`` (m), ``normal_pressure_angle`` (rad, or ``_deg``) and
     ``helix_angle`` (the sun's, rad) with ``teeth`` and ``profile_shift`` on ``sun``,
     ``planets`` and ``ring`` derive the base radii, both working pressure angles and the
-    carrier radius (:func:`assembly.gear_data.stage_from_teeth`, ISO 21771): the carrier
+    carrier radius (:func:`assembly.scene.gears.stage_from_teeth`, ISO 21771): the carrier
     radius is the sun-planet working centre distance; the planet-ring one must agree to
-    :data:`assembly.gear_data.RING_CENTRE_TOLERANCE` normal modules, and the ring mesh works
+    :data:`assembly.scene.gears.RING_CENTRE_TOLERANCE` normal modules, and the ring mesh works
     at the carrier radius (``cos(alpha_ring) = (r_b,ring - r_b,planet) / R_c``). Typed base
     radii and pressure angles given as well must agree (relative 1e-6).
 
@@ -521,12 +521,12 @@ class PlanetaryStage:
     body (one of the scene's bodies, or a member of a stage written before this one) whose
     axis the stage shares exactly: its centre is that body's position moved ``axial_offset``
     (m, default 0) along the body's axis, and its ``axis`` (parallel to the body's, either
-    sense) becomes the body's (:func:`assembly.placement.place_stages`). A stage joined to a
+    sense) becomes the body's (:func:`assembly.scene.placement.place_stages`). A stage joined to a
     body by a shaft must sit on that body's axis to the last bit: a typed centre a hair off
     it is a lever arm that the torsional model cannot turn.
 
     Time-domain runs: ``backlash`` (m) of every mesh of the stage, and ``variation_sun`` /
-    ``variation_ring`` (:class:`assembly.scene_time.MeshVariation`) of its sun-planet and
+    ``variation_ring`` (:class:`assembly.scene.time_domain.MeshVariation`) of its sun-planet and
     planet-ring meshes, counted on the sun's and the ring's teeth relative to the carrier;
     each planet's meshes are phased by its angle psi_n (``phase`` + z psi_n), and with teeth
     the contact ratios default to the pairs' own.
@@ -564,7 +564,7 @@ class PlanetaryStage:
     def mesh_helix_angle(self) -> float:
         """Line-of-action helix (rad) of the sun-planet meshes (the planet-ring meshes take
         its negative): ``helix_angle`` as typed, or from the sun's teeth minus their base
-        helix angle (:func:`assembly.gear_data.mesh_helix`)."""
+        helix angle (:func:`assembly.scene.gears.mesh_helix`)."""
         if self.normal_module is None:
             return self.helix_angle
         from fe_components.gear_pair import base_helix_angle
@@ -686,9 +686,9 @@ class Scene:
     body, stage member and planets table that does not give its own (default "rigid").
     ``damping``: scene-level damping (:class:`Damping`); element dampers are the ``c_*``
     fields of bearings, meshes, shafts and stages. ``simulation``: the settings of time-domain
-    runs (:class:`assembly.scene_time.Simulation`).
+    runs (:class:`assembly.scene.time_domain.Simulation`).
     Construction first derives the gear numbers from teeth and places the bodies meshes
-    place (:func:`assembly.gear_data.resolve`), then validates everything (``SceneError``
+    place (:func:`assembly.scene.gears.resolve`), then validates everything (``SceneError``
     on bad input); the scene then holds the derived numbers.
     """
 
@@ -713,7 +713,7 @@ class Scene:
                 object.__setattr__(self, f, tuple(getattr(self, f)))
         if not _TRUSTED.get():
             # these read the types defined here: import when used
-            from .gear_data import resolve
+            from .gears import resolve
             from .schema import checked_fields
             from .validate import references_exist, validate_scene
             # types and ranges before anything derives from them; a component given as a
@@ -767,18 +767,18 @@ class Scene:
         return self.band_hz or DEFAULT_BAND_HZ
 
     def get_value(self, path: str):
-        """The value at a scene path such as ``"bearings[2].k_radial"`` (:func:`assembly.edit.get_value`)."""
+        """The value at a scene path such as ``"bearings[2].k_radial"`` (:func:`assembly.scene.edit.get_value`)."""
         from .edit import get_value
         return get_value(self, path)
 
     def with_value(self, path: str, value) -> "Scene":
         """New validated scene with the field at ``path`` (e.g. ``"shafts.quill.k_torsion"``,
-        ``"meshes[0].helix_angle_deg"``) set to ``value`` (:func:`assembly.edit.with_value`)."""
+        ``"meshes[0].helix_angle_deg"``) set to ``value`` (:func:`assembly.scene.edit.with_value`)."""
         from .edit import with_value
         return with_value(self, path, value)
 
     def with_values(self, changes: dict) -> "Scene":
-        """New scene with every ``{path: value}`` set, validated once (:func:`assembly.edit.with_values`)."""
+        """New scene with every ``{path: value}`` set, validated once (:func:`assembly.scene.edit.with_values`)."""
         from .edit import with_values
         return with_values(self, changes)
 

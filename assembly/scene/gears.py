@@ -1,6 +1,6 @@
 """Gear numbers from teeth: a scene's meshes and planetary stages take base radii, working
 pressure angles and helix from the gears' teeth (ISO 21771, :mod:`fe_components.gear_pair`),
-once, when the scene is built (:func:`resolve`, called by :class:`assembly.scene.Scene`).
+once, when the scene is built (:func:`resolve`, called by :class:`assembly.scene.tables.Scene`).
 
 * A body's teeth: ``Body.teeth`` or its pinion / wheel component's ``teeth`` -- one
   definition: given both, they must be equal (:func:`body_teeth`).
@@ -29,7 +29,7 @@ once, when the scene is built (:func:`resolve`, called by :class:`assembly.scene
 Typed numbers keep working; given together with teeth they must agree to
 :data:`AGREEMENT` (relative), else the scene is refused naming the typed field, its value,
 the derived value and the teeth it comes from. The derived numbers replace the typed ones,
-so a resolved scene resolves to itself. Then :func:`assembly.placement.place_bodies` puts
+so a resolved scene resolves to itself. Then :func:`assembly.scene.placement.place_bodies` puts
 the bodies meshes ``place``, and fills the scene-level default fidelity.
 """
 from __future__ import annotations
@@ -46,12 +46,12 @@ from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometr
 from fe_components.mesh_stiffness import mesh_stiffness
 from fe_components.params import PinionParams, WheelParams, check_face_per_module
 
-from .errors import SceneError
+from ..errors import SceneError
 from .mesh_excitation import mesh_variation
 from .schema import as_written, keep_degrees
 
 #: Relative agreement required between a typed gear number and the one its teeth give:
-#: the centre-distance check of :mod:`assembly.validate` holds geometry to the same 1e-6.
+#: the centre-distance check of :mod:`assembly.scene.validate` holds geometry to the same 1e-6.
 AGREEMENT = 1e-6
 #: Largest difference between a stage's planet-ring and sun-planet working centre distances,
 #: in normal modules. A centre-distance difference da changes the normal backlash of the

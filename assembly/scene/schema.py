@@ -39,14 +39,14 @@ from fe_components.errors import GeometryError
 from fe_components.fields import value_problem
 from fe_components.params import COMPONENT_KINDS, MAX_PLANETS, CarrierParams
 
-from . import arguments
-from .errors import SceneError
-from .scene import MAX_NAME_LENGTH, Scene
+from .. import arguments
+from ..errors import SceneError
+from .tables import MAX_NAME_LENGTH, Scene
 
 log = logging.getLogger(__name__)
 
 #: Example scenes shipped with the package.
-SCENE_DIR = Path(__file__).parent / "scenes"
+SCENE_DIR = Path(__file__).resolve().parent.parent / "scenes"
 #: Folder of the scene file being read: a part file's relative path is relative to it.
 _BASE_DIR: contextvars.ContextVar[Path | None] = contextvars.ContextVar("scene_base_dir", default=None)
 
@@ -427,7 +427,7 @@ def resolve_scene_path(path) -> Path:
 def load_scene(path, _chain: tuple = ()) -> Scene:
     """Read and validate a scene file (UTF-8 TOML; :func:`resolve_scene_path` finds it);
     :class:`SceneError` names the offending field path, or the file and what is wrong with it.
-    A file with ``extends`` varies another scene file (:mod:`assembly.variant`)."""
+    A file with ``extends`` varies another scene file (:mod:`assembly.scene.variant`)."""
     p = resolve_scene_path(path)
     try:
         raw = p.read_bytes()

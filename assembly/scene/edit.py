@@ -7,8 +7,8 @@ A path names tables as in the TOML file and list items by index or by ``name``::
     bodies.wheel.flex.cutoff_hz               bodies.wheel.component.teeth.face_width
     meshes[0].helix_angle_deg                 (an angle in degrees, as in TOML)
 
-:func:`with_values` changes the plain-dict form of the scene (:func:`assembly.schema.to_dict`)
-and builds it again with :func:`assembly.schema.scene_from_dict`, so a new value gets the
+:func:`with_values` changes the plain-dict form of the scene (:func:`assembly.scene.schema.to_dict`)
+and builds it again with :func:`assembly.scene.schema.scene_from_dict`, so a new value gets the
 same checks and messages as a TOML file; an error about a changed field names the path the
 caller gave. A path that does not exist raises :class:`SceneError` naming it and listing
 what exists at the step that failed.
@@ -21,11 +21,11 @@ import types
 import typing
 from typing import Any, get_args, get_origin
 
-from . import arguments
-from .errors import SceneError
+from .. import arguments
+from ..errors import SceneError
 from .schema import _hints, _join, scene_from_dict, to_dict
-from .scene import Scene
-from .scene import scene_argument
+from .tables import Scene
+from .tables import scene_argument
 
 _STEP = re.compile(r"\s*(?:([^.\[\]\s]+)|\[\s*(-?\d+)\s*\]|\[\s*'([^']*)'\s*\]|\[\s*\"([^\"]*)\"\s*\])\s*")
 
