@@ -28,7 +28,8 @@ import numpy as np
 from . import arguments
 from .mechanics.condensation import condense
 from .errors import MechanismError, SceneError, SolverError
-from .loads import axial_rotation, single_rigid_mode
+from .loads import single_rigid_mode
+from .probes import axial_rotation
 from .model import assemble
 from .scene.tables import with_fidelity
 from .scene.paths import body_origins
@@ -201,7 +202,7 @@ def derive_two_mass(scene, rotor: str | None = None, generator: str | None = Non
     """:func:`two_mass` of ``scene``'s torsional model between its rotor and generator
     (:func:`chain_ends`), with its ``damping`` when the scene has damping."""
     scene_argument("scene", scene)
-    from .dynamics.damped_modes import has_damping           # dynamics builds on this module
+    from .element_damping import has_damping
     from .dynamics.drivetrain_damping import two_mass_damping
     ends = chain_ends(scene, rotor, generator)
     model = assemble(with_fidelity(scene, "torsional"), source=scene)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .scene.attach import global_masters
+from .probes import axial_rotation, load_point
 from .mechanics.kinematics import block_rotation
 from .mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
 from .scene.tables import DOF_NAMES
@@ -59,19 +59,6 @@ class Held:
     point: np.ndarray
     support: int | None
     row: np.ndarray
-
-
-def load_point(model, body: str, interface: str | None = None, point=None) -> np.ndarray:
-    """Where a load or support acts (m, global): the master of ``interface`` (a component
-    body), else ``point``, else the body's axis point (a flexible body: its position)."""
-    bm = model.bodies[body]
-    if interface is not None:
-        if bm.flexible:
-            return np.asarray(bm.masters[interface][0], float)
-        return np.asarray(global_masters(next(b for b in model.scene.bodies if b.name == body))[interface], float)
-    if point is not None:
-        return np.asarray(point, float)
-    return np.asarray(bm.position if bm.flexible else bm.axis_point, float)
 
 
 def applied_loads(model, load) -> list[Applied]:
@@ -162,13 +149,6 @@ def free_motions(model, rows: np.ndarray | None = None) -> np.ndarray:
     rank = int(np.sum(s > STRUCT_RTOL * s[0])) if len(s) and s[0] > 0 else 0
     C = Vt[rank:].T / cn[:, None]
     return W @ C
-
-
-def axial_rotation(model, Z: np.ndarray, body: str) -> np.ndarray:
-    """Rotation (rad) of ``body`` about its own axis (rigid-equivalent) for columns of ``Z``
-    (absolute coordinates)."""
-    bm = model.bodies[body]
-    return bm.axes[:, 2] @ bm.rigid_projection()[3:] @ Z[model.body_slice(body)]
 
 
 def single_rigid_mode(model) -> tuple[np.ndarray | None, str]:

@@ -71,7 +71,7 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
     """(FRF at ``f``, build s, s per point, DOFs) of the unreduced model by a sparse LU per point."""
     import scipy.sparse.linalg as spla
 
-    from ..dynamics.damping import damping_matrix
+    from ..element_damping import damping_matrix
     from ..dynamics.frf import FRF
     from ..dynamics.frf_channels import input_channel, output_channels, output_rows
     from ..model import assemble

@@ -113,7 +113,7 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
     """The scene with its ``[load]`` torque stepped on over one dt, reacted on its output body
     so that the rigid-body mode is not loaded, integrated by generalized-alpha with
     ``rho_inf``; (scene, input torque, output torque)."""
-    from ..dynamics.mesh_contact import spin_row
+    from ..probes import spin_row
     from ..loads import single_rigid_mode
     from ..model import assemble
     from ..scene.schema import load_scene

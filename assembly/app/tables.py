@@ -7,7 +7,8 @@ import numpy as np
 
 from ..body_table import body_properties, replaced, replaced_note
 from ..classify import classify_modes
-from ..dynamics.damped_modes import damped_modes, has_damping
+from ..dynamics.damped_modes import damped_modes
+from ..element_damping import has_damping
 from ..energy import kinetic_by_body, strain_by_body, strain_by_element
 from ..flexible import FlexibleBodyModel
 from ..locality import energy_table, group_shares

@@ -55,17 +55,6 @@ class DampedModes:
     method: str
 
 
-def has_damping(scene) -> bool:
-    """Whether ``scene`` (as given or expanded) has any damping: element dampers (``c_*``,
-    ``damping``, ``beta``) or a ``[damping]`` table with a non-zero entry."""
-    d = scene.damping
-    if d is not None and (d.rayleigh or (d.modal and (d.modal_ratio or any((d.class_ratios or {}).values())))):
-        return True
-    sc = scene.expanded()
-    return (any(br.dampings() for br in sc.bearings) or any(m.damping for m in sc.meshes)
-            or any(s.beta or s.damping_diagonal().any() for s in sc.shafts))
-
-
 def damped_modes(result) -> DampedModes:
     """The damped modes of ``result``'s model with its scene's damping (module notes)."""
     m = len(result.frequencies_hz)

@@ -39,18 +39,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SceneError
-from ..model import on_q
+from ..element_damping import damping_matrix
 from .modal_ratios import mode_ratios
-
-
-def damping_matrix(model) -> sp.csr_matrix:
-    """Sparse symmetric damping of every element damper of ``model`` on q (zero when the
-    scene has no ``c_*`` field set)."""
-    C_abs = sp.csr_matrix((model.n_abs, model.n_abs))
-    for el in model.elements:
-        if el.c is not None:
-            C_abs = C_abs + model.element_damping_abs(el)
-    return on_q(model.T, C_abs.tocsr())
 
 
 def needs_modes(model) -> bool:

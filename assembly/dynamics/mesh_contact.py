@@ -21,10 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..loads import axial_rotation
+from ..probes import spin_row, strain_rows
 from ..scene.tables import HOUSING
 from ..scene.paths import body_origins, element_paths, stage_mesh_side
-from .frf_channels import _strain_rows
 from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear
 
@@ -43,12 +42,6 @@ class MeshInfo:
     frame: str | None
     harmonics: int
     backlash: float
-
-
-def spin_row(model, body: str) -> np.ndarray:
-    """Row on q of ``body``'s rotation (rad) about its own axis (:func:`assembly.loads.axial_rotation`
-    of the columns of ``T``)."""
-    return np.asarray(axial_rotation(model, model.T, body)).ravel()
 
 
 def _frame(scene, gear1: str, gear2: str) -> str | None:
@@ -70,7 +63,7 @@ class Meshes(Nonlinear):
             if m.variation is None and m.backlash is None:
                 continue
             path = paths.get(id(m), f"meshes[{el.item[1]}]")
-            rows_g.append(_strain_rows(model, el)[0])
+            rows_g.append(strain_rows(model, el)[0])
             frame = _frame(scene, m.gear1, m.gear2)
             v = m.variation
             if v is not None:

@@ -42,12 +42,14 @@ from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count
 from ..scene.time_domain import Simulation
-from .damping import damping_matrix, damping_on_q, every_mode, needs_modes, section_share
-from .frf_channels import _body_point, _point_vector, _unit_wrench, output_channels, output_rows
+from ..element_damping import damping_matrix
+from .damping import damping_on_q, every_mode, needs_modes, section_share
+from ..probes import body_point, point_vector, spin_row, unit_wrench
+from .frf_channels import output_channels, output_rows
 from .integrators import check_step, generalized_alpha, hht, newmark
 from .frf import UNDAMPED_ZETA
 from .load_series import constant, file_history, generator_history, ramp, range_warning
-from .mesh_contact import Meshes, spin_row
+from .mesh_contact import Meshes
 from .drive_torques import ShaftTorques
 from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, check_history, integrate, tangent
 from ..model import model_argument
@@ -124,16 +126,16 @@ def load_history(ld, path: str, base_dir: Path):
 def load_vector(model, ld, path: str) -> np.ndarray:
     """Load vector on q of a unit load of ``ld``'s kind, body and direction."""
     where = ld.body if ld.interface is None else f"{ld.body}:{ld.interface}"
-    body, iface = _body_point(model, where, f"{path}.body", where)
+    body, iface = body_point(model, where, f"{path}.body", where)
     if ld.kind == "torque":
-        w = _unit_wrench(model, body, "spin")
+        w = unit_wrench(model, body, "spin")
     else:
         d = np.asarray(ld.direction, float)
         if not np.linalg.norm(d) > 0:
             raise SceneError(f"{path}.direction", ld.direction, "must be a nonzero vector")
         w = np.zeros(6)
         w[(0 if ld.kind == "force" else 3):][:3] = d / np.linalg.norm(d)
-    return _point_vector(model, body, iface, w)
+    return point_vector(model, body, iface, w)
 
 
 def _rigid_mode(model, reference: str, path: str):
@@ -404,7 +406,7 @@ def recorded_channels(model, points, names, arg: str = "--output") -> tuple[list
     chans, speed_rows = [], {}
     for name in names:
         if name.startswith("speed:"):
-            body, _ = _body_point(model, name[6:], arg, name)
+            body, _ = body_point(model, name[6:], arg, name)
             speed_rows[name] = spin_row(model, body)
         elif name in named:
             i, p = named[name]
@@ -456,7 +458,7 @@ def _shaft_torques(model, scene, sim: Simulation, dt: float, v0: np.ndarray, bas
 def _table_body(model, scene, table, path: str) -> str:
     """The body a generator or brake table names, default the body of role "generator"."""
     if table is not None and table.body is not None:
-        return _body_point(model, table.body, f"{path}.body", table.body)[0]
+        return body_point(model, table.body, f"{path}.body", table.body)[0]
     return chain_ends(scene)[1]
 
 

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from assembly.app import run_report
-from assembly.loads import axial_rotation, single_rigid_mode
+from assembly.loads import single_rigid_mode
+from assembly.probes import axial_rotation
 from assembly.scene.schema import scene_from_dict
 from tests.support.campbell_scene import campbell_scene
 

@@ -20,8 +20,9 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble, solve_modes
-from assembly.dynamics.damped_modes import damped_modes, has_damping
-from assembly.dynamics.damping import damping_matrix
+from assembly.dynamics.damped_modes import damped_modes
+from assembly.element_damping import has_damping
+from assembly.element_damping import damping_matrix
 from assembly.scene.tables import Damping, GearMesh
 
 INF = math.inf

@@ -26,7 +26,7 @@ from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
-from assembly.dynamics.damping import damping_matrix
+from assembly.element_damping import damping_matrix
 from assembly.dynamics.integrators import generalized_alpha, hht, integrate_linear, newmark
 from assembly.dynamics.mesh_contact import Meshes
 from assembly.dynamics.mesh_variation import factor
