@@ -21,9 +21,9 @@ from .scene.stage_alone import stage_alone
 
 #: Public name -> submodule, imported on first use.
 _EXPORTS = {
-    "classify_modes": "classify", "pair_modes": "classify", "CacheDirs": "components",
+    "classify_modes": "classify", "pair_modes": "classify", "CacheDirs": "model.components",
     "get_value": "scene.edit", "with_value": "scene.edit", "with_values": "scene.edit",
-    "solve_modes": "modal", "assemble": "model", "load_scene": "scene.schema", "scene_from_dict": "scene.schema",
+    "solve_modes": "modal", "assemble": "model.assemble", "load_scene": "scene.schema", "scene_from_dict": "scene.schema",
     "save_scene": "scene.save", "scene_to_toml": "scene.save", "Branch": "tracking", "track_modes": "tracking",
     "check_part": "part_check", "check_body_part": "part_check",
 }

@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import arguments
-from .body_table import body_properties, replaced, replaced_note
+from .model.body_table import body_properties, replaced, replaced_note
 from .classify import classify_modes, pair_modes
 from .modal import solve_modes
-from .model import assemble
+from .model.assemble import assemble
 from .scene.tables import with_fidelity
 from .modal import modes_argument
 from .scene.tables import scene_argument

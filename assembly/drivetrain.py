@@ -29,8 +29,8 @@ from . import arguments
 from .mechanics.condensation import condense
 from .errors import MechanismError, SceneError, SolverError
 from .loads import single_rigid_mode
-from .probes import axial_rotation
-from .model import assemble
+from .model.probes import axial_rotation
+from .model.assemble import assemble
 from .scene.tables import with_fidelity
 from .scene.paths import body_origins
 from .scene.tables import scene_argument
@@ -202,7 +202,7 @@ def derive_two_mass(scene, rotor: str | None = None, generator: str | None = Non
     """:func:`two_mass` of ``scene``'s torsional model between its rotor and generator
     (:func:`chain_ends`), with its ``damping`` when the scene has damping."""
     scene_argument("scene", scene)
-    from .element_damping import has_damping
+    from .model.damping import has_damping
     from .dynamics.drivetrain_damping import two_mass_damping
     ends = chain_ends(scene, rotor, generator)
     model = assemble(with_fidelity(scene, "torsional"), source=scene)

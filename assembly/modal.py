@@ -24,7 +24,7 @@ from threadpoolctl import threadpool_limits
 from . import arguments, resolution
 from .errors import SceneError, SolverError
 from .mechanics.nullity import rigid_body_count
-from .model import model_argument
+from .model.assemble import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -33,10 +33,15 @@ log = logging.getLogger(__name__)
 REPEAT_RTOL = resolution.FREQ_RTOL
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class ModalResult:
     """Modes of one model. ``shapes`` are columns on the independent DOFs (mass-normalised);
-    ``abs_shapes`` the same modes on the absolute body DOFs (``z = T q``)."""
+    ``abs_shapes`` the same modes on the absolute body DOFs (``z = T q``). ``eigenvalues``
+    (rad^2/s^2) and ``frequencies_hz`` ascending, rigid-body modes (``n_rigid``, from the
+    structure) first; ``groups`` the repeated frequencies; ``max_residual`` the largest
+    relative eigen-residual; ``info``: ``frequency_rtol`` of the resolution check. ``memo``:
+    results derived from these modes, computed once per result (``"inverted"``: the modes
+    re-solved from the inverted pencil for the FRF, :func:`assembly.dynamics.frf.low_accurate`)."""
 
     model: object
     eigenvalues: np.ndarray
@@ -48,6 +53,7 @@ class ModalResult:
     solve_time_s: float
     n_rigid: int
     info: dict = field(default_factory=dict)
+    memo: dict = field(default_factory=dict, repr=False)
 
     def multiplicity(self) -> np.ndarray:
         m = np.zeros(len(self.frequencies_hz), int)

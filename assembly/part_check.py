@@ -81,13 +81,13 @@ class PartCheck:
 def check_part(part, flex: FlexOptions = FlexOptions(), n_elastic: int = 6, caches=None) -> PartCheck:
     """Mesh (or read), assemble and check ``part`` (a PartFile) alone: meshed as ``flex``
     says (element size, order for a CAD part, material), cached in ``caches``
-    (:class:`assembly.components.CacheDirs`, default the user's cache). Raises the part's own
+    (:class:`assembly.model.components.CacheDirs`, default the user's cache). Raises the part's own
     errors (PartFileError, MeshingError) and SolverError if the modes are not finite."""
     from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
     from fe_components.part_file import PartFile
     from fe_components.part_geometry import part_geometry
 
-    from .components import CacheDirs, build_fe, mesh_size
+    from .model.components import CacheDirs, build_fe, mesh_size
 
     if not isinstance(part, PartFile):
         raise SceneError("component", type(part).__name__, "must be a part read from a file (kind = 'file')")

@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import arguments
-from .constraints import constrained_dofs
+from .model.constraints import constrained_dofs
 from .mechanics.kinematics import block_rotation
 from .loads import applied_loads, speed_ratio
-from .probes import load_point
+from .model.probes import load_point
 from .scene.tables import DOF_NAMES, HOUSING
 from .static import StaticResult
 

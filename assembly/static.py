@@ -23,10 +23,10 @@ import scipy.sparse as sp
 from . import arguments
 from .errors import MechanismError, SceneError
 from .loads import free_motions, held_directions, load_vector
-from .model import assemble
+from .model.assemble import assemble
 from .mechanics.nullity import STRUCT_RTOL
 from .scene.tables import LoadCase
-from .model import model_argument
+from .model.assemble import model_argument
 from .scene.tables import scene_argument
 
 #: Largest model (independent DOFs) solved with a dense Cholesky factorisation.

@@ -257,7 +257,7 @@ def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: st
     """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn
     ("unusable <what> <path> (<reason>): moved to ...; <then>"). The superelement cache
     (cms.cache) moves bad files aside by the same rule, in its own copy: the two packages
-    import nothing of each other; assembly.mass_cache uses this one."""
+    import nothing of each other; assembly.model.mass_cache uses this one."""
     dest = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}")
     try:
         os.replace(path, dest)

@@ -5,7 +5,7 @@
 
 - rigid: load + assemble + all modes of the rigid scene and of its torsional variant with
   a warm mesh cache (each component's mass properties come from the mass-property cache,
-  assembly.mass_cache: no mesh is read);
+  assembly.model.mass_cache: no mesh is read);
 - flexible: the scene with flexible bodies, cold (every cache folder a fresh temporary
   one: meshing, FE assembly, coupling, Craig-Bampton reduction, assembly, modes) and warm
   (the same caches again, nothing memoised in the process: the reductions are read back),
@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 
 from ..classify import pair_modes
-from ..components import CacheDirs, forget_fe_models
+from ..model.components import CacheDirs, forget_fe_models
 from ..modal import solve_modes
-from ..model import assemble
+from ..model.assemble import assemble
 from ..scene.tables import with_fidelity
 from ..scene.schema import load_scene
 

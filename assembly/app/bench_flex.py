@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..components import CacheDirs, forget_fe_models
+from ..model.components import CacheDirs, forget_fe_models
 from ..scene.cutoffs import CB_CUTOFF_FACTOR
 from ..modal import solve_modes
-from ..model import assemble, build_body_models
+from ..model.assemble import assemble, build_body_models
 from ..scene.tables import FlexOptions, scale_bearings
 from ..scene.schema import load_scene
 

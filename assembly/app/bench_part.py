@@ -17,7 +17,7 @@ Both are built at the same element size (P2), each case in a fresh spawned proce
 empty temporary mesh cache, with the scene's flex options (couplings, material, order) and
 the scene's reduction: Craig-Bampton with every fixed-interface mode below
 ``CB_CUTOFF_FACTOR x band_hz`` (1.5 x 3000 Hz = 4500 Hz), residual vectors on, at most
-``MAX_MODES`` modes, called as :func:`assembly.flexible._reduce` calls it. One more row
+``MAX_MODES`` modes, called as :func:`assembly.model.flexible._reduce` calls it. One more row
 builds the STEP carrier again in a fresh process from the mesh cache its cold row filled:
 what the mesh cache saves. The superelement cache of a scene run is not used.
 

@@ -92,7 +92,7 @@ def worker_hwm_mb(pid: int) -> float | None:
 
 def timed_run(study, mode: str, workers: int | None, cache_dir: str | None) -> dict:
     """Run ``study``: its rows, wall time, sums of the run columns and peak memory."""
-    from ..components import forget_fe_models
+    from ..model.components import forget_fe_models
     from .study_engine import run_study
     if mode == "serial":
         forget_fe_models()                           # nothing memoised in this process
@@ -155,7 +155,7 @@ def flexible_sizes(scene_name: str, cache_dir: str) -> str:
     """``carrier FE -> reduced DOFs; model DOFs`` of the shipped scene, from the cache at ``cache_dir``."""
     from fe_components.meshing import cache_root
 
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     with cache_root(cache_dir):
         m = assemble(load_scene(scene_name))

@@ -113,9 +113,9 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
     """The scene with its ``[load]`` torque stepped on over one dt, reacted on its output body
     so that the rigid-body mode is not loaded, integrated by generalized-alpha with
     ``rho_inf``; (scene, input torque, output torque)."""
-    from ..probes import spin_row
+    from ..model.probes import spin_row
     from ..loads import single_rigid_mode
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     scene = load_scene(name)
     ld = scene.load
@@ -130,7 +130,7 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
 
 
 def main(argv=None, out=None) -> int:
-    from ..model import assemble
+    from ..model.assemble import assemble
 
     out = out or sys.stdout
     p = argparse.ArgumentParser(prog="flexgear bench transient", description=__doc__.split("\n\n")[0])
@@ -208,7 +208,7 @@ def _drivetrain(cases, a, out) -> None:
 
 def _reduced_vs_unreduced(a, out) -> None:
     from ..dynamics.simulate import STEPS_PER_PERIOD
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     sname = "hs_parallel_stage"
     band = load_scene(sname).band

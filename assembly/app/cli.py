@@ -172,7 +172,7 @@ def scene_file(args) -> str:
 
 def cmd_modes(args) -> int:
     from ..modal import solve_modes
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     from .tables import modes_json, modes_table
 
@@ -205,7 +205,7 @@ def cmd_static(args) -> int:
     """``flexgear static``: mesh forces, bearing reactions, shaft loads and checks of
     every load case of the scene."""
     from ..errors import SceneError
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..reactions import static_report
     from ..scene.schema import load_scene
     from ..static import solve_static_cases
@@ -350,7 +350,7 @@ def cmd_frf(args) -> int:
     """``flexgear frf``: frequency response from one input to outputs: a summary, ``--json``,
     or files in ``--out``."""
     from ..dynamics.frf import check_frf_size, frequency_response
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     from .frf import frequencies, frf_json, frf_to_dir, summary_text
 
@@ -582,7 +582,7 @@ def _too_many(modes: int):
 
 def cmd_demo(args) -> int:
     from ..modal import solve_modes
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene, shipped_scenes
     from .tables import modes_table
 

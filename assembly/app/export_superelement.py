@@ -51,10 +51,10 @@ def _check_body(scene, name: str) -> None:
 
 
 def reduced_body(scene, name: str):
-    """The :class:`~assembly.flexible.FlexibleBodyModel` of body ``name`` of the assembled
+    """The :class:`~assembly.model.flexible.FlexibleBodyModel` of body ``name`` of the assembled
     scene; SceneError if it is not a flexible body with a Craig-Bampton reduction."""
     from ..errors import SceneError
-    from ..model import assemble
+    from ..model.assemble import assemble
 
     _check_body(scene, name)
     body = assemble(scene).bodies[name]

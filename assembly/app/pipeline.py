@@ -42,7 +42,7 @@ from ..energy import NEGLIGIBLE_STRAIN_SHARE
 from ..errors import MechanismError, SceneError, SolverError
 from ..scene.gears import ISO_SOURCE, iso_stiffnesses
 from ..modal import solve_modes
-from ..model import assemble
+from ..model.assemble import assemble
 from ..scene.tables import DISPLAY_BAND_FACTOR, Scene
 from ..scene.schema import load_scene
 from ..reactions import static_report

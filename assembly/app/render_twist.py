@@ -42,7 +42,7 @@ def referred_angles(model, z_abs, reference: str | None = None) -> tuple:
     the angles themselves and None. Bodies that do not turn with the chain are left out."""
     from ..drivetrain import speed_ratios
     from ..errors import MechanismError
-    from ..probes import axial_rotation
+    from ..model.probes import axial_rotation
     ref = reference or reference_body(model.scene)
     try:
         ratios = speed_ratios(model, ref)

@@ -13,7 +13,7 @@ import logging
 import numpy as np
 
 from ..drivetrain import chain_ends, speed_ratios
-from ..element_damping import has_damping
+from ..model.damping import has_damping
 from ..dynamics.frf import frequency_response
 from ..errors import MechanismError
 from .frf import write_csv

@@ -125,7 +125,7 @@ def check_names(scene, analysis: str, settings: dict) -> None:
     assembled model once, before any variant runs (SceneError at ``frf.outputs[j]`` ...)."""
     if analysis not in ("frf", "simulate") or (analysis == "simulate" and settings["outputs"] is None):
         return
-    from ..model import assemble
+    from ..model.assemble import assemble
     model = assemble(scene, full_fe=settings.get("unreduced", False))
     if analysis == "frf":
         from ..dynamics.frf_channels import input_channel, output_channels

@@ -84,7 +84,7 @@ def finite(results: dict) -> dict:
 
 def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, settings: dict) -> dict:
     from ..errors import SceneError
-    from ..model import assemble
+    from ..model.assemble import assemble
     from ..scene.schema import load_scene
     scene = load_scene(scene_source).with_values(variant.values)
     if analysis == "modes":

@@ -5,12 +5,12 @@ import csv
 
 import numpy as np
 
-from ..body_table import body_properties, replaced, replaced_note
+from ..model.body_table import body_properties, replaced, replaced_note
 from ..classify import classify_modes
 from ..dynamics.damped_modes import damped_modes
-from ..element_damping import has_damping
+from ..model.damping import has_damping
 from ..energy import kinetic_by_body, strain_by_body, strain_by_element
-from ..flexible import FlexibleBodyModel
+from ..model.flexible import FlexibleBodyModel
 from ..locality import energy_table, group_shares
 from ..modal import mechanisms
 from ..scene.tables import DISPLAY_BAND_FACTOR
@@ -68,7 +68,7 @@ BODY_TABLE_TITLE = "bodies: the mass properties the model uses (about each centr
 def body_cells(model) -> dict:
     """Cells of the body table (text, HTML and CSV alike): body, scene table, mass (kg),
     polar and transverse inertia (kg m^2, about the centre of mass), centre of mass (m,
-    global), source of the numbers (:mod:`assembly.body_table`); a body whose component's
+    global), source of the numbers (:mod:`assembly.model.body_table`); a body whose component's
     mesh replaced typed mass properties adds them with the relative difference (column
     "typed, replaced")."""
     rows = body_properties(model)

@@ -31,12 +31,12 @@ from ..classify import classify_modes
 from ..drivetrain import speed_ratios
 from ..errors import MechanismError, SceneError
 from ..modal import solve_modes
-from ..model import assemble
+from ..model.assemble import assemble
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
 from .phasing import RULE_CLASSES, excited_class
-from ..model import model_argument
+from ..model.assemble import model_argument
 from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)

@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SceneError
-from ..element_damping import damping_matrix
+from ..model.damping import damping_matrix
 from .modal_ratios import mode_ratios
 
 

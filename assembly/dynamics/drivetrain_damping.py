@@ -24,7 +24,7 @@ import math
 from ..mechanics.condensation import condense_along
 from ..drivetrain import RANK_ONE_RTOL, own_rotation_column
 from ..errors import SolverError
-from ..element_damping import damping_matrix
+from ..model.damping import damping_matrix
 
 
 def two_mass_damping(model, tm) -> float:

@@ -82,7 +82,7 @@ from .damping import damping_in_modes, damping_on_q, needs_modes, section_factor
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
 from .modal_ratios import mode_ratios
 from ..modal import modes_argument
-from ..model import model_argument
+from ..model.assemble import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -323,12 +323,12 @@ def low_accurate(result):
     them to ~eps x (lambda + sigma) / sigma: the low modes, which an FRF needs exactly, to a
     few eps; a mode at f to eps (f / f_1)^2 (4e-8 at 2.4e4 Hz beside 1.8 Hz). Rigid-body
     modes keep their count (the structural one of ``result``) and eigenvalue 0. Solved once
-    per result (kept in ``result.info``), as a study calls the FRF many times on one model."""
+    per result (kept in ``result.memo``), as a study calls the FRF many times on one model."""
     model, r = result.model, result.n_rigid
     if len(result.eigenvalues) <= r or result.shapes.shape[1] < model.K.shape[0]:
         return result
-    if result.info.get("_frf_modes") is not None:
-        return result.info["_frf_modes"]
+    if result.memo.get("inverted") is not None:
+        return result.memo["inverted"]
     u = 1.0 / np.sqrt(model.M.diagonal())
     K = u[:, None] * model.K.toarray() * u
     M = u[:, None] * model.M.toarray() * u
@@ -342,8 +342,8 @@ def low_accurate(result):
     Phi = u[:, None] * (V / np.sqrt(mu)[None, :])                     # mass-normalised on q
     f = np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi)
     refined = dataclasses.replace(result, eigenvalues=lam, frequencies_hz=f, shapes=Phi,
-                                  abs_shapes=np.asarray(model.T @ Phi), info=dict(result.info))
-    result.info["_frf_modes"] = refined
+                                  abs_shapes=np.asarray(model.T @ Phi), info=dict(result.info), memo={})
+    result.memo["inverted"] = refined
     return refined
 
 

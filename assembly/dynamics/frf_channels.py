@@ -34,7 +34,7 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 * ``stress:BODY:X,Y,Z``: von Mises stress (Pa) of a flexible body at the FE stress node
   nearest to the global point (X, Y, Z) in m (refused farther than :data:`STRESS_SNAP` of the
   body's size from every node): the six stress components, each linear in q by
-  back-expansion (:meth:`assembly.flexible.FlexibleBodyModel.stress_rows`), are combined
+  back-expansion (:meth:`assembly.model.flexible.FlexibleBodyModel.stress_rows`), are combined
   after the solve into the peak von Mises stress over one cycle
   (:func:`von_mises_peak`); a real amplitude, its phase reported as 0.
 
@@ -54,7 +54,7 @@ import numpy as np
 
 from ..arguments import nearest
 from ..errors import SceneError
-from ..probes import body_point, interfaces, point_vector, strain_rows, unit_wrench
+from ..model.probes import body_point, interfaces, point_vector, strain_rows, unit_wrench
 from ..scene.tables import DOF_NAMES
 
 AXES = ("x", "y", "z")

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..probes import spin_row, strain_rows
+from ..model.probes import spin_row, strain_rows
 from ..scene.tables import HOUSING
 from ..scene.paths import body_origins, element_paths, stage_mesh_side
 from .mesh_variation import DeadZone, Series, check_positive, series

@@ -42,9 +42,9 @@ from ..loads import single_rigid_mode
 from ..modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count
 from ..scene.time_domain import Simulation
-from ..element_damping import damping_matrix
+from ..model.damping import damping_matrix
 from .damping import damping_on_q, every_mode, needs_modes, section_share
-from ..probes import body_point, point_vector, spin_row, unit_wrench
+from ..model.probes import body_point, point_vector, spin_row, unit_wrench
 from .frf_channels import output_channels, output_rows
 from .integrators import check_step, generalized_alpha, hht, newmark
 from .frf import UNDAMPED_ZETA
@@ -52,7 +52,7 @@ from .load_series import constant, file_history, generator_history, ramp, range_
 from .mesh_contact import Meshes
 from .drive_torques import ShaftTorques
 from .transient import DENSE_INVERSE_MAX, EPS, ROUNDOFF, Diverged, Stack, check_history, integrate, tangent
-from ..model import model_argument
+from ..model.assemble import model_argument
 from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
@@ -257,7 +257,7 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
         if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
             raise check.refuse(f"outputs[{i}]", name,
                                f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")
-    from ..model import assemble
+    from ..model.assemble import assemble
     check_history(dt, t_end, 0)                 # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
     model = model if model is not None else assemble(scene, full_fe=full_fe)

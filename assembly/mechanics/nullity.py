@@ -7,7 +7,7 @@ stiffness values at all -- a mesh of 1e20 N/m or a polar inertia of 1e-300 kg m^
 change it, while counting eigenvalues below a fraction of the largest one can.
 
 A flexible body's own stiffness vanishes exactly on its six rigid motions (a connected FE
-body; a superelement, deflated by :func:`assembly.flexible.deflate_rigid`), so every
+body; a superelement, deflated by :func:`assembly.model.flexible.deflate_rigid`), so every
 zero-energy motion moves each flexible body rigidly. The count is therefore the nullity of
 the spring rows restricted to ``W``: the free coordinates of the rigid bodies and the six
 rigid motions of each flexible body. Each row is scaled to unit length (the stiffness

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextvars
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Literal, Optional, get_args
@@ -116,7 +117,7 @@ class Body:
     and inertia at every fidelity; ``position`` is then where the component's local origin
     sits (its local z along ``axis``); ``mass`` and inertias typed beside a component are the
     values its mesh replaces, reported beside the mesh's and never used
-    (:mod:`assembly.body_table`). A carrier body needs its ``planet_angles`` and
+    (:mod:`assembly.model.body_table`). A carrier body needs its ``planet_angles`` and
     ``pin_pitch_radius``. ``fidelity = "flexible"`` needs a component; ``flex``
     says how it is meshed and reduced. ``fidelity`` left out: the scene's ``fidelity``
     (default "rigid").
@@ -739,21 +740,22 @@ class Scene:
 
     def expanded(self) -> "Scene":
         """The same scene with every planetary stage expanded into plain elements and the
-        stations of every beam shaft added as bodies (computed once per scene; a scene
-        already expanded is its own expansion)."""
-        cached = self.__dict__.get("_expanded")
-        if cached is not None:
-            return cached
+        stations of every beam shaft added as bodies (:attr:`expansion`; a scene already
+        expanded is its own expansion)."""
+        return self.expansion
+
+    @functools.cached_property
+    def expansion(self) -> "Scene":
+        """:meth:`expanded`, computed once per scene (memoised on the instance)."""
         # the builders read these types
         from .planetary import expand_stages
         from .shafts import expand_shafts, shafts_expanded
         if not self.stages and shafts_expanded(self):
             return self
-        cached = derive(self, **expand_stages(self), stages=()) if self.stages else self
-        if not shafts_expanded(cached):
-            cached = derive(cached, bodies=cached.bodies + expand_shafts(cached))
-        object.__setattr__(self, "_expanded", cached)
-        return cached
+        out = derive(self, **expand_stages(self), stages=()) if self.stages else self
+        if not shafts_expanded(out):
+            out = derive(out, bodies=out.bodies + expand_shafts(out))
+        return out
 
     def load_cases(self) -> tuple[tuple[str, LoadCase], ...]:
         """(scene path, load case) of every static load case: ``[load]`` or ``[[loads]]``."""

@@ -82,7 +82,7 @@ def check_body(b: Body, path: str) -> None:
 def _check_component_body(b: Body, path: str) -> None:
     """A component body: its part, carrier pins and flex options; mass properties typed
     beside the component are the values its mesh replaces (reported, never used:
-    :mod:`assembly.body_table`), held to the plain body's rules when given."""
+    :mod:`assembly.model.body_table`), held to the plain body's rules when given."""
     if b.polar_inertia is not None and b.inertia_tensor is not None:
         raise SceneError(f"{path}.polar_inertia", b.polar_inertia, "give polar_inertia or inertia_tensor, not both")
     if b.inertia_tensor is not None:
@@ -448,7 +448,7 @@ def attachments_resolve(scene, expanded, names: dict, masters: dict, origin: dic
 
 def rigid_bearings_allowed(scene, expanded, names: dict, origin: dict) -> None:
     """An infinite bearing stiffness becomes a constraint: only where one can act
-    (:func:`assembly.constraints.can_constrain`)."""
+    (:func:`assembly.model.constraints.can_constrain`)."""
     for p, br in element_paths(scene, expanded, "bearings", origin, "body"):
         body = names[br.body]
         if not np.any(np.isinf(br.diagonal())) or can_constrain(br, body):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 from cms.export import dof_map, read_dmig, read_dmig_points, read_npz
 

@@ -124,7 +124,7 @@ def test_a_step_file_against_its_cad(files, tmp_path):
 
 
 def _caches(tmp_path):
-    from assembly.components import CacheDirs
+    from assembly.model.components import CacheDirs
     return CacheDirs(tmp_path / "m", tmp_path / "s")
 
 

@@ -15,7 +15,7 @@ from assembly.app.cli import UsageError, main, parse_modes
 from assembly.app.pipeline import ModeSelectionError, RunOptions, run_pipeline
 from assembly.app.tables import in_band, modes_table
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.tables import DISPLAY_BAND_FACTOR
 from assembly.scene.schema import SCENE_DIR, load_scene
 

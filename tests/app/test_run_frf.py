@@ -9,7 +9,7 @@ import pytest
 
 from assembly.app import run_report
 from assembly.loads import single_rigid_mode
-from assembly.probes import axial_rotation
+from assembly.model.probes import axial_rotation
 from assembly.scene.schema import scene_from_dict
 from tests.support.campbell_scene import campbell_scene
 

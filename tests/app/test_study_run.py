@@ -10,7 +10,7 @@ import numpy as np
 from assembly.app.study_run import run_variant
 from assembly.app.study_spec import variants
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 
 

@@ -13,7 +13,7 @@ import pytest
 
 from assembly.errors import SceneError
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.tables import Bearing, Body, Scene, scale_bearings
 from assembly.scene.schema import load_scene, scene_from_dict, to_dict
 from assembly.scene.save import scene_to_toml

@@ -26,9 +26,9 @@ import pytest
 from assembly.app.cli import main
 from assembly.app.static_tables import static_json, static_text
 from assembly.app.tables import modes_json, modes_table
-from assembly.body_table import AGREEMENT, body_properties
+from assembly.model.body_table import AGREEMENT, body_properties
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.reactions import static_report
 from assembly.scene.save import toml_text
 from assembly.scene.schema import load_scene, scene_from_dict
@@ -90,9 +90,9 @@ def test_typed_values_the_mesh_replaces_are_reported(flexible_rod, caplog):
     assert row.differences()["mass"] == pytest.approx(M / 60.0 - 1, rel=1e-4)
     (info,) = flexible_rod.info["replaced_mass_properties"]
     assert info["body"] == "rod" and info["typed"] == TYPED and info["mass_kg"] == row.mass
-    with caplog.at_level(logging.WARNING, logger="assembly.model"):
+    with caplog.at_level(logging.WARNING, logger="assembly.model.assemble"):
         assemble(scene_from_dict(rod(**TYPED)))
-    (msg,) = [r.getMessage() for r in caplog.records if r.name == "assembly.model"]
+    (msg,) = [r.getMessage() for r in caplog.records if r.name == "assembly.model.assemble"]
     assert "body 'rod' (bodies[0])" in msg and "mass 60 -> " in msg and f"{row.mass:.6g}" in msg
 
 

@@ -3,7 +3,7 @@ user's cache folder (XDG Base Directory Specification); tests never use the user
 import os
 from pathlib import Path
 
-from assembly.components import CacheDirs, default_cache_root
+from assembly.model.components import CacheDirs, default_cache_root
 
 
 def test_default_is_the_users_cache_folder(monkeypatch, tmp_path):

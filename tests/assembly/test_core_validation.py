@@ -10,7 +10,7 @@ import pytest
 
 from assembly.classify import classify_modes, pair_modes
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.tables import scale_bearings, with_fidelity
 from assembly.scene.schema import load_scene
 import dataclasses

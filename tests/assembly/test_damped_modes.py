@@ -21,8 +21,8 @@ import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble, solve_modes
 from assembly.dynamics.damped_modes import damped_modes
-from assembly.element_damping import has_damping
-from assembly.element_damping import damping_matrix
+from assembly.model.damping import has_damping
+from assembly.model.damping import damping_matrix
 from assembly.scene.tables import Damping, GearMesh
 
 INF = math.inf

@@ -1,4 +1,4 @@
-"""The mass-property cache (assembly.mass_cache): a warm rigid load of a component body reads
+"""The mass-property cache (assembly.model.mass_cache): a warm rigid load of a component body reads
 no mesh, a hit gives the very numbers the integration gave, a damaged or stale entry is a
 miss (moved aside with a warning when damaged), and concurrent writers publish whole files.
 
@@ -17,10 +17,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-import assembly.components as components
+import assembly.model.components as components
 import fe_components.meshing as meshing
-from assembly import mass_cache
-from assembly.components import CacheDirs, build_fe, forget_fe_models, local_mass_properties, mesh_entry
+from assembly.model import mass_cache
+from assembly.model.components import CacheDirs, build_fe, forget_fe_models, local_mass_properties, mesh_entry
 from assembly.scene.tables import FlexOptions
 from fe_components.meshing import MeshOptions, ensure_mesh
 from fe_components.params import CylinderParams
@@ -195,7 +195,7 @@ def test_a_folder_that_cannot_take_the_entry_costs_only_its_reuse(clean, tmp_pat
 
 
 def test_warm_rigid_scene_assembles_the_same_model_without_reading_a_mesh(clean, cache, tmp_path, monkeypatch):
-    from assembly.model import assemble
+    from assembly.model.assemble import assemble
     from assembly.scene.schema import load_scene
     path = tmp_path / "shaft.toml"
     path.write_text(shaft_scene("rigid"))

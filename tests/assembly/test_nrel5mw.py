@@ -20,7 +20,7 @@ import pytest
 from assembly import assemble, classify_modes, load_scene, solve_modes
 from assembly.scene.attach import component_masters
 from assembly.scene.attach import global_masters
-from assembly.components import CacheDirs, mass_properties
+from assembly.model.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
 from assembly.drivetrain import derive_two_mass, speed_ratios, two_mass_frequencies
 from assembly.scene.tables import BearingSpec, derive, with_fidelity

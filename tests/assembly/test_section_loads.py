@@ -30,7 +30,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.dynamics.damping import damping_on_q, every_mode, section_share
-from assembly.element_damping import damping_matrix
+from assembly.model.damping import damping_matrix
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.simulate import scheme_of, simulate
 from assembly.scene.tables import Damping

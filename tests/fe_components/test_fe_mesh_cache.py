@@ -74,7 +74,7 @@ def test_corrupt_reference_mesh_falls_back_to_the_cache_in_a_scene(tmp_path, mon
     # flexgear's mesh_entry: a corrupt committed mesh is left alone (warning naming it) and the
     # mesh is generated in the cache folder (here by a stand-in for gmsh writing the clean bytes)
     import fe_components.reference as reference
-    from assembly.components import CacheDirs, mesh_entry
+    from assembly.model.components import CacheDirs, mesh_entry
     from assembly.scene.tables import FlexOptions
     ref = tmp_path / "ref"
     ref.mkdir()

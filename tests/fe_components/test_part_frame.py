@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from assembly.components import CacheDirs, mass_properties
+from assembly.model.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
 from assembly.scene.schema import SCENE_DIR, from_dict
 from assembly.scene.tables import Body, FlexOptions

@@ -45,7 +45,7 @@ WRAPPER = r"""
 import os, shutil, signal, sys
 from pathlib import Path
 cache = Path(os.environ["FI_CACHE"])
-import assembly.components as components
+import assembly.model.components as components
 import fe_components.meshing as meshing
 components.CacheDirs.__init__.__defaults__ = (cache, cache / "cms")
 meshing.DEFAULT_CACHE_DIR = cache

@@ -448,7 +448,7 @@ def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
 
 def test_solve_modes_n_modes_checked():
     from assembly.modal import solve_modes
-    from assembly.model import assemble
+    from assembly.model.assemble import assemble
     model = assemble(scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"])))
     n = model.K.shape[0]  # 12: two rigid bodies of six DOFs
     for bad in (0, -1, 1.5, True, "3"):

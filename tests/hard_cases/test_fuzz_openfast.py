@@ -25,7 +25,7 @@ import pytest
 from assembly.app.cli import main
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import scene_from_dict
 from tests.hard_cases.test_fuzz_time_domain import scene
 from tests.support.fuzz import examples

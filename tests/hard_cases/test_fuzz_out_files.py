@@ -88,7 +88,7 @@ def results(tmp_path_factory):
     from assembly.dynamics.frf import frequency_response
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
-    from assembly.model import assemble
+    from assembly.model.assemble import assemble
     from assembly.scene.schema import load_scene
 
     scene_path = pair_file(tmp_path_factory.mktemp("scene"))

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from assembly.app.cli import user_errors
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
 
 from tests.support.fuzz import examples, number_paths

@@ -31,7 +31,7 @@ def test_near_rigid_bearings_give_torsional_limit(name, factor):
 def test_naive_solve_of_near_rigid_bearings_is_wrong():
     # The failure mode the rule prevents, measured with the rule switched off: a plain
     # dense solve of the same K, M (springs of 3.5e17 N/m) reports the 0 Hz mode far above 0.
-    import assembly.constraints as am
+    import assembly.model.constraints as am
     sc = scale_bearings(load_scene("kahraman_beta0.toml"), 1e9)
     old = am.CONSTRAINT_RTOL
     am.CONSTRAINT_RTOL = 0.0

@@ -6,7 +6,7 @@ Class of scenes: the Kahraman pairs (spur and helical, 12 DOFs) and Lin & Parker
 its inertias each scaled over many decades. Every outcome must be either a SceneError
 naming a field that exists in the scene (with its value), or frequencies that match an
 60-digit solve (mpmath) of the same model with every bearing kept elastic, to the
-documented bound. Rules: assembly/resolution.py, assembly/constraints.py, assembly/mechanics/nullity.py.
+documented bound. Rules: assembly/resolution.py, assembly/model/constraints.py, assembly/mechanics/nullity.py.
 """
 import copy
 import dataclasses
@@ -23,7 +23,7 @@ import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
-import assembly.constraints as ac
+import assembly.model.constraints as ac
 import assembly.modal as am
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
@@ -118,7 +118,7 @@ def field_at(tree, path):
 
 def without_candidates(sc):
     """The expanded scene ``sc`` with every candidate bearing stiffness
-    (:func:`assembly.constraints.candidates`) set to 0: its K is the coupling stiffness
+    (:func:`assembly.model.constraints.candidates`) set to 0: its K is the coupling stiffness
     K' the candidates are judged against."""
     new = list(sc.bearings)
     for i, f in ac.candidates(sc):
@@ -213,7 +213,7 @@ def test_extreme_magnitudes_refused_or_accurate(name, mesh, bearing, body, mass,
 def test_constraint_decision_is_judged_without_candidate_springs(name, bearing):
     # assemble judges the candidates on the diagonal of its own assembly with their bearing
     # elements left out; that must be the diagonal of the scene with the candidate
-    # stiffnesses set to 0 (the definition of K' in assembly.constraints.constraint_shift),
+    # stiffnesses set to 0 (the definition of K' in assembly.model.constraints.constraint_shift),
     # so the same directions become constraints. Bearings x1e6 ... 1e12 turn none, some
     # and most of the candidates into constraints.
     scene = scene_from_dict(scaled_tree(name, 1.0, bearing, 0, 1.0, 1.0))

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from assembly.app.cli import main, user_errors
 from assembly.errors import SceneError
 from assembly.modal import solve_modes
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
 
 from tests.support.fuzz import examples

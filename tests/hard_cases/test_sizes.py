@@ -33,7 +33,7 @@ from assembly.dynamics.integrators import integrate_linear
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import STEP_BYTES, Stack, integrate
 from assembly.errors import SceneError
-from assembly.model import assemble
+from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 from tests.app.test_simulate_cli import pair_file
 from tests.support.campbell_scene import campbell_scene

@@ -17,10 +17,10 @@ from typing import Optional
 
 import numpy as np
 
-from .arguments import nearest
-from .errors import SceneError
-from .scene.attach import global_masters
-from .scene.tables import DOF_NAMES
+from ..arguments import nearest
+from ..errors import SceneError
+from ..scene.attach import global_masters
+from ..scene.tables import DOF_NAMES
 
 
 def body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[str]]:

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic_file import write_text_atomic
+from ..atomic_file import write_text_atomic
 
 log = logging.getLogger(__name__)
 

@@ -10,7 +10,7 @@ variants of one scene assemble each mesh once; meshes are cached on disk in
 Caches: the default root is the folder named by the environment variable
 ``FLEXGEAR_CACHE_DIR`` (``flexgear --cache-dir``), else the user's cache folder
 ``$XDG_CACHE_HOME/flexgear`` or ``~/.cache/flexgear`` (meshes and their mass properties,
-assembly.mass_cache, in it; reductions in its ``cms`` subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
+assembly.model.mass_cache, in it; reductions in its ``cms`` subfolder). Every entry is verified on load and an unusable one is moved aside and rebuilt
 with a warning (fe_components.meshing, cms.cache). A committed reference mesh that fails its
 check is never touched: the scene uses a mesh generated in the cache instead, with a warning.
 Component placement: a local point ``x`` sits at ``position + R x`` with
@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 
-from .scene.attach import placement
-from .scene.tables import FlexOptions
+from ..scene.attach import placement
+from ..scene.tables import FlexOptions
 
 log = logging.getLogger(__name__)
 
@@ -40,7 +40,7 @@ class CacheDirs:
     """Folders of the on-disk caches: ``meshes`` (gmsh .msh files, keyed by geometry and
     mesh options) and ``superelements`` (Craig-Bampton reductions, keyed by the content hash
     of their mesh and what else they were built from). Defaults: :func:`default_cache_root`
-    and its ``cms`` subfolder. Pass one to :func:`assembly.model.assemble` to keep a study's
+    and its ``cms`` subfolder. Pass one to :func:`assembly.model.assemble.assemble` to keep a study's
     caches apart."""
 
     meshes: Path = field(default_factory=default_cache_root)
@@ -140,7 +140,7 @@ def build_fe(params, options: FlexOptions, caches: CacheDirs, mesh_sha256: str |
 
 def local_mass_properties(params, options: FlexOptions, caches: CacheDirs):
     """Mass properties of the component's mesh in its local axes
-    (:class:`assembly.mass_cache.MassProperties`): from the mass-property cache beside the
+    (:class:`assembly.model.mass_cache.MassProperties`): from the mass-property cache beside the
     mesh cache when the entry is there and the mesh file has not changed since (no mesh is
     read), else integrated over the FE model (meshing if needed) and stored."""
     from . import mass_cache

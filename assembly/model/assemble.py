@@ -18,41 +18,53 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from . import arguments
-from .scene.attach import bearing_point, component_masters, mesh_centers, shaft_points
+from .. import arguments
+from ..scene.attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
-from .mechanics.elements import Element, gear_mesh, relative_spring
+from ..mechanics.elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
-from .mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
-from .scene.tables import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
+from ..mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
+from ..scene.tables import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
 from .shaft_elements import beam_elements
-from .scene.paths import body_origins
-from .scene.tables import scene_argument
+from ..scene.paths import body_origins
+from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class AssembledModel:
+    """A scene assembled into one linear model (module notes), built whole by :func:`assemble`.
+
+    ``scene``: the expanded scene it was built from (stages and beam shafts as plain
+    bodies and elements), ``source`` the scene as the user gave it (for field paths).
+    ``bodies`` {name: body model} in frame order (:class:`~assembly.model.bodies.RigidBodyModel`
+    or :class:`~assembly.model.flexible.FlexibleBodyModel`), ``offsets`` {name: first index in
+    z}, ``elements`` the springs (:class:`~assembly.mechanics.elements.Element`).
+    On the absolute coordinates z: ``K_abs``, ``M_abs`` (sparse CSR), ``abs_dof_names``.
+    On the independent coordinates q (``z = T q``): ``T``, ``K = T' K_abs T``, ``M``,
+    ``dof_names`` and ``q_slices`` {body: its columns of q}. ``rigidified``: the near-rigid
+    bearing directions made constraints, (bearing, field, stiffness). ``timings`` (s) and
+    ``info``: ``replaced_mass_properties``, the typed mass properties a component's mesh
+    replaced (:mod:`assembly.model.body_table`). SI units."""
+
     scene: Scene
     bodies: dict
     offsets: dict
     elements: list
-    K_abs: sp.csr_matrix
-    M_abs: sp.csr_matrix
-    T: sp.csr_matrix
+    K_abs: sp.csr_matrix = field(repr=False)
+    M_abs: sp.csr_matrix = field(repr=False)
+    T: sp.csr_matrix = field(repr=False)
     dof_names: list
     abs_dof_names: list
     K: sp.csr_matrix = field(repr=False)
     M: sp.csr_matrix = field(repr=False)
-    timings: dict = field(default_factory=dict)
-    q_slices: dict = field(default_factory=dict)   # body -> its columns of q
-    source: Scene = None                           # the scene as the user gave it (for field paths)
+    q_slices: dict
+    source: Scene
     rigidified: list = field(default_factory=list)
-    #: ``replaced_mass_properties``: the typed mass properties a component's mesh replaced,
-    #: with the mesh's and the relative difference (:mod:`assembly.body_table`)
+    timings: dict = field(default_factory=dict)
     info: dict = field(default_factory=dict)
 
     @property
@@ -65,37 +77,21 @@ class AssembledModel:
 
     def element_stiffness_abs(self, el: Element) -> sp.csr_matrix:
         """Element stiffness scattered into absolute coordinates."""
-        return self._scattered(el, el.stiffness())
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.stiffness())
 
     def element_damping_abs(self, el: Element) -> sp.csr_matrix:
         """Element damping (its dampers ``c``) scattered into absolute coordinates."""
-        return self._scattered(el, el.damping())
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.damping())
 
     def element_mass_abs(self, el: Element) -> sp.csr_matrix:
         """Element mass (a beam shaft's end masses) scattered into absolute coordinates."""
-        return self._scattered(el, el.mass)
-
-    def _scattered(self, el: Element, A: np.ndarray) -> sp.csr_matrix:
-        """``L' A L``: a matrix on the element's attachment motions, on z."""
-        L = self.attachment_operator(el)
-        return (L.T @ sp.csr_matrix(A) @ L).tocsr()
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.mass)
 
     def attachment_operator(self, el: Element, points: dict | None = None) -> sp.csr_matrix:
         """Sparse map from ``z`` to the element's stacked attachment motions ``w``
         (``points``: body name -> the point to take that body's motion at instead of the
-        element's, e.g. to see it with a body's axis moved, :mod:`assembly.lever_arms`)."""
-        rows, cols, vals = [], [], []
-        for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
-            if b is None:
-                continue              # the housing: no motion
-            P = sp.coo_matrix(self.bodies[b].motion_at((points or {}).get(b, el.point), iface))
-            rows.append(P.row + 6 * j)
-            cols.append(P.col + self.offsets[b])
-            vals.append(P.data)
-        if not vals:
-            return sp.csr_matrix((6 * len(el.bodies), self.n_abs))
-        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                             shape=(6 * len(el.bodies), self.n_abs))
+        element's, e.g. to see it with a body's axis moved, :mod:`assembly.analysis.lever_arms`)."""
+        return attachment_operator(self.bodies, self.offsets, self.n_abs, el, points)
 
     def rigid_coordinates(self, Z: np.ndarray) -> np.ndarray:
         """Rigid-equivalent motion (6 per body, global axes, at each COM) of columns of Z."""
@@ -110,6 +106,32 @@ class AssembledModel:
             B[3:, 3:] = bm.inertia
             blocks.append(B)
         return sp.block_diag(blocks, format="csr")
+
+
+def attachment_operator(bodies: dict, offsets: dict, n_abs: int, el: Element,
+                        points: dict | None = None) -> sp.csr_matrix:
+    """Sparse map from the absolute coordinates z (``n_abs`` of them; ``bodies`` and their
+    ``offsets`` in z) to the element's stacked attachment motions (6 per attached body, the
+    housing none): each body's motion at the element's point (or at ``points[body]``)."""
+    rows, cols, vals = [], [], []
+    for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
+        if b is None:
+            continue              # the housing: no motion
+        P = sp.coo_matrix(bodies[b].motion_at((points or {}).get(b, el.point), iface))
+        rows.append(P.row + 6 * j)
+        cols.append(P.col + offsets[b])
+        vals.append(P.data)
+    if not vals:
+        return sp.csr_matrix((6 * len(el.bodies), n_abs))
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(6 * len(el.bodies), n_abs))
+
+
+def element_matrix(bodies: dict, offsets: dict, n_abs: int, el: Element, A: np.ndarray) -> sp.csr_matrix:
+    """``L' A L``: a matrix ``A`` on the element's attachment motions, on z
+    (:func:`attachment_operator` ``L``)."""
+    L = attachment_operator(bodies, offsets, n_abs, el)
+    return (L.T @ sp.csr_matrix(A) @ L).tocsr()
 
 
 def _frame_order(scene: Scene) -> list:
@@ -203,7 +225,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     user wrote it when ``scene`` was derived from it (e.g. a fidelity variant), so that
     errors name the user's fields (default ``scene``).
 
-    Near-rigid bearing directions become constraints (:func:`assembly.constraints.rigidify`),
+    Near-rigid bearing directions become constraints (:func:`assembly.model.constraints.rigidify`),
     judged on the diagonal of the same assembly without their springs; the model is
     assembled again only if some direction became a constraint. Mass properties typed
     beside a component and replaced by its mesh's are logged (a warning naming the body,
@@ -223,15 +245,15 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     # every spring of a bearing with candidates is a candidate (its other directions are
     # 0 or inf, which make no spring): leaving out the whole element leaves out exactly them
     judged = {("bearings", i) for i, _ in candidates(sc)}
-    model, diagonal = _model_on(sc, order, bodies, judged)
+    src = source if source is not None else scene
+    parts, diagonal = _model_on(sc, order, bodies, judged)
     rigidified = []
     if judged:
         held, rigidified = rigidify(sc, diagonal, sc.band)
         if rigidified:
-            model, _ = _model_on(held, order, bodies)
-    model.timings = {"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies}
-    model.rigidified = rigidified
-    model.source = source if source is not None else scene
+            parts, _ = _model_on(held, order, bodies)
+    model = AssembledModel(**parts, source=src, rigidified=rigidified,
+                           timings={"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies})
     _report_replaced(model, warn=source is None)
     log.info("assembled %s: %d bodies, %d elements, %d DOFs", sc.name, len(bodies), len(model.elements),
              len(model.dof_names))
@@ -248,16 +270,17 @@ def _report_replaced(model: AssembledModel, warn: bool) -> None:
         log.warning("%s", replaced_note(r))
 
 
-def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[AssembledModel, dict]:
-    """K, M of the expanded scene ``sc`` on its independent coordinates, and the diagonal
-    that :func:`assembly.constraints.rigidify` judges on: DOF name -> (K'_xx, M_xx), K'
+def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, dict]:
+    """The fields of the :class:`AssembledModel` of the expanded scene ``sc`` (its matrices on
+    z and on its independent coordinates), and the diagonal that
+    :func:`assembly.model.constraints.rigidify` judges on: DOF name -> (K'_xx, M_xx), K'
     being K without the elements whose ``item`` is in ``judged`` (empty without any)."""
-    model, K_judged = _absolute_model(sc, order, bodies, judged)
-    model.T, model.dof_names, model.q_slices = _independent_coordinates(sc, order, bodies)
-    model.K, model.M = on_q(model.T, model.K_abs), on_q(model.T, model.M_abs)
+    parts, K_judged = _absolute_model(sc, order, bodies, judged)
+    T, names, slices = _independent_coordinates(sc, order, bodies)
+    parts.update(T=T, dof_names=names, q_slices=slices, K=on_q(T, parts["K_abs"]), M=on_q(T, parts["M_abs"]))
     if not judged:
-        return model, {}
-    return model, dict(zip(model.dof_names, zip(on_q(model.T, K_judged).diagonal(), model.M.diagonal())))
+        return parts, {}
+    return parts, dict(zip(names, zip(on_q(T, K_judged).diagonal(), parts["M"].diagonal())))
 
 
 def on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
@@ -266,27 +289,26 @@ def on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
     return ((A + A.T) * 0.5).tocsr()
 
 
-def _absolute_model(sc: Scene, order: list, bodies: dict,
-                    judged=frozenset()) -> tuple[AssembledModel, sp.csr_matrix | None]:
+def _absolute_model(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, sp.csr_matrix | None]:
     """Body mass and stiffness blocks plus every element (its stiffness, and its mass if it
-    carries any), on the absolute coordinates z;
+    carries any), on the absolute coordinates z, as fields of an :class:`AssembledModel`;
     and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
     offsets, n = {}, 0
     for b in order:
         offsets[b.name] = n
         n += bodies[b.name].ndof
     elements = build_elements(sc, bodies, component_masters(sc))
+    ordered = {b.name: bodies[b.name] for b in order}
     abs_names = [name for b in order for name in bodies[b.name].dof_names()]
     M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
-    model = AssembledModel(sc, {b.name: bodies[b.name] for b in order}, offsets, elements, K_abs, M_abs,
-                           None, [], abs_names, None, None)
-    parts = [model.element_stiffness_abs(el) for el in elements]
-    model.K_abs = sum(parts, K_abs).tocsr()
-    model.M_abs = sum((model.element_mass_abs(el) for el in elements if el.mass is not None), M_abs).tocsr()
+    parts = [element_matrix(ordered, offsets, n, el, el.stiffness()) for el in elements]
+    masses = [element_matrix(ordered, offsets, n, el, el.mass) for el in elements if el.mass is not None]
+    fields = dict(scene=sc, bodies=ordered, offsets=offsets, elements=elements, K_abs=sum(parts, K_abs).tocsr(),
+                  M_abs=sum(masses, M_abs).tocsr(), abs_dof_names=abs_names)
     if not judged:
-        return model, None
-    return model, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()
+        return fields, None
+    return fields, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()
 
 
 def _independent_coordinates(sc: Scene, order: list, bodies: dict):

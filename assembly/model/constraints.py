@@ -1,7 +1,7 @@
 """Constraints: fixed DOFs, rigid bearing directions and the torsional fidelity.
 
 A constrained direction is removed from the independent coordinates (``z = T q`` in
-:mod:`assembly.model`) instead of being modelled as a huge spring. Three sources:
+:mod:`assembly.model.assemble`) instead of being modelled as a huge spring. Three sources:
 ``[[fixed]]`` DOFs, bearing directions of infinite stiffness (and near-rigid ones, see
 :func:`rigidify`), and the five non-spin DOFs of every torsional body -- so a torsional
 model is literally the rigid model with five DOFs per body held.
@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from .scene.tables import DOF_NAMES, SPLIT_STIFFNESSES, Scene, derive
-from .scene.validate import can_constrain
+from ..scene.tables import DOF_NAMES, SPLIT_STIFFNESSES, Scene, derive
+from ..scene.validate import can_constrain
 
 log = logging.getLogger(__name__)
 
@@ -71,7 +71,7 @@ def rigidify(scene: Scene, diagonal: dict, band_hz: float) -> tuple[Scene, list]
 
     ``diagonal`` maps each independent DOF name (``body.x``) to (K'_xx, M_xx) of the model
     assembled without the :func:`candidates` springs (K': the coupling stiffness they are
-    judged against; :func:`assembly.model.assemble`). A candidate direction becomes a constraint
+    judged against; :func:`assembly.model.assemble.assemble`). A candidate direction becomes a constraint
     when :func:`constraint_shift` is at most CONSTRAINT_RTOL on every independent DOF it
     acts on (a direction acting on no independent DOF, e.g. the radial bearing of a
     torsional body, is left as it is: it does nothing). A stiffer spring left elastic

@@ -28,12 +28,12 @@ import scipy.sparse as sp
 
 from cms.errors import CacheError, ModeLimitError
 
-from .scene.attach import placement
+from ..scene.attach import placement
 from .components import CacheDirs, build_fe, mesh_entry, mesh_size
-from .scene.cutoffs import cutoff_for, cutoff_source
-from .errors import SceneError, SolverError
-from .mechanics.kinematics import block_rotation, rigid_transfer
-from .scene.tables import MAX_MODES, FlexOptions
+from ..scene.cutoffs import cutoff_for, cutoff_source
+from ..errors import SceneError, SolverError
+from ..mechanics.kinematics import block_rotation, rigid_transfer
+from ..scene.tables import MAX_MODES, FlexOptions
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +68,7 @@ class FlexibleBodyModel:
     caches: CacheDirs = field(default_factory=CacheDirs)
     _proj: np.ndarray = None
     _coupled: object = None
+    _stress_projector: object = None
 
     # ---- back-expansion to the FE mesh (lazy: needs only the cached mesh) ----------
     def coupled(self):
@@ -102,11 +103,11 @@ class FlexibleBodyModel:
         """:class:`cms.stress.StressProjector` of the stiffness basis (projection at order
         2p, scalar mass matrix factorised), built once per body and reused for every load
         case and mode."""
-        if self.info.get("_stress_projector") is None:
+        if self._stress_projector is None:
             from cms.stress import StressProjector
             fe, _ = self.coupled()
-            self.info["_stress_projector"] = StressProjector(fe.basis)
-        return self.info["_stress_projector"]
+            self._stress_projector = StressProjector(fe.basis)
+        return self._stress_projector
 
     def stress_rows(self, point) -> tuple[np.ndarray, np.ndarray, float]:
         """The projected stress (Pa; body axes, Voigt order xx, yy, zz, yz, xz, xy) at the FE

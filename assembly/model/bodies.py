@@ -2,7 +2,7 @@
 
 A rigid body carries six absolute DOFs [ux, uy, uz, rx, ry, rz] (m, rad; global axes) at
 its centre of mass. The torsional fidelity is *not* a separate model: it is this rigid
-body with five DOFs constrained (see :mod:`assembly.constraints`).
+body with five DOFs constrained (see :mod:`assembly.model.constraints`).
 """
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mechanics.kinematics import axis_frame, rigid_transfer
+from ..mechanics.kinematics import axis_frame, rigid_transfer
 
 ABS_DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 

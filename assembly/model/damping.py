@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import scipy.sparse as sp
 
-from .model import on_q
+from .assemble import on_q
 
 
 def damping_matrix(model) -> sp.csr_matrix:

@@ -2,7 +2,7 @@
 
 A body's mass, polar and transverse inertia (about its centre of mass: the polar about its
 axis, the transverse the mean of the two normal to it) and centre of mass are the model's
-own numbers (:class:`assembly.bodies.RigidBodyModel`, a flexible body's superelement),
+own numbers (:class:`assembly.model.bodies.RigidBodyModel`, a flexible body's superelement),
 each with its source: ``typed`` (the scene's numbers), ``gear blank`` (from the teeth,
 :func:`fe_components.gear_blank.blank_mass_properties`), ``polar/2`` (a transverse inertia
 left out), ``FE mesh`` (a built-in component or a mesh file, integrated over its elements),
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene.paths import body_origins
+from ..scene.paths import body_origins
 
 #: Mass properties of a component that differ from the typed ones by more than this
 #: (relative) are reported as replaced: a P2 mesh of curved surfaces holds its volume to
