@@ -57,7 +57,7 @@ class TwoMass:
     omega_generator)^2). ``stiffness`` k (N m/rad, low-speed side; DTTorSpr): the strain
     energy of the whole chain with the rotor and generator turned by th_R and th_G is
     0.5 k (th_R - th_G / speed_ratio)^2. ``damping`` (N m s/rad, low-speed side; DTTorDmp):
-    None for a scene without damping (:mod:`assembly.dynamics.drivetrain_damping`)."""
+    None for a scene without damping (:mod:`assembly.two_mass`)."""
 
     rotor: str
     generator: str
@@ -167,7 +167,7 @@ def own_rotation_column(model, body: str) -> int:
     return col
 
 
-def two_mass(model, rotor: str, generator: str) -> TwoMass:
+def two_mass_stiffness(model, rotor: str, generator: str) -> TwoMass:
     """Two-mass equivalent of the torsional ``model`` between ``rotor`` and ``generator``.
 
     Gear ratio from the rigid-body mode. Stiffness: ``K`` condensed onto the two rotations
@@ -196,15 +196,3 @@ def two_mass(model, rotor: str, generator: str) -> TwoMass:
                           f"not rank one k (th_R - th_G/s)^2 with the rigid-body mode's ratio s = {s:.9g}")
     log.info("two-mass %s -> %s: N = %.6g, k = %.6g N m/rad", rotor, generator, abs(s), k)
     return TwoMass(rotor, generator, s, energy[rotor], energy[generator] / s**2, rest / s**2, k)
-
-
-def derive_two_mass(scene, rotor: str | None = None, generator: str | None = None) -> TwoMass:
-    """:func:`two_mass` of ``scene``'s torsional model between its rotor and generator
-    (:func:`chain_ends`), with its ``damping`` when the scene has damping."""
-    scene_argument("scene", scene)
-    from .model.damping import has_damping
-    from .dynamics.drivetrain_damping import two_mass_damping
-    ends = chain_ends(scene, rotor, generator)
-    model = assemble(with_fidelity(scene, "torsional"), source=scene)
-    tm = two_mass(model, *ends)
-    return dataclasses.replace(tm, damping=two_mass_damping(model, tm)) if has_damping(scene) else tm

@@ -295,13 +295,13 @@ def _add_study(sub) -> None:
 def cmd_export_elastodyn(args) -> int:
     """``flexgear export elastodyn``: the two-mass drivetrain as an ElastoDyn fragment, to
     ``--out`` (atomically, with a summary on stdout) or to stdout."""
-    from ..drivetrain import derive_two_mass
+    from ..two_mass import two_mass
     from ..scene.schema import load_scene
     from .elastodyn import fragment_text, write_fragment
     from .output import OutputDirError
 
     scene = load_scene(scene_file(args))
-    tm = derive_two_mass(scene, args.rotor, args.generator)
+    tm = two_mass(scene, args.rotor, args.generator)
     if args.out is None:
         sys.stdout.write(fragment_text(tm, scene.name))
         return 0

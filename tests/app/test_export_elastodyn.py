@@ -1,6 +1,6 @@
 """``flexgear export elastodyn``: the fragment's layout, its numbers read back, atomic write,
 one-line errors. The numbers themselves are checked against closed forms in
-tests/assembly/test_drivetrain.py; here they must read back equal to derive_two_mass's."""
+tests/assembly/test_drivetrain.py; here they must read back equal to two_mass's."""
 from __future__ import annotations
 
 import os
@@ -10,7 +10,7 @@ import pytest
 
 from assembly import save_scene
 from assembly.app.cli import main
-from assembly.drivetrain import derive_two_mass
+from assembly.two_mass import two_mass
 from tests.assembly.test_drivetrain import chain
 
 # ElastoDyn's value line: value, name, "- description (unit)" (OpenFAST ElastoDyn input files)
@@ -40,7 +40,7 @@ def test_export_writes_the_fragment_and_it_reads_back(scene_file, tmp_path, caps
     stdout = capsys.readouterr().out
     assert "GBRatio" in stdout and str(out) in stdout and len(stdout.splitlines()) == 1
     text = out.read_text()
-    tm = derive_two_mass(chain())
+    tm = two_mass(chain())
     want = {"GenIner": (tm.generator_inertia, "kg m^2"), "GBRatio": (tm.gear_ratio, "-"),
             "DTTorSpr": (tm.stiffness, "N-m/rad")}
     got = _read(text)
@@ -121,7 +121,7 @@ def test_a_file_flexgear_did_not_write_is_never_replaced(scene_file, tmp_path, c
     before = out.read_bytes()
     if api:
         with pytest.raises(OutputDirError, match="flexgear replaces only files it wrote"):
-            write_fragment(out, derive_two_mass(chain()), "chain")
+            write_fragment(out, two_mass(chain()), "chain")
     else:
         assert main(["export", "elastodyn", str(scene_file), "--out", str(out), "-q"]) == 2
         err = capsys.readouterr().err.strip().splitlines()

@@ -25,7 +25,8 @@ import pytest
 from assembly import (Bearing, BearingSpec, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
                       assemble, solve_modes, with_fidelity)
 from assembly.mechanics.condensation import condense
-from assembly.drivetrain import chain_ends, derive_two_mass, speed_ratios, two_mass_frequencies
+from assembly.drivetrain import chain_ends, speed_ratios, two_mass_frequencies
+from assembly.two_mass import two_mass
 from assembly.scene.schema import load_scene
 
 INF = math.inf
@@ -83,7 +84,7 @@ def test_two_mass_frequencies_refuse_non_positive_or_non_finite(bad, which):
     (-0.4, 0.1, K1, KM, K2),         # internal wheel (ring): same sense of rotation
 ])
 def test_chain_two_mass_closed_form(r_w, r_p, k1, km, k2):
-    tm = derive_two_mass(chain(r_w, r_p, k1, km, k2))
+    tm = two_mass(chain(r_w, r_p, k1, km, k2))
     N = abs(r_w / r_p)
     assert tm.gear_ratio == pytest.approx(N, rel=1e-12)
     # external pair: the pinion turns against the wheel; internal: with it
@@ -121,7 +122,7 @@ def test_two_mass_frequencies_equal_the_torsional_modes_of_a_two_inertia_chain(k
     # elastic mode is the free-free frequency, and with the generator held (a [[fixed]] rz)
     # its only mode is the generator-locked one.
     sc = _two_inertias(kind)
-    free, locked = derive_two_mass(sc).frequencies_hz()
+    free, locked = two_mass(sc).frequencies_hz()
     res = solve_modes(assemble(with_fidelity(sc, "torsional")))
     assert res.n_rigid == 1
     assert res.frequencies_hz[1] == pytest.approx(free, rel=1e-9)
@@ -144,7 +145,7 @@ def test_planetary_stage_gear_ratio_is_willis():
     sc = Scene(name="turbine", stages=(st,), bodies=ends, bearings=_bearings(["hub", "gen"]),
                shafts=(Shaft(body1="hub", body2="stage.carrier", k_torsion=1e8),
                        Shaft(body1="stage.sun", body2="gen", k_torsion=1e6)))
-    tm = derive_two_mass(sc)
+    tm = two_mass(sc)
     assert tm.speed_ratio == pytest.approx(1 + st.ring.base_radius / st.sun.base_radius, rel=1e-12)
     assert 0 < tm.stiffness < 1e8           # the shafts in series with the stage: softer than either
 
@@ -174,10 +175,10 @@ def test_no_single_rigid_body_mode_is_refused_with_the_reason():
     held = dataclasses.replace(sc, bearings=sc.bearings[:1] + (dataclasses.replace(sc.bearings[1], k_torsion=1e3),)
                                + sc.bearings[2:])
     with pytest.raises(MechanismError, match="no rigid-body mode"):
-        derive_two_mass(held)
+        two_mass(held)
     # a free sub-chain: the mesh gone, wheel side and pinion side turn independently
     with pytest.raises(MechanismError, match="2 rigid-body modes"):
-        derive_two_mass(dataclasses.replace(sc, meshes=()))
+        two_mass(dataclasses.replace(sc, meshes=()))
 
 
 def test_condense_series_springs_and_singular_interior():

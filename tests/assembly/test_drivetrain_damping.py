@@ -1,4 +1,4 @@
-"""DTTorDmp of the two-mass model (assembly.dynamics.drivetrain_damping).
+"""DTTorDmp of the two-mass model (assembly.two_mass).
 
 Chain of tests/assembly/test_drivetrain.py: rotor -- shaft k1 -- wheel (r_w) -- mesh k_m --
 pinion (r_p) -- shaft k2 -- generator, N = r_w / r_p; on the low-speed side the springs are
@@ -18,7 +18,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, Shaft
 from assembly.app.elastodyn import fragment_text
-from assembly.drivetrain import derive_two_mass
+from assembly.two_mass import two_mass
 from assembly.scene.tables import Damping
 from tests.assembly.test_drivetrain import K1, K2, KM, chain
 
@@ -37,7 +37,7 @@ def test_two_mass_chain_damper_is_dttordmp_exactly():
               Body(name="gen", mass=10.0, polar_inertia=2.0, position=(0, 0, 1), role="generator"))
     sc = Scene(name="two", bodies=bodies, shafts=(Shaft(body1="rotor", body2="gen", k_torsion=1e7, c_torsion=c),),
                bearings=tuple(Bearing(body=b.name, k_radial=INF, k_axial=INF, k_tilt=INF) for b in bodies))
-    tm = derive_two_mass(sc)
+    tm = two_mass(sc)
     assert tm.damping == c
     assert f"{c:>11.10g}   DTTorDmp" in fragment_text(tm, sc.name)
 
@@ -46,16 +46,16 @@ def test_geared_chain_dampers_in_series():
     r_w, r_p, c1, c2 = 0.4, 0.1, 3.0e4, 2.0
     N = r_w / r_p
     k = 1 / (1 / K1 + 1 / (KM * r_w ** 2) + 1 / (K2 * N ** 2))
-    tm = derive_two_mass(_damp_shaft(_damp_shaft(chain(r_w, r_p), 0, c1), 1, c2))
+    tm = two_mass(_damp_shaft(_damp_shaft(chain(r_w, r_p), 0, c1), 1, c2))
     want = c1 * (k / K1) ** 2 + c2 * N ** 2 * (k / (K2 * N ** 2)) ** 2
     assert tm.damping == pytest.approx(want, rel=1e-9)
     # the high-speed damper alone: c2 N^2 times the square of its spring's twist share
-    alone = derive_two_mass(_damp_shaft(chain(r_w, r_p), 1, c2)).damping
+    alone = two_mass(_damp_shaft(chain(r_w, r_p), 1, c2)).damping
     assert alone == pytest.approx(c2 * N ** 2 * (k / (K2 * N ** 2)) ** 2, rel=1e-9)
 
 
 def test_no_damping_no_dttordmp():
-    tm = derive_two_mass(chain())
+    tm = two_mass(chain())
     assert tm.damping is None
     assert "DTTorDmp not derived" in fragment_text(tm, "chain")
 
@@ -63,7 +63,7 @@ def test_no_damping_no_dttordmp():
 def test_modal_ratio_dttordmp():
     zeta = 0.02
     sc = chain()
-    tm = derive_two_mass(Scene(**{**{f.name: getattr(sc, f.name) for f in dataclasses.fields(Scene)},
+    tm = two_mass(Scene(**{**{f.name: getattr(sc, f.name) for f in dataclasses.fields(Scene)},
                                   "damping": Damping(modal_ratio=zeta)}))
     J_ls = tm.generator_inertia * tm.gear_ratio ** 2
     J_eq = tm.rotor_inertia * J_ls / (tm.rotor_inertia + J_ls)
@@ -80,4 +80,4 @@ def test_bearing_dampers_without_torsion_give_no_dttordmp():
     from assembly.scene.schema import load_scene
     scene = load_scene(Path(__file__).resolve().parents[2] / "assembly" / "scenes" / "nrel5mw.toml")
     assert all(b.c_radial_x for b in scene.bearings)
-    assert derive_two_mass(scene).damping == 0.0
+    assert two_mass(scene).damping == 0.0

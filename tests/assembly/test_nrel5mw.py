@@ -22,7 +22,8 @@ from assembly.scene.attach import component_masters
 from assembly.scene.attach import global_masters
 from assembly.model.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
-from assembly.drivetrain import derive_two_mass, speed_ratios, two_mass_frequencies
+from assembly.drivetrain import speed_ratios, two_mass_frequencies
+from assembly.two_mass import two_mass
 from assembly.scene.tables import BearingSpec, derive, with_fidelity
 from assembly.scene.shafts import shaft_line
 from assembly.scene.stage_alone import stage_alone
@@ -215,7 +216,7 @@ def test_readme_quotes_the_scene_s_own_numbers(scene):
     assert set(rows) == set(derived)
     for name, k in derived.items():
         assert float(rows[name]) == pytest.approx(k, rel=5e-4), name
-    tm = derive_two_mass(scene)
+    tm = two_mass(scene)
     para = text[text.index("**ElastoDyn**"):]
     nums = [float(x) for x in re.findall(r"(\d+\.\d+e\d+|\d+\.\d+)", para[:400])]
     assert nums[0] == pytest.approx(tm.gear_ratio, abs=5e-4)                 # GBRatio

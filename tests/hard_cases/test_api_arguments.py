@@ -21,7 +21,7 @@ import pytest
 from assembly import LoadCase, SceneError, assemble, classify_modes, compare, load_scene, pair_modes, save_scene, scale_bearings, scene_from_dict, scene_to_toml, solve_modes, track_modes, with_fidelity
 from assembly.scene.stage_alone import stage_alone
 from assembly.app import run_report
-from assembly.drivetrain import derive_two_mass
+from assembly.two_mass import two_mass
 from assembly.dynamics.campbell import campbell
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.simulate import simulate
@@ -128,7 +128,7 @@ TABLE_OF_CALLS = [
                                       OTHER],
       "reference": OPTIONAL_NAME + ["g3"], "points": COUNT + [1], "harmonics": COUNT + [0],
       "gyroscopic": FLAG, "model": [5, "S", "R", OTHER]}),
-    ("derive_two_mass", lambda o, **a: derive_two_mass(**a), {"scene": "<scene>"},
+    ("two_mass", lambda o, **a: two_mass(**a), {"scene": "<scene>"},
      {"scene": SCENE, "rotor": OPTIONAL_NAME + ["g3"], "generator": OPTIONAL_NAME + ["g3"]}),
     ("solve_static", lambda o, **a: solve_static(**a), {"scene": "<scene>", "load": "<load>"},
      {"scene": SCENE, "load": [None, 5, "x", {}, "S", OTHER], "model": [5, "S", "R", OTHER], "path": [None, 5, ""]}),
@@ -165,7 +165,7 @@ def test_the_table_covers_every_function_of_the_python_api_doc():
     doc = (Path(__file__).parents[2] / "docs" / "python_api.md").read_text(encoding="utf-8")
     called = {label.split(".")[-1] for label, *_ in TABLE_OF_CALLS}
     for name in ("load_scene", "assemble", "solve_modes", "with_fidelity", "compare", "save_scene", "scene_to_toml",
-                 "run_report", "track_modes", "derive_two_mass", "frequency_response", "simulate", "with_value",
+                 "run_report", "track_modes", "two_mass", "frequency_response", "simulate", "with_value",
                  "with_values", "get_value"):
         assert f"{name}(" in doc and name in called, name
     assert len(CASES) >= 250, len(CASES)

@@ -83,7 +83,7 @@ def body():
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     """The scene and, for the API, each command's result computed once."""
-    from assembly.drivetrain import derive_two_mass
+    from assembly.two_mass import two_mass
     from assembly.dynamics.campbell import campbell
     from assembly.dynamics.frf import frequency_response
     from assembly.dynamics.simulate import simulate
@@ -101,7 +101,7 @@ def results(tmp_path_factory):
             simulate(scene, 0.002, 1e-4, ["force:m"])
     frf = frequency_response(assemble(scene), "torque:generator", ["force:m"], [1.0, 10.0, 100.0])
     return {"scene_path": scene_path, "scene": scene, "simulate": sim, "stopped": stopped.value.partial, "frf": frf,
-            "campbell": campbell(scene, (0.0, 100.0)), "elastodyn": derive_two_mass(scene)}
+            "campbell": campbell(scene, (0.0, 100.0)), "elastodyn": two_mass(scene)}
 
 
 def _api(command: str, out: Path, results: dict, body) -> None:

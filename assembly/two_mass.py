@@ -1,4 +1,9 @@
-"""DTTorDmp: the torsional damping (N m s/rad, low-speed side) of a scene's two-mass model.
+"""The two-mass equivalent of a drivetrain (rotor -- gearbox -- generator) with its damping:
+:func:`two_mass` of a scene, the numbers an ElastoDyn model takes (GBRatio, GenIner,
+DTTorSpr, DTTorDmp).
+
+The stiffness part is :func:`assembly.drivetrain.two_mass_stiffness` of the scene's
+torsional model; the damping part, DTTorDmp (N m s/rad, low-speed side), as follows.
 
 Element dampers: the damping matrix on q condensed with the same static condensation as
 the stiffness (:func:`assembly.mechanics.condensation.condense_along`: every interior coordinate
@@ -19,12 +24,15 @@ plus ``alpha / (2 omega_1) + beta omega_1 / 2``. Added to the element dampers' c
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
-from ..mechanics.condensation import condense_along
-from ..drivetrain import RANK_ONE_RTOL, own_rotation_column
-from ..errors import SolverError
-from ..model.damping import damping_matrix
+from .drivetrain import RANK_ONE_RTOL, TwoMass, chain_ends, own_rotation_column, two_mass_stiffness
+from .errors import SolverError
+from .mechanics.condensation import condense_along
+from .model.assemble import assemble
+from .model.damping import damping_matrix, has_damping
+from .scene.tables import scene_argument, with_fidelity
 
 
 def two_mass_damping(model, tm) -> float:
@@ -54,3 +62,15 @@ def two_mass_damping(model, tm) -> float:
     zeta = (d.class_ratios or {}).get("rotational", d.modal_ratio or 0.0)
     zeta += d.rayleigh_alpha / (2 * w1) + d.rayleigh_beta * w1 / 2
     return c + 2 * zeta * w1 * J_eq
+
+
+def two_mass(scene, rotor: str | None = None, generator: str | None = None) -> TwoMass:
+    """The two-mass equivalent of ``scene``'s torsional model between its rotor and generator
+    (:func:`assembly.drivetrain.chain_ends`; default the bodies of role "rotor" and
+    "generator"): :func:`assembly.drivetrain.two_mass_stiffness`, with its ``damping``
+    (:func:`two_mass_damping`) when the scene has damping."""
+    scene_argument("scene", scene)
+    ends = chain_ends(scene, rotor, generator)
+    model = assemble(with_fidelity(scene, "torsional"), source=scene)
+    tm = two_mass_stiffness(model, *ends)
+    return dataclasses.replace(tm, damping=two_mass_damping(model, tm)) if has_damping(scene) else tm
