@@ -13,7 +13,7 @@ from fe_components.lazy import lazy_exports
 # ``compare`` and ``stage_alone`` are also the names of submodules: importing a submodule
 # rebinds the package attribute to the module, so these functions are bound here once, eagerly
 # (``from assembly import stage_alone`` gave the module once assembly.scene.stage_alone was imported).
-from .compare import compare
+from .analysis.compare import compare
 from .errors import MechanismError, SceneError, SolverError
 from .scene.tables import (Bearing, BearingSpec, Body, Fixed, FlexOptions, GearMesh, LoadCase, Member, PlanetaryStage,
                     Planets, PointLoad, Scene, Shaft, Support, scale_bearings, with_fidelity)
@@ -21,11 +21,11 @@ from .scene.stage_alone import stage_alone
 
 #: Public name -> submodule, imported on first use.
 _EXPORTS = {
-    "classify_modes": "classify", "pair_modes": "classify", "CacheDirs": "model.components",
+    "classify_modes": "analysis.classify", "pair_modes": "analysis.classify", "CacheDirs": "model.components",
     "get_value": "scene.edit", "with_value": "scene.edit", "with_values": "scene.edit",
-    "solve_modes": "modal", "assemble": "model.assemble", "load_scene": "scene.schema", "scene_from_dict": "scene.schema",
-    "save_scene": "scene.save", "scene_to_toml": "scene.save", "Branch": "tracking", "track_modes": "tracking",
-    "check_part": "part_check", "check_body_part": "part_check",
+    "solve_modes": "analysis.modal", "assemble": "model.assemble", "load_scene": "scene.schema", "scene_from_dict": "scene.schema",
+    "save_scene": "scene.save", "scene_to_toml": "scene.save", "Branch": "analysis.tracking", "track_modes": "analysis.tracking",
+    "check_part": "analysis.part_check", "check_body_part": "analysis.part_check",
 }
 
 __all__ = sorted(["Bearing", "BearingSpec", "Body", "Fixed", "FlexOptions", "GearMesh", "LoadCase", "MechanismError",

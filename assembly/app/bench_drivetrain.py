@@ -29,9 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..classify import pair_modes
+from ..analysis.classify import pair_modes
 from ..model.components import CacheDirs, forget_fe_models
-from ..modal import solve_modes
+from ..analysis.modal import solve_modes
 from ..model.assemble import assemble
 from ..scene.tables import with_fidelity
 from ..scene.schema import load_scene

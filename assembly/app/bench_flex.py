@@ -23,7 +23,7 @@ import numpy as np
 
 from ..model.components import CacheDirs, forget_fe_models
 from ..scene.cutoffs import CB_CUTOFF_FACTOR
-from ..modal import solve_modes
+from ..analysis.modal import solve_modes
 from ..model.assemble import assemble, build_body_models
 from ..scene.tables import FlexOptions, scale_bearings
 from ..scene.schema import load_scene

@@ -63,7 +63,7 @@ def worst_own_peak(r, ref) -> tuple[str, float, float]:
 
 
 def _generator(scene) -> str:
-    from ..drivetrain import chain_ends
+    from ..analysis.drivetrain import chain_ends
     return chain_ends(scene)[1]
 
 
@@ -108,7 +108,7 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
 
 def main(argv=None, out=None) -> int:
     from ..dynamics.frf import MODAL_CUTOFF_FACTOR, frequency_response
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     from ..model.assemble import assemble
     from ..scene.schema import load_scene
 

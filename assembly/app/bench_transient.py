@@ -65,7 +65,7 @@ def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]
     and M, solver kind), built as ``simulate`` builds them."""
     from ..dynamics.integrators import _effective, _Solver
     from ..dynamics.simulate import model_matrices, scheme_of
-    from ..modal import SMALL_DENSE
+    from ..analysis.modal import SMALL_DENSE
     from ..scene.time_domain import Simulation
     n = model.K.shape[0]
     M, K, C, _ = model_matrices(model)
@@ -114,7 +114,7 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
     so that the rigid-body mode is not loaded, integrated by generalized-alpha with
     ``rho_inf``; (scene, input torque, output torque)."""
     from ..model.probes import spin_row
-    from ..loads import single_rigid_mode
+    from ..analysis.load_cases import single_rigid_mode
     from ..model.assemble import assemble
     from ..scene.schema import load_scene
     scene = load_scene(name)

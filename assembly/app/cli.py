@@ -171,7 +171,7 @@ def scene_file(args) -> str:
 
 
 def cmd_modes(args) -> int:
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     from ..model.assemble import assemble
     from ..scene.schema import load_scene
     from .tables import modes_json, modes_table
@@ -186,7 +186,7 @@ def cmd_modes(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    from ..compare import compare
+    from ..analysis.compare import compare
     from ..scene.schema import load_scene
     from .tables import comparison_table
 
@@ -206,9 +206,9 @@ def cmd_static(args) -> int:
     every load case of the scene."""
     from ..errors import SceneError
     from ..model.assemble import assemble
-    from ..reactions import static_report
+    from ..analysis.reactions import static_report
     from ..scene.schema import load_scene
-    from ..static import solve_static_cases
+    from ..analysis.static import solve_static_cases
     from .static_tables import static_json, static_text
 
     scene = load_scene(scene_file(args))
@@ -295,7 +295,7 @@ def _add_study(sub) -> None:
 def cmd_export_elastodyn(args) -> int:
     """``flexgear export elastodyn``: the two-mass drivetrain as an ElastoDyn fragment, to
     ``--out`` (atomically, with a summary on stdout) or to stdout."""
-    from ..two_mass import two_mass
+    from ..analysis.two_mass import two_mass
     from ..scene.schema import load_scene
     from .elastodyn import fragment_text, write_fragment
     from .output import OutputDirError
@@ -581,7 +581,7 @@ def _too_many(modes: int):
 
 
 def cmd_demo(args) -> int:
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     from ..model.assemble import assemble
     from ..scene.schema import load_scene, shipped_scenes
     from .tables import modes_table

@@ -8,7 +8,7 @@ the descriptions of the NREL 5 MW ElastoDyn file (Jonkman et al. (2009),
 NREL/TP-500-38060). Comment lines start with ``!``. Numbers are written to 10 significant digits (read
 back to 5e-10 relative: far below any drivetrain datum, and readable where ``repr`` of a
 ratio 96.354 would print 96.35416666666677). DTTorDmp is written when the scene's
-damping acts on the drivetrain's torsion (:mod:`assembly.two_mass`);
+damping acts on the drivetrain's torsion (:mod:`assembly.analysis.two_mass`);
 otherwise the header says why it is not
 derived. ``--out`` (:func:`write_fragment`) replaces only a fragment flexgear wrote (its first
 line, :data:`HEADER`), never another file, a folder or a symbolic link.
@@ -20,7 +20,7 @@ import re
 from importlib import metadata
 
 from ..atomic_file import write_text_atomic
-from ..drivetrain import TwoMass
+from ..analysis.drivetrain import TwoMass
 
 log = logging.getLogger(__name__)
 

@@ -1,7 +1,7 @@
 """Which modes the run draws as its key pictures (fixed file names, docs/output.md).
 
 * global torsional (``images/global_torsional.png``): the lowest elastic mode of class
-  ``rotational`` and scope ``"global"`` (:func:`assembly.classify.classify_modes`) -- in a
+  ``rotational`` and scope ``"global"`` (:func:`assembly.analysis.classify.classify_modes`) -- in a
   wind-turbine drivetrain the rotor against the generator;
 * stage-local (``images/stage_local.png``): the lowest elastic mode whose scope is a stage,
   taken from the first of these tiers that has one: (1) a planetary stage, class rotational

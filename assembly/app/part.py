@@ -1,4 +1,4 @@
-"""``flexgear part``: one user's part checked alone (:mod:`assembly.part_check`), printed as
+"""``flexgear part``: one user's part checked alone (:mod:`assembly.analysis.part_check`), printed as
 a report or one JSON object.
 
 Two forms: ``flexgear part FILE --units mm [--order 2] [--axis X,Y,Z] [--origin X,Y,Z]
@@ -85,12 +85,12 @@ def flagged(err, typed: dict | None = None):
 
 
 def check(args):
-    """The :class:`~assembly.part_check.PartCheck` the command's arguments name."""
+    """The :class:`~assembly.analysis.part_check.PartCheck` the command's arguments name."""
     from fe_components.errors import GeometryError
     from fe_components.part_file import CAD_SUFFIXES, MESH_SUFFIXES
 
     from ..errors import SceneError
-    from ..part_check import check_body_part, check_part
+    from ..analysis.part_check import check_body_part, check_part
     from ..scene.schema import load_scene
     from .cli import UsageError, scene_file
 

@@ -35,18 +35,18 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ..classify import classify_modes, pair_modes
-from ..compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
-from ..compare import compare
-from ..energy import NEGLIGIBLE_STRAIN_SHARE
+from ..analysis.classify import classify_modes, pair_modes
+from ..analysis.compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
+from ..analysis.compare import compare
+from ..analysis.energy import NEGLIGIBLE_STRAIN_SHARE
 from ..errors import MechanismError, SceneError, SolverError
 from ..scene.gears import ISO_SOURCE, iso_stiffnesses
-from ..modal import solve_modes
+from ..analysis.modal import solve_modes
 from ..model.assemble import assemble
 from ..scene.tables import DISPLAY_BAND_FACTOR, Scene
 from ..scene.schema import load_scene
-from ..reactions import static_report
-from ..static import solve_static_cases
+from ..analysis.reactions import static_report
+from ..analysis.static import solve_static_cases
 from . import strict_json
 from .html_report import render_index
 from .output import MANIFEST, staged_output, write_manifest, writing
@@ -182,7 +182,7 @@ def _user_errors():
 
 def step_compare(ctx: RunContext, bar) -> None:
     """Torsional, rigid (and flexible) variants of the scene, paired by MAC ->
-    ``ctx.comparison`` (rows of :func:`assembly.compare.compare`)."""
+    ``ctx.comparison`` (rows of :func:`assembly.analysis.compare.compare`)."""
 
     if not ctx.options.compare:
         bar.update(bar.total - bar.n)
@@ -391,7 +391,7 @@ def skipped_text(ctx) -> str:
 def _strain_text(ctx) -> list:
     """Per mode: the flexible bodies' shares of its strain energy, largest first ("" without
     flexible bodies); the rest of the strain energy is in the springs."""
-    from ..energy import strain_by_body
+    from ..analysis.energy import strain_by_body
     flex = [j for j, b in enumerate(ctx.model.bodies) if ctx.model.bodies[b].flexible]
     if not flex:
         return [""] * len(ctx.infos)
@@ -446,10 +446,10 @@ def _recovery_total(ctx) -> int:
 def step_recovery(ctx: RunContext, bar) -> None:
     """Flexible bodies: static load case (if the scene has one; MPa of the physical load)
     and modal stresses of the drawn modes, each mode scaled to MODAL_PEAK_DISPLACEMENT_M
-    peak displacement of the flexible bodies (:mod:`assembly.modal_stress`), back-expanded
+    peak displacement of the flexible bodies (:mod:`assembly.analysis.modal_stress`), back-expanded
     to the FE meshes; bodies without strain energy in a mode are skipped. Stress images,
     VTU files + one .pvd collection, ``stress.csv`` (load cases) and ``modal_stress.csv``."""
-    from ..modal_stress import MODAL_AMPLITUDE_LABEL, modal_amplitudes
+    from ..analysis.modal_stress import MODAL_AMPLITUDE_LABEL, modal_amplitudes
     from .render_fe import StressImages
 
     flex = _flexible_bodies(ctx)
@@ -514,7 +514,7 @@ def _case_label(st, rep) -> str:
 def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) -> None:
     """The von Mises image of flexible body ``b`` for stresses ``st`` of a load case
     (``a`` None) or of a drawn mode (``a``: its ModalAmplitude), with title and caption."""
-    from ..modal_stress import MODAL_AMPLITUDE_LABEL
+    from ..analysis.modal_stress import MODAL_AMPLITUDE_LABEL
     rel = f"images/stress_{b}_{tag}.png"
     what = "" if a is None else f" at {MODAL_AMPLITUDE_LABEL}"
     if a is None:
@@ -533,7 +533,7 @@ def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) 
 def _write_recovery_files(ctx: RunContext, rows: list, mrows: list, collection: list) -> None:
     """``stress.csv`` (load cases), ``modal_stress.csv`` (drawn modes), the ``results.pvd``
     collection of the VTU files and the notes of :func:`step_recovery`."""
-    from ..modal_stress import MODAL_AMPLITUDE_LABEL
+    from ..analysis.modal_stress import MODAL_AMPLITUDE_LABEL
     if rows:
         with open(ctx.add_file("stress.csv", "max von Mises per flexible body and load case (CSV; Pa, m)"), "w",
                   newline="") as fh:
@@ -566,7 +566,7 @@ def _share_text(a) -> str:
 def _modal_row(ctx, body: str, a, peak) -> dict:
     """modal_stress.csv row of ``body`` in mode ``a`` (ModalAmplitude); ``peak``:
     (max von Mises Pa, location dict) or None for a body skipped (no strain energy)."""
-    from ..modal_stress import MODAL_PEAK_DISPLACEMENT_M, MODAL_STRESS_COLUMN
+    from ..analysis.modal_stress import MODAL_PEAK_DISPLACEMENT_M, MODAL_STRESS_COLUMN
     vm, where = peak if peak is not None else (None, {"x_m": None, "y_m": None, "z_m": None})
     return {"mode": a.mode + 1, "frequency_hz": float(ctx.result.frequencies_hz[a.mode]), "body": body,
             "strain_energy_share": a.strain_share[body], "carries_most_strain_energy": int(body == a.carrier),

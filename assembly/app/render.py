@@ -934,9 +934,9 @@ class AssemblyRenderer:
 
     def focus_bodies(self, result, mode: int) -> tuple:
         """Names of the bodies holding most of ``mode``'s kinetic energy
-        (:func:`assembly.classify.dominant_bodies`; all bodies for a motionless mode)."""
-        from ..classify import dominant_bodies
-        from ..energy import kinetic_by_body
+        (:func:`assembly.analysis.classify.dominant_bodies`; all bodies for a motionless mode)."""
+        from ..analysis.classify import dominant_bodies
+        from ..analysis.energy import kinetic_by_body
         key = ("shares", id(result))
         if key not in self._cache:
             self._cache[key] = kinetic_by_body(result)

@@ -4,7 +4,7 @@ referred to one reference body (the rotor) through the speed ratios.
 Along a geared drivetrain the bodies' angles in a torsional mode differ by the gear ratios
 (the NREL 5 MW generator turns 96 x the rotor's angle), so drawn to one scale the fast
 bodies hide the rest. Divided by each body's speed ratio to the reference
-(omega_body / omega_reference in the rigid-body mode, :func:`assembly.drivetrain.speed_ratios`)
+(omega_body / omega_reference in the rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`)
 every angle becomes the angle at the reference shaft: the classical equivalent system
 "referred to the low-speed shaft". The arrows show these referred angles, so the rigid-body
 mode draws equal arrows everywhere and a torsional mode shows where the chain twists.
@@ -40,7 +40,7 @@ def referred_angles(model, z_abs, reference: str | None = None) -> tuple:
     shape ``z_abs`` (absolute coordinates): each body's rotation about its own axis over
     its speed ratio to the reference; without speed ratios (no single rigid-body mode)
     the angles themselves and None. Bodies that do not turn with the chain are left out."""
-    from ..drivetrain import speed_ratios
+    from ..analysis.drivetrain import speed_ratios
     from ..errors import MechanismError
     from ..model.probes import axial_rotation
     ref = reference or reference_body(model.scene)

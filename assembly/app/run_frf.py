@@ -12,7 +12,7 @@ import logging
 
 import numpy as np
 
-from ..drivetrain import chain_ends, speed_ratios
+from ..analysis.drivetrain import chain_ends, speed_ratios
 from ..model.damping import has_damping
 from ..dynamics.frf import frequency_response
 from ..errors import MechanismError

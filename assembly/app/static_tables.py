@@ -1,5 +1,5 @@
 """Text, CSV, JSON and HTML-table views of static load cases
-(:class:`assembly.reactions.StaticReport`); sign conventions in docs/static.md."""
+(:class:`assembly.analysis.reactions.StaticReport`); sign conventions in docs/static.md."""
 from __future__ import annotations
 
 import csv

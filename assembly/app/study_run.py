@@ -88,10 +88,10 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
     from ..scene.schema import load_scene
     scene = load_scene(scene_source).with_values(variant.values)
     if analysis == "modes":
-        from ..modal import solve_modes
+        from ..analysis.modal import solve_modes
         return _frequencies(solve_modes(assemble(scene)), keep["modes"])
     if analysis == "compare":
-        from ..compare import compare
+        from ..analysis.compare import compare
         out = {}
         for fid, res in compare(scene).results.items():
             out.update(_frequencies(res, keep["modes"], f"{fid}_"))

@@ -6,13 +6,13 @@ import csv
 import numpy as np
 
 from ..model.body_table import body_properties, replaced, replaced_note
-from ..classify import classify_modes
+from ..analysis.classify import classify_modes
 from ..dynamics.damped_modes import damped_modes
 from ..model.damping import has_damping
-from ..energy import kinetic_by_body, strain_by_body, strain_by_element
+from ..analysis.energy import kinetic_by_body, strain_by_body, strain_by_element
 from ..model.flexible import FlexibleBodyModel
-from ..locality import energy_table, group_shares
-from ..modal import mechanisms
+from ..analysis.locality import energy_table, group_shares
+from ..analysis.modal import mechanisms
 from ..scene.tables import DISPLAY_BAND_FACTOR
 
 
@@ -249,7 +249,7 @@ SHORT = {"torsional": "tors", "rigid": "rigid", "flexible": "flex"}
 def comparison_cells(rows, fids) -> dict:
     """Cells of the fidelity comparison, shared by the text table and the HTML report.
 
-    ``rows``: :func:`assembly.compare.compare` rows; ``fids``: the fidelities present, low to
+    ``rows``: :func:`assembly.analysis.compare.compare` rows; ``fids``: the fidelities present, low to
     high. A lower fidelity's shift (%) is shown only when every MAC on the pairing chain
     down to it is at least :data:`NO_PARTNER_MAC` ("--" otherwise); a MAC below
     :data:`WEAK_MAC` is starred. Returns header, rows (strings), row_classes ("weak",
@@ -305,7 +305,7 @@ def text_table(header, rows, left=()) -> str:
 
 
 def comparison_table(c) -> str:
-    """Text table of a :class:`assembly.compare.Comparison`: frequencies (Hz) per fidelity,
+    """Text table of a :class:`assembly.analysis.compare.Comparison`: frequencies (Hz) per fidelity,
     shifts (%), MACs along the pairing chain, class and dominant body of each mode, then
     the footnotes and the cost of each model."""
     fids = [k for k in ("torsional", "rigid", "flexible") if k in c.results]
@@ -350,7 +350,7 @@ def write_energy_csv(result, infos, path) -> None:
     """Every mode's energy breakdown as CSV (one row per mode and stage, body, bearing, mesh
     or shaft; ``level`` says which): the part's or stage's share of the mode's kinetic and
     of its strain energy (each sums to 1 per mode and level kind, or 0 for a rigid-body
-    mode's strain), ``group`` the stage it belongs to (:mod:`assembly.locality`). Repeated
+    mode's strain), ``group`` the stage it belongs to (:mod:`assembly.analysis.locality`). Repeated
     frequencies share the split of their eigenspace."""
     table = energy_table(result)
     ks, ss = group_shares(table, result.groups)
@@ -368,7 +368,7 @@ def write_energy_csv(result, infos, path) -> None:
 
 
 def write_comparison_csv(rows, fields, path) -> None:
-    """Fidelity comparison rows (see :func:`assembly.compare.compare`) as CSV (Hz)."""
+    """Fidelity comparison rows (see :func:`assembly.analysis.compare.compare`) as CSV (Hz)."""
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()

@@ -2,10 +2,10 @@
 where they cross.
 
 Speeds are those of a reference body (rpm; default the body of role ``"rotor"``), every
-other body turning at its ratio from the kinematic chain (:func:`assembly.drivetrain.speed_ratios`).
+other body turning at its ratio from the kinematic chain (:func:`assembly.analysis.drivetrain.speed_ratios`).
 
 * Natural frequencies: without gyroscopic coupling they do not depend on speed and are
-  solved once (:func:`assembly.modal.solve_modes`); with it they are solved at every speed
+  solved once (:func:`assembly.analysis.modal.solve_modes`); with it they are solved at every speed
   (:mod:`assembly.dynamics.gyroscopic`), line j being the j-th lowest elastic frequency.
 * Orders: mesh harmonics and rotor orders (:mod:`assembly.dynamics.orders`).
 * Crossings: where an order line f = a n meets natural-frequency line j: f_j(n) = a n.
@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import arguments
-from ..classify import classify_modes
-from ..drivetrain import speed_ratios
+from ..analysis.classify import classify_modes
+from ..analysis.drivetrain import speed_ratios
 from ..errors import MechanismError, SceneError
-from ..modal import solve_modes
+from ..analysis.modal import solve_modes
 from ..model.assemble import assemble
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
@@ -163,7 +163,7 @@ def line_crossings(speeds, f_line, slope: float) -> list[tuple[float, float]]:
 
 
 def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
-    """Whether ``order`` can excite ``mode`` (a :class:`assembly.classify.ModeInfo`) and why."""
+    """Whether ``order`` can excite ``mode`` (a :class:`assembly.analysis.classify.ModeInfo`) and why."""
     if order.kind != "mesh" or order.n_planets is None:
         return True, "every class" if order.kind == "mesh" else "rotor order"
     cls = excited_class(order.harmonic, order.sun_teeth, order.n_planets)

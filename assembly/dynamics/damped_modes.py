@@ -41,7 +41,7 @@ MAX_STATE_MODES = 600
 
 @dataclass(frozen=True)
 class DampedModes:
-    """Damped modes paired with the undamped modes of a :class:`assembly.modal.ModalResult`
+    """Damped modes paired with the undamped modes of a :class:`assembly.analysis.modal.ModalResult`
     (entry i belongs to undamped mode i): ``s`` (complex, 1/s), ``damped_hz``
     (Im(s)/2pi, Hz), ``undamped_hz`` (|s|/2pi, Hz), ``ratios`` (-Re(s)/|s|), ``mac`` of the
     pairing (1 for modal ratios), ``method`` ("modal ratios", "state space" or "state

@@ -51,9 +51,9 @@ def needs_modes(model) -> bool:
 
 
 def every_mode(model):
-    """Every mode of ``model`` (:func:`assembly.modal.solve_modes`); SceneError when the
+    """Every mode of ``model`` (:func:`assembly.analysis.modal.solve_modes`); SceneError when the
     model is too large for a full modal basis."""
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     res = solve_modes(model)
     if res.shapes.shape[1] < model.K.shape[0]:
         raise SceneError("damping", model.scene.damping,

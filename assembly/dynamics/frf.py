@@ -45,7 +45,7 @@ it diverges as ``omega`` reaches ``omega_r``. A cutoff below :data:`MIN_CUTOFF_R
 the highest frequency asked (a mode just above it would be off by more than 8 % of its
 static share, or diverge) is refused; one whose lowest left-out mode gives a bound above
 :data:`CUTOFF_WARN` draws a warning with it. ``modes_hz=inf`` keeps every mode
-(exact). Models above :data:`assembly.modal.DENSE_MAX` DOFs have no full modal basis: use
+(exact). Models above :data:`assembly.analysis.modal.DENSE_MAX` DOFs have no full modal basis: use
 ``method="direct"``.
 
 ``method="direct"``: the reference, ``(K - omega^2 M + i omega C) q = f`` solved per
@@ -75,13 +75,13 @@ import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
 from ..errors import SceneError, SolverError
-from ..modal import SMALL_DENSE
+from ..analysis.modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count, rigid_body_modes
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_on_q, needs_modes, section_factors, section_share
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
 from .modal_ratios import mode_ratios
-from ..modal import modes_argument
+from ..analysis.modal import modes_argument
 from ..model.assemble import model_argument
 
 log = logging.getLogger(__name__)
@@ -142,7 +142,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
                        modes_hz: float | None = None, residual: bool = True) -> FRF:
     """FRF of ``model`` from ``input`` to each of ``outputs`` (names of
     :mod:`assembly.dynamics.frf_channels`) at ``frequency_hz`` (Hz, >= 0; > 0 when the
-    model has a rigid-body mode). ``result``: the model's :class:`assembly.modal.ModalResult`
+    model has a rigid-body mode). ``result``: the model's :class:`assembly.analysis.modal.ModalResult`
     with every mode, if already solved. ``modes_hz`` (Hz): the modal cutoff of
     ``method="modal"`` (module notes); default :data:`MODAL_CUTOFF_FACTOR` x ``max(frequency_hz)``,
     ``inf`` for every mode; ``residual=False`` drops the modes above it altogether (plain
@@ -182,7 +182,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         raise SceneError("frequency_hz", 0.0, "the model has a free rigid-body mode: its response at 0 Hz is "
                                               "unbounded; use frequencies > 0")
     notes = []
-    # one BLAS thread for small models, as the modal solve (assembly.modal.SMALL_DENSE)
+    # one BLAS thread for small models, as the modal solve (assembly.analysis.modal.SMALL_DENSE)
     with threadpool_limits(1 if model.K.shape[0] <= SMALL_DENSE else None):
         if method == "modal":
             result = low_accurate(result if result is not None else _every_mode(model))
@@ -298,7 +298,7 @@ def _check_finite(H: np.ndarray, f: np.ndarray, outs: list, result) -> None:
 def _every_mode(model):
     """Every mode of ``model`` for the modal method (SceneError naming the method when the
     model has too many DOFs for them)."""
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     res = solve_modes(model)
     if res.shapes.shape[1] < model.K.shape[0]:
         raise SceneError("method", "modal", f"the model has {model.K.shape[0]} DOFs and only "
@@ -310,7 +310,7 @@ def _modes_for_checks(model):
     """The modes a direct solve reports and checks its frequencies against (natural
     frequencies, undamped modes): every mode of a model that has a dense modal solve,
     else None."""
-    from ..modal import DENSE_MAX, solve_modes
+    from ..analysis.modal import DENSE_MAX, solve_modes
     return solve_modes(model) if model.K.shape[0] <= DENSE_MAX else None
 
 

@@ -2,7 +2,7 @@
 coordinates ``q`` of an assembled model (``z = T q``).
 
 Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
-:func:`assembly.loads.load_vector` does, ``P`` the body's motion at the load point):
+:func:`assembly.analysis.load_cases.load_vector` does, ``P`` the body's motion at the load point):
 
 * ``torque:BODY[:INTERFACE]``: a couple of 1 N m about the body's own axis;
 * ``force:BODY[:INTERFACE]:x|y|z``: 1 N along a global axis;
@@ -12,7 +12,7 @@ Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
   ``e``, positive as the mesh force of ``force:MESH``).
 
 The load point is the interface master when one is named, else the body's axis point (a
-flexible body: its position), :func:`assembly.loads.load_point`.
+flexible body: its position), :func:`assembly.analysis.load_cases.load_point`.
 
 Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 
@@ -23,7 +23,7 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
   (m/s^2, rad/s^2);
 * ``torque:SHAFT``: the section torque of a shaft element, ``(k + i omega c) e`` of its
   strain rows, taken about body1's axis (positive when body1 is twisted ahead of body2, as
-  the static report, :mod:`assembly.reactions`); a beam shaft of several elements: its
+  the static report, :mod:`assembly.analysis.reactions`); a beam shaft of several elements: its
   first element (at body1), or name an element ``SHAFT:A-B``;
 * ``force:MESH``: the mesh force along the line of action, ``(k + i omega c) delta``
   (positive: the ``drive_sign`` flank in compression);

@@ -5,7 +5,7 @@ nonlinear forces (:mod:`assembly.dynamics.transient`) on the independent coordin
 
 * its line of action ``g`` (the compression delta = g q, the mesh row of the linear model);
 * its angle ``r = z (r_gear - r_frame)``, phi = r q - phase, with r_body the row of a body's
-  rotation about its own axis (:func:`assembly.loads.axial_rotation`).
+  rotation about its own axis (:func:`assembly.analysis.load_cases.axial_rotation`).
 
 The linear model already holds the mean spring and damper ``k0 g g'``, ``c g g'``, so the
 forces along the two directions are the corrections (:mod:`assembly.dynamics.mesh_variation`):

@@ -36,10 +36,10 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from ..drivetrain import chain_ends, rigid_mode
+from ..analysis.drivetrain import chain_ends, rigid_mode
 from ..errors import MechanismError, SceneError
-from ..loads import single_rigid_mode
-from ..modal import SMALL_DENSE
+from ..analysis.load_cases import single_rigid_mode
+from ..analysis.modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count
 from ..scene.time_domain import Simulation
 from ..model.damping import damping_matrix

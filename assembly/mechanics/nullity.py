@@ -33,7 +33,7 @@ STRUCT_RTOL = 1e-8
 #: centre typed as the repr of a derived number, a point computed on an axis not along x,
 #: y or z -- counts as the zero it stands for, not as a lever arm that holds a free
 #: rotation (its spring, k x (1 ulp)^2, lies far below any solve's round-off, which the
-#: rigid-body check of :mod:`assembly.resolution` then confirms).
+#: rigid-body check of :mod:`assembly.analysis.resolution` then confirms).
 DROP_RTOL = 1e-10
 
 
@@ -85,7 +85,7 @@ def spring_rows(model, W: np.ndarray, operators: dict | None = None) -> np.ndarr
     """Every spring row ``b_j A_e T W`` (one per non-zero stiffness), round-off entries
     zeroed, zero rows dropped, each row scaled to unit length. ``operators``: element index
     -> an attachment operator to use instead of the model's (e.g. with a hair offset
-    removed, :mod:`assembly.lever_arms`)."""
+    removed, :mod:`assembly.analysis.lever_arms`)."""
     TW = model.T @ W
     absTW = abs(model.T) @ np.abs(W)
     rows = []

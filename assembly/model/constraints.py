@@ -21,7 +21,7 @@ log = logging.getLogger(__name__)
 
 #: A bearing direction becomes an exact constraint only when that shifts no mode at or
 #: below the scene's band by more than this relative frequency: a tenth of the solve's
-#: documented accuracy (:data:`assembly.resolution.FREQ_RTOL`), so that a few constrained
+#: documented accuracy (:data:`assembly.analysis.resolution.FREQ_RTOL`), so that a few constrained
 #: directions acting on one mode still add up to less than it.
 CONSTRAINT_RTOL = 1e-7
 
@@ -75,7 +75,7 @@ def rigidify(scene: Scene, diagonal: dict, band_hz: float) -> tuple[Scene, list]
     when :func:`constraint_shift` is at most CONSTRAINT_RTOL on every independent DOF it
     acts on (a direction acting on no independent DOF, e.g. the radial bearing of a
     torsional body, is left as it is: it does nothing). A stiffer spring left elastic
-    raises the highest frequency; :func:`assembly.modal.solve_modes` then checks that the
+    raises the highest frequency; :func:`assembly.analysis.modal.solve_modes` then checks that the
     low modes are still resolved and names the spring if they are not.
     """
     out, changed = list(scene.bearings), []

@@ -90,7 +90,7 @@ def axial_rotation(model, Z: np.ndarray, body: str) -> np.ndarray:
 
 
 def spin_row(model, body: str) -> np.ndarray:
-    """Row on q of ``body``'s rotation (rad) about its own axis (:func:`assembly.loads.axial_rotation`
+    """Row on q of ``body``'s rotation (rad) about its own axis (:func:`assembly.analysis.load_cases.axial_rotation`
     of the columns of ``T``)."""
     return np.asarray(axial_rotation(model, model.T, body)).ravel()
 

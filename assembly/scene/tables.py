@@ -639,7 +639,7 @@ class LoadCase:
         return self.torque is not None
 
 
-#: Mode classes a ``[damping] class_ratios`` key may name (:mod:`assembly.classify`).
+#: Mode classes a ``[damping] class_ratios`` key may name (:mod:`assembly.analysis.classify`).
 MODE_CLASSES = ("rotational", "translational", "planet", "out-of-plane", "mixed", "elastic")
 
 
@@ -648,7 +648,7 @@ class Damping:
     """Scene-level damping (``[damping]``), on top of the element dampers (``c_*``).
 
     ``modal_ratio``: one damping ratio zeta for every elastic mode; ``class_ratios``
-    ({mode class: zeta}, classes of :mod:`assembly.classify`, e.g. ``rotational = 0.05``)
+    ({mode class: zeta}, classes of :mod:`assembly.analysis.classify`, e.g. ``rotational = 0.05``)
     overrides it for the modes of those classes. Ratios lie in [0, 1). Rigid-body (0 Hz)
     modes stay undamped. ``rayleigh_alpha`` (1/s) and ``rayleigh_beta`` (s): Rayleigh
     damping ``C = alpha M + beta K``, a mode of omega (rad/s) then having

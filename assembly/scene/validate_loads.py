@@ -4,7 +4,7 @@ and interfaces, point loads (``forces``) and per-case supports (``supports``).
 Fidelity does not enter: a component body takes an ``interface`` (its master node) and a
 plain body a ``point`` at any fidelity, so a scene's torsional, rigid and flexible
 variants accept the same load cases. Whether a case's held model can still move is decided
-at the solve (:func:`assembly.static.solve_static_cases`), from the structure of the
+at the solve (:func:`assembly.analysis.static.solve_static_cases`), from the structure of the
 springs.
 """
 from __future__ import annotations

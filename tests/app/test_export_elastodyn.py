@@ -10,7 +10,7 @@ import pytest
 
 from assembly import save_scene
 from assembly.app.cli import main
-from assembly.two_mass import two_mass
+from assembly.analysis.two_mass import two_mass
 from tests.assembly.test_drivetrain import chain
 
 # ElastoDyn's value line: value, name, "- description (unit)" (OpenFAST ElastoDyn input files)

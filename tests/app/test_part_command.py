@@ -1,4 +1,4 @@
-"""``flexgear part`` and :func:`assembly.part_check.check_part`: one part checked alone, with no
+"""``flexgear part`` and :func:`assembly.analysis.part_check.check_part`: one part checked alone, with no
 bearing or scene around it -- its mass properties (FE, and CAD-exact for a STEP file with
 their relative difference), its free-free modes (six rigid-body modes counted, the first
 elastic ones), the interfaces its rules found, what its file held and the element order.
@@ -21,7 +21,7 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.errors import SceneError
-from assembly.part_check import check_body_part, check_part
+from assembly.analysis.part_check import check_body_part, check_part
 from assembly.scene.schema import load_scene
 from assembly.scene.tables import FlexOptions
 from fe_components.gmsh_session import gmsh_model

@@ -276,7 +276,7 @@ def quill():
 
 def _quill_numbers(scene, model) -> dict:
     """Regex of a number the walk-through's prose quotes -> the value the loaded scene has."""
-    from assembly.loads import speed_ratio
+    from assembly.analysis.load_cases import speed_ratio
     mesh, stage = scene.meshes[0], scene.stages[0]
     alpha_t = math.atan(math.tan(scene.bodies[0].teeth.pressure_angle) / math.cos(scene.bodies[0].teeth.helix_angle))
     return {
@@ -308,7 +308,7 @@ def test_walkthrough_quotes_the_loaded_scene(quill):
 
 def _mesh_forces(scene) -> dict:
     """Mesh name -> compressive force (N) under the scene's load case."""
-    from assembly.static import solve_static
+    from assembly.analysis.static import solve_static
     st = solve_static(scene, scene.load)
     m = st.model
     return {el.name: float((el.k * (el.B @ (m.attachment_operator(el) @ st.z)))[0])

@@ -14,7 +14,7 @@ import pytest
 from assembly.app.cli import UsageError, main, parse_modes
 from assembly.app.pipeline import ModeSelectionError, RunOptions, run_pipeline
 from assembly.app.tables import in_band, modes_table
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.tables import DISPLAY_BAND_FACTOR
 from assembly.scene.schema import SCENE_DIR, load_scene
@@ -111,7 +111,7 @@ def test_colour_bar_maximum_is_the_title_maximum():
 
 @pytest.mark.slow
 def test_modal_stress_scaling_and_bodies_without_strain_energy():
-    from assembly.modal_stress import MODAL_PEAK_DISPLACEMENT_M, modal_amplitudes, peak_displacement
+    from assembly.analysis.modal_stress import MODAL_PEAK_DISPLACEMENT_M, modal_amplitudes, peak_displacement
     scene = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"
     res = solve_modes(assemble(load_scene(scene)))
     m = res.model

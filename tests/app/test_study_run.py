@@ -9,7 +9,7 @@ import numpy as np
 
 from assembly.app.study_run import run_variant
 from assembly.app.study_spec import variants
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from assembly.mechanics.beam import cowper_kappa, section, timoshenko_element
-from assembly.energy import _element_energy, kinetic_by_element, kinetic_energy_by_body
+from assembly.analysis.energy import _element_energy, kinetic_by_element, kinetic_energy_by_body
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.tables import Bearing, Body, Fixed, Scene, Shaft, Station, with_fidelity
 from assembly.scene.save import scene_to_toml

@@ -12,7 +12,7 @@ import tomllib
 import pytest
 
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.tables import Bearing, Body, Scene, scale_bearings
 from assembly.scene.schema import load_scene, scene_from_dict, to_dict

@@ -27,12 +27,12 @@ from assembly.app.cli import main
 from assembly.app.static_tables import static_json, static_text
 from assembly.app.tables import modes_json, modes_table
 from assembly.model.body_table import AGREEMENT, body_properties
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
-from assembly.reactions import static_report
+from assembly.analysis.reactions import static_report
 from assembly.scene.save import toml_text
 from assembly.scene.schema import load_scene, scene_from_dict
-from assembly.static import solve_static_cases
+from assembly.analysis.static import solve_static_cases
 
 RHO = 7850.0
 R, L = 0.025, 0.5

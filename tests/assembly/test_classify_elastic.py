@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.harmonics import cylindrical, dominant_harmonic, harmonic_power, rim_nodes
+from assembly.analysis.harmonics import cylindrical, dominant_harmonic, harmonic_power, rim_nodes
 
 
 @pytest.mark.parametrize("n", range(0, 9))

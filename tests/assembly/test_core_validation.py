@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from assembly.classify import classify_modes, pair_modes
-from assembly.modal import solve_modes
+from assembly.analysis.classify import classify_modes, pair_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.tables import scale_bearings, with_fidelity
 from assembly.scene.schema import load_scene

@@ -1,4 +1,4 @@
-"""Kinematic chain and two-mass equivalent (assembly.drivetrain, assembly.mechanics.condensation).
+"""Kinematic chain and two-mass equivalent (assembly.analysis.drivetrain, assembly.mechanics.condensation).
 
 Chain of the closed forms: rotor J_R -- torsional shaft k1 -- wheel (base radius r_w)
 -- spur mesh k_m -- pinion (r_p) -- shaft k2 -- generator J_G, every body on rigid
@@ -25,8 +25,8 @@ import pytest
 from assembly import (Bearing, BearingSpec, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
                       assemble, solve_modes, with_fidelity)
 from assembly.mechanics.condensation import condense
-from assembly.drivetrain import chain_ends, speed_ratios, two_mass_frequencies
-from assembly.two_mass import two_mass
+from assembly.analysis.drivetrain import chain_ends, speed_ratios, two_mass_frequencies
+from assembly.analysis.two_mass import two_mass
 from assembly.scene.schema import load_scene
 
 INF = math.inf

@@ -1,4 +1,4 @@
-"""DTTorDmp of the two-mass model (assembly.two_mass).
+"""DTTorDmp of the two-mass model (assembly.analysis.two_mass).
 
 Chain of tests/assembly/test_drivetrain.py: rotor -- shaft k1 -- wheel (r_w) -- mesh k_m --
 pinion (r_p) -- shaft k2 -- generator, N = r_w / r_p; on the low-speed side the springs are
@@ -18,7 +18,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, Shaft
 from assembly.app.elastodyn import fragment_text
-from assembly.two_mass import two_mass
+from assembly.analysis.two_mass import two_mass
 from assembly.scene.tables import Damping
 from tests.assembly.test_drivetrain import K1, K2, KM, chain
 

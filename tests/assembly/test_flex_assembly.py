@@ -15,7 +15,7 @@ import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes, with_fidelity
 from assembly.app.cli import main
-from assembly.compare import compare, variants
+from assembly.analysis.compare import compare, variants
 
 SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 

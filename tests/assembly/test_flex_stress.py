@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from assembly import load_scene
-from assembly.static import solve_static, stress_summary
+from assembly.analysis.static import solve_static, stress_summary
 from assembly.errors import SceneError
 
 SCENE = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"

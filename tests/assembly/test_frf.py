@@ -26,7 +26,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.scene.tables import Damping
 from assembly.scene.schema import load_scene
 

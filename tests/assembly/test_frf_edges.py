@@ -275,7 +275,7 @@ def test_undamped_modes_named_in_a_planetary_stage_are_those_no_damper_moves():
     scene = load_scene("lin_parker_n4").with_values({"stages[0].ring.bearing.c_torsion": 50.0})
     model = assemble(scene)
     from assembly.model.damping import damping_matrix
-    from assembly.modal import solve_modes
+    from assembly.analysis.modal import solve_modes
     res = solve_modes(model)
     C = damping_matrix(model).toarray()
     fr = res.frequencies_hz

@@ -25,7 +25,7 @@ import scipy.linalg as sla
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.scene.tables import Damping
 
 INF = math.inf

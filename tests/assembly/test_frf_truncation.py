@@ -16,7 +16,7 @@ import pytest
 
 from assembly import SceneError, assemble
 from assembly.dynamics.frf import frequency_response
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.scene.schema import load_scene
 
 FMAX = 50.0                                                             # Hz

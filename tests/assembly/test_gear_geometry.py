@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, solve_modes
-from assembly.compare import compare
+from assembly.analysis.compare import compare
 from assembly.errors import SceneError
 from assembly.scene.gears import RING_CENTRE_TOLERANCE
 from assembly.scene.schema import SCENE_DIR, load_scene, scene_from_dict

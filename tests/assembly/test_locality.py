@@ -14,8 +14,8 @@ import scipy.sparse as sp
 from assembly import Bearing, Body, Scene, Shaft, assemble, classify_modes, load_scene, solve_modes
 from assembly.app.tables import modes_table
 from assembly.errors import SceneError
-from assembly.locality import GLOBAL, LOCAL_SHARE, energy_table, group_shares, rayleigh_error, total_share
-from assembly.modal import solve_modes as _solve
+from assembly.analysis.locality import GLOBAL, LOCAL_SHARE, energy_table, group_shares, rayleigh_error, total_share
+from assembly.analysis.modal import solve_modes as _solve
 from assembly.scene.tables import BearingSpec
 from assembly.scene.stage_alone import stage_alone
 

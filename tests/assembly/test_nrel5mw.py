@@ -22,8 +22,8 @@ from assembly.scene.attach import component_masters
 from assembly.scene.attach import global_masters
 from assembly.model.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
-from assembly.drivetrain import speed_ratios, two_mass_frequencies
-from assembly.two_mass import two_mass
+from assembly.analysis.drivetrain import speed_ratios, two_mass_frequencies
+from assembly.analysis.two_mass import two_mass
 from assembly.scene.tables import BearingSpec, derive, with_fidelity
 from assembly.scene.shafts import shaft_line
 from assembly.scene.stage_alone import stage_alone
@@ -140,7 +140,7 @@ def test_stiff_gearbox_collapses_to_the_two_mass_model(scene, factor):
 def test_a_gearbox_stiffer_than_double_precision_resolves_is_refused(scene):
     # x 1e6 puts the highest torsional mode at 3.8 MHz beside the 1.94 Hz drivetrain mode:
     # eigenvalue round-off eps (f_max / f_low)^2 ~ 1e-3 exceeds the documented accuracy
-    # (assembly.resolution.FREQ_RTOL), so the solve names the stiffest field, not a number.
+    # (assembly.analysis.resolution.FREQ_RTOL), so the solve names the stiffest field, not a number.
     with pytest.raises(SceneError) as exc:
         solve_modes(assemble(_stiff_gearbox(scene, 1e6)))
     assert exc.value.path.startswith(("shafts[", "meshes[", "stages["))

@@ -1,5 +1,5 @@
 """The static report's rows say which bodies they are about, and its equilibrium check
-measures an imbalance on the scale of the loads (assembly.reactions; conventions in its
+measures an imbalance on the scale of the loads (assembly.analysis.reactions; conventions in its
 module notes and docs/static.md)."""
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, LoadCase, Scene, Shaft
-from assembly.reactions import equilibrium, static_report
-from assembly.static import solve_static
+from assembly.analysis.reactions import equilibrium, static_report
+from assembly.analysis.static import solve_static
 
 from tests.assembly.test_static_forces import pair
 

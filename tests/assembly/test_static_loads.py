@@ -11,10 +11,10 @@ import pytest
 from assembly import Bearing, Body, FlexOptions, LoadCase, PointLoad, Scene, Support, load_scene
 from assembly.errors import MechanismError, SceneError
 from assembly.mechanics.kinematics import unit
-from assembly.reactions import static_report
+from assembly.analysis.reactions import static_report
 from assembly.scene.schema import scene_from_dict, shipped_scenes
 from assembly.scene.save import scene_to_toml
-from assembly.static import solve_static, solve_static_cases
+from assembly.analysis.static import solve_static, solve_static_cases
 from fe_components.material import STEEL
 from fe_components.params import CylinderParams
 

@@ -1,4 +1,4 @@
-"""Mode tracking along a parameter change (assembly.tracking): branches follow shapes,
+"""Mode tracking along a parameter change (assembly.analysis.tracking): branches follow shapes,
 not the frequency order."""
 import math
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, Scene, assemble, load_scene, solve_modes
-from assembly.tracking import track_modes
+from assembly.analysis.tracking import track_modes
 
 
 def _two_oscillators(k_a: float) -> Scene:

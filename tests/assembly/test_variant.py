@@ -2,7 +2,7 @@
 rigid scene with components."""
 import pytest
 
-from assembly.compare import variants
+from assembly.analysis.compare import variants
 from assembly.errors import SceneError
 from assembly.scene.schema import SCENE_DIR, load_scene
 

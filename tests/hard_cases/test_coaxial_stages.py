@@ -11,7 +11,7 @@ and the "elastic" mode it left (k delta^2) was lost in the solve's round-off. A 
 5 mm off axis was accepted and made a 1.2 Hz mode of a drivetrain that turns freely.
 
 The scenes are the shipped two-stage drive with the wheel a plain body (its component's
-teeth, a steel disc's mass; no meshing), compared torsional and rigid (assembly.compare).
+teeth, a steel disc's mass; no meshing), compared torsional and rigid (assembly.analysis.compare).
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.compare import compare
+from assembly.analysis.compare import compare
 from assembly.errors import SceneError
 from assembly.scene.save import toml_text
 from assembly.scene.schema import SCENE_DIR, scene_from_dict, to_dict

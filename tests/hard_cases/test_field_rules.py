@@ -447,7 +447,7 @@ def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
 
 
 def test_solve_modes_n_modes_checked():
-    from assembly.modal import solve_modes
+    from assembly.analysis.modal import solve_modes
     from assembly.model.assemble import assemble
     model = assemble(scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"])))
     n = model.K.shape[0]  # 12: two rigid bodies of six DOFs

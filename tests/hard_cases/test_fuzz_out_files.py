@@ -83,7 +83,7 @@ def body():
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     """The scene and, for the API, each command's result computed once."""
-    from assembly.two_mass import two_mass
+    from assembly.analysis.two_mass import two_mass
     from assembly.dynamics.campbell import campbell
     from assembly.dynamics.frf import frequency_response
     from assembly.dynamics.simulate import simulate

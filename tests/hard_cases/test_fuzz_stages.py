@@ -2,7 +2,7 @@
 planet counts 1..8, face widths x0.5..2, shaft station positions. Every draw is either
 accepted and solves (frequencies finite and non-negative, eigen residuals at round-off, the
 one rigid-body mode of the drivetrain) or refused -- when the scene is built, or by the
-solve's resolution check (assembly/resolution.py: a single planet leaves a 0.04 Hz mode the
+solve's resolution check (assembly/analysis/resolution.py: a single planet leaves a 0.04 Hz mode the
 solve cannot resolve) -- with one SceneError line naming a field that exists in the scene
 (:func:`assembly.scene.edit.get_value` finds it) and its value.
 
@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from assembly.scene.edit import get_value
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
 

@@ -131,7 +131,7 @@ def test_extreme_scale_matches_independently_scaled_solve():
 def test_under_constrained_body_is_named():
     # Kahraman pair with the wheel's axial bearing stiffness removed: one extra zero mode,
     # named as the wheel moving along its axis.
-    from assembly.modal import mechanisms
+    from assembly.analysis.modal import mechanisms
     sc = load_scene("kahraman_beta0.toml")
     brg = tuple(dataclasses.replace(b, k_axial=0.0) if b.body == "wheel" else b for b in sc.bearings)
     r = solve_modes(assemble(dataclasses.replace(sc, bearings=brg)))

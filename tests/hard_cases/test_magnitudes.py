@@ -6,7 +6,7 @@ Class of scenes: the Kahraman pairs (spur and helical, 12 DOFs) and Lin & Parker
 its inertias each scaled over many decades. Every outcome must be either a SceneError
 naming a field that exists in the scene (with its value), or frequencies that match an
 60-digit solve (mpmath) of the same model with every bearing kept elastic, to the
-documented bound. Rules: assembly/resolution.py, assembly/model/constraints.py, assembly/mechanics/nullity.py.
+documented bound. Rules: assembly/analysis/resolution.py, assembly/model/constraints.py, assembly/mechanics/nullity.py.
 """
 import copy
 import dataclasses
@@ -24,10 +24,10 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 import assembly.model.constraints as ac
-import assembly.modal as am
+import assembly.analysis.modal as am
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
-from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
+from assembly.analysis.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from assembly.scene.tables import DEFAULT_BAND_HZ, DOF_NAMES, derive
 
@@ -44,7 +44,7 @@ def exact_eigen(K, M, dps=60, add_diagonal=None) -> tuple:
     computed with ``dps`` decimal digits -- the reference the double solve is judged by --
     and the round-off weight of each mode, ``(lambda_max + |lambda_i|) ||B||_1 ||x_i||^2``
     (x_i: the mode of the problem scaled to unit mass diagonal B, B-normalised; see
-    assembly/resolution.py). ``add_diagonal`` {index: value} is added to K in extended precision."""
+    assembly/analysis/resolution.py). ``add_diagonal`` {index: value} is added to K in extended precision."""
     with mp.workdps(dps):
         Km = mp.matrix(K.tolist())
         for i, v in (add_diagonal or {}).items():
@@ -230,7 +230,7 @@ def test_soft_mesh_keeps_bearing_modes(caplog):
     # each gear's bearing modes: radial sqrt(k_r/m) twice, axial sqrt(k_a/m), tilt
     # sqrt(k_t/I) twice. The mesh couples them by ~k_mesh/k_bearing = 1e-8 relative.
     tree = scaled_tree("kahraman_beta0.toml", 1.0 / 2e8, 1.0, 0, 1.0, 1.0)
-    with caplog.at_level("WARNING", logger="assembly.resolution"):
+    with caplog.at_level("WARNING", logger="assembly.analysis.resolution"):
         r = solve_modes(assemble(scene_from_dict(tree)))
     # the spread (2.2 kHz / 0.21 Hz)^2 = 1.1e8 costs accuracy: 0.5 ROUNDOFF eps 1.1e8 = 1.2e-7
     # relative on the 0.21 Hz mode, above WARN_RTOL = 1e-8 (within FREQ_RTOL): a warning

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from assembly.app.cli import main, user_errors
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
+from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
 

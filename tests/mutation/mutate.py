@@ -78,7 +78,7 @@ MODULES = {
                     "assembly/dynamics/transient.py": ["_weighted", "integrate"]},
                    ["tests/assembly/test_integrators.py", "tests/assembly/test_simulate.py",
                     "tests/assembly/test_transient_physics.py"]),
-    "reaction": ({"assembly/reactions.py": ["_shift", "element_wrenches", "static_report", "support_reactions",
+    "reaction": ({"assembly/analysis/reactions.py": ["_shift", "element_wrenches", "static_report", "support_reactions",
                                             "equilibrium", "_torque_balance", "_mesh_row", "_constraint_reactions",
                                             "_add_rigid_directions", "_ratio_check"]},
                  ["tests/assembly/test_static_forces.py", "tests/assembly/test_static_loads.py",

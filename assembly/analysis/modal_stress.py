@@ -6,7 +6,7 @@ nodal displacement magnitude over every FE node of every flexible body is
 MODAL_PEAK_DISPLACEMENT_M; its stresses are then "MPa at 1 mm peak displacement of the
 flexible bodies", comparable between modes and linear in the amplitude (stress at a peak
 displacement d = the stated value x d / 1 mm). A flexible body whose share of the mode's
-strain energy is below :data:`assembly.energy.NEGLIGIBLE_STRAIN_SHARE` carries no stress
+strain energy is below :data:`assembly.analysis.energy.NEGLIGIBLE_STRAIN_SHARE` carries no stress
 in that mode: it is skipped rather than given a colour scale of round-off.
 """
 from __future__ import annotations

@@ -19,7 +19,7 @@ balance then shows. Conventions (docs/static.md):
   is positive when body1 is twisted ahead of body2 about body1's axis;
 * output reaction torque: the moment the hold exerts on the output about its own axis;
 * support reaction: the force and moment the support exerts on its body, in the body's
-  axes at the support point (from the solve's residual, :mod:`assembly.static`);
+  axes at the support point (from the solve's residual, :mod:`assembly.analysis.static`);
 * equilibrium: applied loads + every reaction from the housing (springs to it, held
   directions of bodies in its frame, supports, the output hold) sum to zero, force and
   moment about one point (the first applied load's).
@@ -31,12 +31,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import arguments
-from .model.constraints import constrained_dofs
-from .mechanics.kinematics import block_rotation
-from .loads import applied_loads, speed_ratio
-from .model.probes import load_point
-from .scene.tables import DOF_NAMES, HOUSING
+from .. import arguments
+from ..model.constraints import constrained_dofs
+from ..mechanics.kinematics import block_rotation
+from .load_cases import applied_loads, speed_ratio
+from ..model.probes import load_point
+from ..scene.tables import DOF_NAMES, HOUSING
 from .static import StaticResult
 
 _FORCE = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")
@@ -99,7 +99,7 @@ def _reference_point(model, body: str, load):
 
 def static_report(st) -> StaticReport:
     """Applied loads, mesh forces, bearing reactions, shaft loads, support and constraint
-    reactions and checks of one :class:`assembly.static.StaticResult`."""
+    reactions and checks of one :class:`assembly.analysis.static.StaticResult`."""
     arguments.instance("st", st, StaticResult, "a StaticResult (solve_static)")
     model, z, load = st.model, st.z, st.load
     sc = model.scene

@@ -9,7 +9,7 @@ stiffness k delta^2 against a rotation that is free with the axes joined. The st
 then has one rigid-body mode less, and its place is taken by an "elastic" mode of
 k delta^2 (1e-9 m on the quill of two_stage_quill.toml: 5e-7 Hz) that no eigen solve
 resolves. :func:`hair_error` finds such an offset when a solve fails that way
-(:mod:`assembly.resolution`): it counts the rigid-body modes again with each offset
+(:mod:`assembly.analysis.resolution`): it counts the rigid-body modes again with each offset
 removed (the moved body's motion taken at the element's point shifted by the offset) and,
 when that restores a mode, names the field that placed the body -- a planetary stage's
 ``center`` -- with the offset and how to put the body on the axis exactly.
@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import SceneError
-from .mechanics.nullity import coordinate_scale, rigid_body_count
-from .scene.shafts import AXIS_TOLERANCE
+from ..errors import SceneError
+from ..mechanics.nullity import coordinate_scale, rigid_body_count
+from ..scene.shafts import AXIS_TOLERANCE
 
 #: Stage members that sit at the stage's centre.
 CENTRAL = ("sun", "ring", "carrier")
@@ -96,7 +96,7 @@ def hair_error(model, n_zero: int, why: str, paths) -> SceneError | None:
     """SceneError naming the field that puts a body a hair off the axis of a body it is
     joined to, when removing that offset restores a rigid-body mode the structure lacks
     (``n_zero`` counted; ``why``: what went wrong in the solve; ``paths``: the model's
-    :class:`assembly.resolution.ScenePaths`); None when no such offset explains it."""
+    :class:`assembly.analysis.resolution.ScenePaths`); None when no such offset explains it."""
     hairs = hair_offsets(model)
     if not hairs or rigid_modes_without(model, hairs) <= n_zero:
         return None

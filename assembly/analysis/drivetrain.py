@@ -7,7 +7,7 @@ side (Jonkman et al. (2009), NREL/TP-500-38060, section 5). Everything here is r
 the torsional model of the scene (:func:`assembly.scene.tables.with_fidelity` ``"torsional"``):
 
 * the speed ratios of every body from the model's single rigid-body mode (gear geometry
-  only, :func:`assembly.loads.single_rigid_mode`);
+  only, :func:`assembly.analysis.load_cases.single_rigid_mode`);
 * ``k`` from the static condensation of ``K`` onto the rotor and generator rotations
   (:func:`assembly.mechanics.condensation.condense`): every mesh, shaft and bearing flexibility in
   between, in series and parallel as the scene joins them;
@@ -25,15 +25,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import arguments
-from .mechanics.condensation import condense
-from .errors import MechanismError, SceneError, SolverError
-from .loads import single_rigid_mode
-from .model.probes import axial_rotation
-from .model.assemble import assemble
-from .scene.tables import with_fidelity
-from .scene.paths import body_origins
-from .scene.tables import scene_argument
+from .. import arguments
+from ..mechanics.condensation import condense
+from ..errors import MechanismError, SceneError, SolverError
+from .load_cases import single_rigid_mode
+from ..model.probes import axial_rotation
+from ..model.assemble import assemble
+from ..scene.tables import with_fidelity
+from ..scene.paths import body_origins
+from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -57,7 +57,7 @@ class TwoMass:
     omega_generator)^2). ``stiffness`` k (N m/rad, low-speed side; DTTorSpr): the strain
     energy of the whole chain with the rotor and generator turned by th_R and th_G is
     0.5 k (th_R - th_G / speed_ratio)^2. ``damping`` (N m s/rad, low-speed side; DTTorDmp):
-    None for a scene without damping (:mod:`assembly.two_mass`)."""
+    None for a scene without damping (:mod:`assembly.analysis.two_mass`)."""
 
     rotor: str
     generator: str

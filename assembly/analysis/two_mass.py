@@ -2,7 +2,7 @@
 :func:`two_mass` of a scene, the numbers an ElastoDyn model takes (GBRatio, GenIner,
 DTTorSpr, DTTorDmp).
 
-The stiffness part is :func:`assembly.drivetrain.two_mass_stiffness` of the scene's
+The stiffness part is :func:`assembly.analysis.drivetrain.two_mass_stiffness` of the scene's
 torsional model; the damping part, DTTorDmp (N m s/rad, low-speed side), as follows.
 
 Element dampers: the damping matrix on q condensed with the same static condensation as
@@ -28,16 +28,16 @@ import dataclasses
 import math
 
 from .drivetrain import RANK_ONE_RTOL, TwoMass, chain_ends, own_rotation_column, two_mass_stiffness
-from .errors import SolverError
-from .mechanics.condensation import condense_along
-from .model.assemble import assemble
-from .model.damping import damping_matrix, has_damping
-from .scene.tables import scene_argument, with_fidelity
+from ..errors import SolverError
+from ..mechanics.condensation import condense_along
+from ..model.assemble import assemble
+from ..model.damping import damping_matrix, has_damping
+from ..scene.tables import scene_argument, with_fidelity
 
 
 def two_mass_damping(model, tm) -> float:
     """DTTorDmp (N m s/rad) of the torsional ``model`` whose two-mass equivalent is ``tm``
-    (:class:`assembly.drivetrain.TwoMass`); see the module notes."""
+    (:class:`assembly.analysis.drivetrain.TwoMass`); see the module notes."""
     cols = [own_rotation_column(model, tm.rotor), own_rotation_column(model, tm.generator)]
     C_cc = condense_along(model.K, damping_matrix(model), cols)
     c, s = float(C_cc[0, 0]), tm.speed_ratio
@@ -66,8 +66,8 @@ def two_mass_damping(model, tm) -> float:
 
 def two_mass(scene, rotor: str | None = None, generator: str | None = None) -> TwoMass:
     """The two-mass equivalent of ``scene``'s torsional model between its rotor and generator
-    (:func:`assembly.drivetrain.chain_ends`; default the bodies of role "rotor" and
-    "generator"): :func:`assembly.drivetrain.two_mass_stiffness`, with its ``damping``
+    (:func:`assembly.analysis.drivetrain.chain_ends`; default the bodies of role "rotor" and
+    "generator"): :func:`assembly.analysis.drivetrain.two_mass_stiffness`, with its ``damping``
     (:func:`two_mass_damping`) when the scene has damping."""
     scene_argument("scene", scene)
     ends = chain_ends(scene, rotor, generator)

@@ -15,8 +15,8 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import SceneError, SolverError
-from .scene.tables import FlexOptions
+from ..errors import SceneError, SolverError
+from ..scene.tables import FlexOptions
 
 log = logging.getLogger(__name__)
 
@@ -87,7 +87,7 @@ def check_part(part, flex: FlexOptions = FlexOptions(), n_elastic: int = 6, cach
     from fe_components.part_file import PartFile
     from fe_components.part_geometry import part_geometry
 
-    from .model.components import CacheDirs, build_fe, mesh_size
+    from ..model.components import CacheDirs, build_fe, mesh_size
 
     if not isinstance(part, PartFile):
         raise SceneError("component", type(part).__name__, "must be a part read from a file (kind = 'file')")

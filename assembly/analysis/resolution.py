@@ -18,7 +18,7 @@ digits. :func:`check` compares the computed spectrum with that bound:
 Otherwise it raises :class:`~assembly.errors.SceneError` naming the field at fault: first
 the field that put a body a hair off the axis of a body it is joined to, when that lever arm
 is what removes a rigid-body mode from the structure (:func:`cause`,
-:mod:`assembly.lever_arms`); else the field whose magnitude sets the spread
+:mod:`assembly.analysis.lever_arms`); else the field whose magnitude sets the spread
 (:func:`culprit`): a stiff spring or light body taking part in the highest
 mode when that one lies further above the band than the lowest elastic mode lies below it,
 else a soft spring or heavy body -- the one furthest, in decades, from the median of the
@@ -34,14 +34,14 @@ import numpy as np
 
 from fe_components.params import component_kind
 
-from .errors import SceneError
-from .scene.paths import body_origins, element_paths
+from ..errors import SceneError
+from ..scene.paths import body_origins, element_paths
 
 log = logging.getLogger(__name__)
 
 
 #: Documented accuracy: every reported elastic frequency is resolved to this relative
-#: error; frequencies closer than it count as repeated (:data:`assembly.modal.REPEAT_RTOL`
+#: error; frequencies closer than it count as repeated (:data:`assembly.analysis.modal.REPEAT_RTOL`
 #: is this constant: grouping is only meaningful above the errors). Set by the whole NREL
 #: 5 MW drivetrain with flexible carriers and wheel (assembly/scenes/nrel5mw_flexible.toml):
 #: the rotor's tilt on its main bearings at 1.76 Hz (and planet axial modes near 2 Hz: Nejad et
@@ -149,7 +149,7 @@ def check(model, spec: Spectrum, n_zero: int, top: np.ndarray) -> float:
 def cause(model, n_zero: int, why: str) -> SceneError | None:
     """SceneError naming a body placed a hair off the axis of a body it is joined to, when
     that offset is what takes a rigid-body mode from the structure (a lever arm, not a
-    magnitude: :func:`assembly.lever_arms.hair_error`), else None."""
+    magnitude: :func:`assembly.analysis.lever_arms.hair_error`), else None."""
     from .lever_arms import hair_error   # it reads the scene paths defined here
     return hair_error(model, n_zero, why, scene_paths(model))
 

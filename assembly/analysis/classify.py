@@ -12,8 +12,8 @@ others (global modes, modes of a parallel stage or of one body) get the dominant
 type of the whole mode (spin -> rotational, in-plane -> translational, axial/tilt ->
 out-of-plane).
 
-Every mode also gets a ``scope`` (Peeters, Vandepitte & Sas 2006; :mod:`assembly.locality`):
-``"global"``, or the stage holding at least :data:`assembly.locality.LOCAL_SHARE` of its
+Every mode also gets a ``scope`` (Peeters, Vandepitte & Sas 2006; :mod:`assembly.analysis.locality`):
+``"global"``, or the stage holding at least :data:`assembly.analysis.locality.LOCAL_SHARE` of its
 total (kinetic + strain) energy, and ``energy``: its kinetic and strain shares per stage.
 
 Every test is made on energies summed over a group of repeated frequencies, which do not
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import arguments
+from .. import arguments
 from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
 from .harmonics import body_nodal_diameters
 from .locality import energy_table, group_shares, mode_scopes, total_share

@@ -1,14 +1,14 @@
 """Static load cases: applied torques and point loads, held outputs and supports, and the
 solve.
 
-The applied loads and the held directions of a case come from :mod:`assembly.loads`: a
+The applied loads and the held directions of a case come from :mod:`assembly.analysis.load_cases`: a
 torque about the input body's axis reacted by holding the output against rotation, point
 loads anywhere, supports holding chosen DOFs for that case only. The held directions are
 constraint rows ``C q = 0``; they are eliminated exactly (``q = N q_r``, each row solved
 for one pivot coordinate -- for a plain held coordinate that is dropping its column), and
 the reduced stiffness ``N' K N`` is factorised once per distinct set of holds (cases
 holding the same directions share it). Solved on the same assembled stiffness as the modes;
-the forces in every spring follow from the deflections (:mod:`assembly.reactions`), the
+the forces in every spring follow from the deflections (:mod:`assembly.analysis.reactions`), the
 hold reactions from the residual ``K q - F = C' lambda``; flexible bodies are
 back-expanded for stresses. Sign conventions and checks: docs/static.md.
 """
@@ -20,14 +20,14 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from . import arguments
-from .errors import MechanismError, SceneError
-from .loads import free_motions, held_directions, load_vector
-from .model.assemble import assemble
-from .mechanics.nullity import STRUCT_RTOL
-from .scene.tables import LoadCase
-from .model.assemble import model_argument
-from .scene.tables import scene_argument
+from .. import arguments
+from ..errors import MechanismError, SceneError
+from .load_cases import free_motions, held_directions, load_vector
+from ..model.assemble import assemble
+from ..mechanics.nullity import STRUCT_RTOL
+from ..scene.tables import LoadCase
+from ..model.assemble import model_argument
+from ..scene.tables import scene_argument
 
 #: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
 DENSE_MAX = 3000
@@ -38,7 +38,7 @@ class StaticResult:
     """Static response of ``model`` to ``load`` (scene path ``path``): ``q`` on the
     independent coordinates (0 in every held direction), ``z = T q`` on the absolute ones
     (m, rad, flexible bodies: component coordinates); ``held``: the held directions
-    (:class:`assembly.loads.Held`) and ``hold_reactions`` their reactions (N or N m: the
+    (:class:`assembly.analysis.load_cases.Held`) and ``hold_reactions`` their reactions (N or N m: the
     force or moment the hold exerts on the body along that local direction)."""
 
     model: object

@@ -4,7 +4,7 @@
 Each solve reports its largest relative eigen-residual (norm-wise backward error
 ``|K phi - lambda M phi| / ((|K| + |lambda| |M|) |phi|)``, of the scaled problem it solved)
 and groups repeated frequencies. The number of rigid-body modes comes from the model's
-structure (:mod:`assembly.mechanics.nullity`); :mod:`assembly.resolution` checks that the solve
+structure (:mod:`assembly.mechanics.nullity`); :mod:`assembly.analysis.resolution` checks that the solve
 resolves them and every elastic mode to FREQ_RTOL, and names the offending scene field
 otherwise. The same rules hold for the dense (all modes) and the sparse (lowest modes)
 path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii.
@@ -21,10 +21,11 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from . import arguments, resolution
-from .errors import SceneError, SolverError
-from .mechanics.nullity import rigid_body_count
-from .model.assemble import model_argument
+from .. import arguments
+from . import resolution
+from ..errors import SceneError, SolverError
+from ..mechanics.nullity import rigid_body_count
+from ..model.assemble import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -113,7 +114,7 @@ def solve_modes(model, n_modes: int | None = None, check: bool = True) -> ModalR
 
     The number of rigid-body (0 Hz) modes comes from the model's structure
     (:func:`assembly.mechanics.nullity.rigid_body_count`), never from the size of the computed
-    eigenvalues; :func:`assembly.resolution.check` then verifies that the solve resolves
+    eigenvalues; :func:`assembly.analysis.resolution.check` then verifies that the solve resolves
     them and the lowest elastic mode (SceneError naming the field otherwise). ``check=False``
     records that error in ``info["resolution"]`` instead of raising (``frequency_rtol`` is
     then NaN): for a benchmark's unreduced reference, whose sparse solve is judged by its

@@ -2,7 +2,7 @@
 parameter value to the next by its shape (MAC), not by its place in the frequency order.
 
 Between neighbouring steps the modes are paired one to one by mass-weighted MAC
-(:func:`assembly.classify.pair_shapes`). A group of repeated frequencies has no basis of
+(:func:`assembly.analysis.classify.pair_shapes`). A group of repeated frequencies has no basis of
 its own (the solver picks one at random), so it is compared as a subspace on either side:
 a mode that lies in the span of a group of the previous step matches it fully, whichever
 mode of the group it is paired with. A branch that had a shape of its own keeps it as its
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import arguments
+from .. import arguments
 from .classify import pair_shapes
 from .modal import modes_argument
 
