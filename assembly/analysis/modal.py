@@ -86,8 +86,8 @@ def group_repeated(freqs: np.ndarray, rtol: float = REPEAT_RTOL, n_zero: int = 0
 
 def residuals(K, M, lam, Phi) -> np.ndarray:
     """Norm-wise relative backward error of each eigenpair (dense or sparse K, M)."""
-    nK = sla.norm(K.toarray() if hasattr(K, "toarray") else K, 2) if K.shape[0] < 3000 else _norm1(K)
-    nM = sla.norm(M.toarray() if hasattr(M, "toarray") else M, 2) if M.shape[0] < 3000 else _norm1(M)
+    nK = sla.norm(K.toarray() if hasattr(K, "toarray") else K, 2) if K.shape[0] < DENSE_MAX else _norm1(K)
+    nM = sla.norm(M.toarray() if hasattr(M, "toarray") else M, 2) if M.shape[0] < DENSE_MAX else _norm1(M)
     R = K @ Phi - (M @ Phi) * lam
     scale = (nK + np.abs(lam) * nM) * np.linalg.norm(Phi, axis=0)
     r = np.linalg.norm(R, axis=0)

@@ -23,15 +23,12 @@ import scipy.sparse as sp
 from .. import arguments
 from ..errors import MechanismError, SceneError
 from .load_cases import free_motions, held_directions, load_vector
+from .modal import DENSE_MAX
 from ..model.assemble import assemble
 from ..mechanics.nullity import STRUCT_RTOL
 from ..scene.tables import LoadCase
 from ..model.assemble import model_argument
 from ..scene.tables import scene_argument
-
-#: Largest model (independent DOFs) solved with a dense Cholesky factorisation.
-DENSE_MAX = 3000
-
 
 @dataclass
 class StaticResult:
@@ -151,7 +148,7 @@ def _refuse_mechanism(m, load, path: str, held: list, C: np.ndarray) -> None:
 
 def _factor(K):
     """Solve function of the symmetric positive definite ``K`` (dense Cholesky up to
-    DENSE_MAX, else the sparse factorisation of :mod:`cms.linsolve`)."""
+    DENSE_MAX (the modal solve's dense limit), else the sparse factorisation of :mod:`cms.linsolve`)."""
     if K.shape[0] <= DENSE_MAX:
         c = sla.cho_factor(K.toarray() if sp.issparse(K) else K)
         return lambda b: sla.cho_solve(c, b)

@@ -10,7 +10,7 @@ marked, peak resident memory in MB):
    stiffness driven by the gear angle (``step`` 0.3, contact ratio from the teeth) and normal
    backlash 0.40 mm (Nejad et al. 2016), dt = 1e-4 s, ``--steps`` steps: the time of a step,
    ``(wall_s - factor_s) / steps`` of the run's ``info``, against one bare solve with the
-   run's constant factorisation (``transient._Solver(A0).solve(b)``, median of 5 blocks of
+   run's constant factorisation (``transient.Solver(A0).solve(b)``, median of 5 blocks of
    ``--repeat`` calls, the run's BLAS threads), and against the step's linear algebra alone
    (that solve and the products with K, C and M); Newton iterations a step, rank m of U;
 2. **``--seconds`` of the drivetrain** (same scenes and settings, dt = 1e-4 s): wall time of
@@ -63,13 +63,13 @@ def rated_5mw(name: str):
 def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]:
     """(s per solve with the run's constant factorisation, s per solve + products with K, C
     and M, solver kind), built as ``simulate`` builds them."""
-    from ..dynamics.integrators import _effective, _Solver
-    from ..dynamics.simulate import model_matrices, scheme_of
+    from ..dynamics.integrators import effective_matrix, Solver
+    from ..dynamics.run_model import model_matrices, scheme_of
     from ..analysis.modal import SMALL_DENSE
     from ..scene.time_domain import Simulation
     n = model.K.shape[0]
     M, K, C, _ = model_matrices(model)
-    solver = _Solver(_effective(M, C, K, dt, scheme_of(scene.simulation or Simulation())))
+    solver = Solver(effective_matrix(M, C, K, dt, scheme_of(scene.simulation or Simulation())))
     b = np.random.default_rng(0).standard_normal(n)
 
     def step_algebra():
@@ -183,7 +183,7 @@ def _per_step(cases, a, out) -> None:
     print(f"\nNotes: {a.steps} steps of {DT_5MW:g} s from the static start, rated operation; every mesh "
           f"angle-driven (step {STEP}) with backlash {BACKLASH * 1e3:.2f} mm. Step time from the run's info "
           "(its wall_s less factor_s: both factorisations). Bare solve: "
-          f"one `_Solver(A0).solve(b)`, median of 5 blocks of {a.repeat}. The goal is a step within 3x a bare "
+          f"one `Solver(A0).solve(b)`, median of 5 blocks of {a.repeat}. The goal is a step within 3x a bare "
           "solve. simulate's warnings: " + ("; ".join(sorted(warn)) or "none") + ".\n", file=out)
 
 
@@ -207,7 +207,7 @@ def _drivetrain(cases, a, out) -> None:
 
 
 def _reduced_vs_unreduced(a, out) -> None:
-    from ..dynamics.simulate import STEPS_PER_PERIOD
+    from ..dynamics.run_checks import STEPS_PER_PERIOD
     from ..model.assemble import assemble
     from ..scene.schema import load_scene
     sname = "hs_parallel_stage"

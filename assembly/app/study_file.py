@@ -133,7 +133,7 @@ def check_names(scene, analysis: str, settings: dict) -> None:
         for j, name in enumerate(settings["outputs"]):
             output_channels(model, name, f"frf.outputs[{j}]")
         return
-    from ..dynamics.simulate import recorded_channels
+    from ..dynamics.run_outputs import recorded_channels
     points = scene.simulation.points if scene.simulation is not None else ()
     for j, name in enumerate(settings["outputs"]):
         recorded_channels(model, points, [name], f"simulate.outputs[{j}]")

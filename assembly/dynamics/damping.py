@@ -36,7 +36,6 @@ same share: the stress of ``u + G u'``, its flexible body's strain plus its damp
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import SceneError
 from ..model.damping import damping_matrix

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..arguments import nearest
 from ..errors import SceneError
-from ..model.probes import body_point, interfaces, point_vector, strain_rows, unit_wrench
+from ..model.probes import body_point, point_vector, strain_rows, unit_wrench
 from ..scene.tables import DOF_NAMES
 
 AXES = ("x", "y", "z")

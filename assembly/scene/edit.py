@@ -23,7 +23,7 @@ from typing import Any, get_args, get_origin
 
 from .. import arguments
 from ..errors import SceneError
-from .schema import _hints, _join, scene_from_dict, to_dict
+from .schema import field_types, join_path, scene_from_dict, to_dict
 from .tables import Scene
 from .tables import scene_argument
 
@@ -128,12 +128,12 @@ def _locate(data: dict, steps: list, user_path: str, create: bool, value=None):
             if step not in fields and not (base in fields and fields[base].metadata.get("angle")) \
                     and not (cls.__module__.startswith("fe_components") and step in node):
                 raise SceneError(user_path, value, f"no field {step!r} in {here}; it has: {_keys_text(cls, node)}")
-            tp = _hints(cls)[step] if step in fields else None
+            tp = field_types(cls)[step] if step in fields else None
         elif step not in node and not last:
             raise SceneError(user_path, value, f"no key {step!r} in {here}; it has: {_keys_text(None, node)}")
         else:
             tp = None
-        canon = _join(canon, step)
+        canon = join_path(canon, step)
         if last:
             return node, step, cls, canon
         child = node.get(step)
@@ -182,7 +182,7 @@ def value_kind(scene: Scene, path: str) -> str:
             return "other"
         if key.endswith("_deg"):
             return "number"
-        tp = _hints(cls).get(key)
+        tp = field_types(cls).get(key)
         args = [a for a in get_args(tp) if a is not type(None)] if get_origin(tp) in (typing.Union, types.UnionType) \
             else [tp]
         tp = args[0] if len(args) == 1 else None

@@ -51,7 +51,7 @@ SCENE_DIR = Path(__file__).resolve().parent.parent / "scenes"
 _BASE_DIR: contextvars.ContextVar[Path | None] = contextvars.ContextVar("scene_base_dir", default=None)
 
 
-def _join(path: str, key: str) -> str:
+def join_path(path: str, key: str) -> str:
     """``path.key``, or ``path['key']`` (escaped) for a key that is not a plain name."""
     if isinstance(key, str) and key.isidentifier():
         return f"{path}.{key}" if path else key
@@ -165,12 +165,12 @@ def from_dict(cls, data: Any, path: str = ""):
         data = dict(zip(names, data))
     if not isinstance(data, dict):
         raise SceneError(path or cls.__name__, data, f"must be a table of {cls.__name__} fields")
-    hints = _hints(cls)
+    hints = field_types(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     kwargs = {}
     in_degrees = set()
     for key, value in data.items():
-        p = _join(path, key)
+        p = join_path(path, key)
         if key in fields:
             name = key
             check_rules(fields[name], value, p)  # first: its message says unit and range
@@ -194,7 +194,7 @@ def from_dict(cls, data: Any, path: str = ""):
         kwargs[name] = val
     for name, f in fields.items():
         if name not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
-            raise SceneError(_join(path, name), None, f"missing required field ({_type_name(hints[name])})")
+            raise SceneError(join_path(path, name), None, f"missing required field ({_type_name(hints[name])})")
     try:
         obj = cls(**kwargs)
     except GeometryError as err:  # a data type that checks its own values (e.g. Material)
@@ -246,7 +246,7 @@ def degrees_as_written(value: float) -> float:
 
 
 @functools.cache
-def _hints(cls) -> dict:
+def field_types(cls) -> dict:
     """Resolved field annotations of a dataclass (computed once per class)."""
     return get_type_hints(cls)
 
@@ -295,11 +295,11 @@ def checked_fields(obj, path: str = "") -> dict:
     """Check ``obj`` as :func:`check_instance` does; returns {field: value} of the fields
     whose value the check converted: a component given as a dict (its parameter object),
     or a table or list holding one."""
-    hints = _hints(type(obj))
+    hints = field_types(type(obj))
     changes = {}
     for f in dataclasses.fields(obj):
         if f.init:
-            p = _join(path, f.name)
+            p = join_path(path, f.name)
             value = getattr(obj, f.name)
             check_rules(f, value, p)
             new = convert(hints[f.name], value, p, strict=True)

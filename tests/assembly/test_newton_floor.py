@@ -1,5 +1,5 @@
 """The Newton iterations of a time step (:func:`assembly.dynamics.transient.integrate`) and of
-the static start (:func:`assembly.dynamics.simulate.static_start`) stop at the round-off of
+the static start (:func:`assembly.dynamics.run_start.static_start`) stop at the round-off of
 the forces they sum (an absolute floor), and only there.
 
 A damped mesh with backlash and constant stiffness resting in contact has its correction
@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.simulate import simulate, static_start
+from assembly.dynamics.run_start import static_start
+from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Diverged, Nonlinear, integrate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict

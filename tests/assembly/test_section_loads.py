@@ -32,7 +32,8 @@ from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.dynamics.damping import damping_on_q, every_mode, section_share
 from assembly.model.damping import damping_matrix
 from assembly.dynamics.frf import frequency_response
-from assembly.dynamics.simulate import scheme_of, simulate
+from assembly.dynamics.run_model import scheme_of
+from assembly.dynamics.simulate import simulate
 from assembly.scene.tables import Damping
 from assembly.scene.time_domain import Simulation, TimeLoad
 from assembly.scene.schema import load_scene
