@@ -30,7 +30,7 @@ import numpy as np
 from .gmsh_session import gmsh_model
 from .nastran_bulk import NastranError, read_bulk
 from .part_cells import (MIRROR, OTHER_VOLUME_TYPES, SOLID_TYPES, TET_EDGES, CellCount, ReadSummary, boundary_faces,
-                         cell_dimension, dropped_cells, lift_to_p2, med_groups, tet_volumes)
+                         dropped_cells, lift_to_p2, med_groups, tet_volumes)
 from .part_file import UNITS, PartFile, PartFileError
 from .part_frame import PartFrame
 from .part_geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces

@@ -18,7 +18,6 @@ Units: kg m^2, N m/rad, rad/s ratios dimensionless, frequencies Hz.
 """
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -30,10 +29,7 @@ from ..mechanics.condensation import condense
 from ..errors import MechanismError, SceneError, SolverError
 from .load_cases import single_rigid_mode
 from ..model.probes import axial_rotation
-from ..model.assemble import assemble
-from ..scene.tables import with_fidelity
 from ..scene.paths import body_origins
-from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

@@ -278,8 +278,8 @@ def stage_from_teeth(st, path: str):
     if st.normal_module is None:
         for role, m in members:
             if m.teeth is not None:
-                raise SceneError(f"{path}.{role}.teeth", m.teeth, f"teeth need the stage's normal_module (m) "
-                                                                  f"and normal_pressure_angle")
+                raise SceneError(f"{path}.{role}.teeth", m.teeth, "teeth need the stage's normal_module (m) "
+                                                                  "and normal_pressure_angle")
             with_blank_mass(m, f"{path}.{role}", None, False)   # refuses a blank table
         for f in ("normal_pressure_angle", "face_width"):
             if getattr(st, f) is not None:

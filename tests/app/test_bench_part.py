@@ -1,10 +1,10 @@
-"""``flexgear bench part`` (assembly/app/bench_part.py) runs end to end at a coarse element
+"""``flexgear bench part`` (assembly/app/bench/part.py) runs end to end at a coarse element
 size: the table's rows and columns, not the timings."""
 from __future__ import annotations
 
 import pytest
 
-from assembly.app import bench_part
+from assembly.app.bench import part as bench_part
 
 
 def _rows(out: str) -> list[dict]:

@@ -111,7 +111,7 @@ USERS = {"the scene itself": None, "an ElastoDyn input": "------- ELASTODYN v1.0
 @pytest.mark.parametrize("api", [False, True], ids=["cli", "api"])
 @pytest.mark.parametrize("user", list(USERS))
 def test_a_file_flexgear_did_not_write_is_never_replaced(scene_file, tmp_path, capsys, user, api):
-    from assembly.app.elastodyn import write_fragment
+    from assembly.app.export.elastodyn import write_fragment
     from assembly.app.output import OutputDirError
 
     out = scene_file if USERS[user] is None else tmp_path / "drivetrain.dat"

@@ -85,7 +85,7 @@ def bar():
 
 
 def _export(bar, out, monkeypatch, api: bool = False):
-    from assembly.app import export_superelement
+    from assembly.app.export import superelement as export_superelement
     if api:
         return export_superelement.write_body(bar, "scene", out)
     monkeypatch.setattr(export_superelement, "reduced_body", lambda scene, name: bar)

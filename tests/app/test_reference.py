@@ -227,7 +227,7 @@ def test_docs_toml_snippets_load(tmp_path):
     """Every TOML snippet of the docs is read as what it is (a variant, a study, or a
     fragment put into the shipped scene it comes from) and passes the scene checks; a page
     with snippets must say what they are (SNIPPETS), and finding none fails."""
-    from assembly.app.study_file import read_study
+    from assembly.app.study.file import read_study
     from assembly.scene.schema import SCENE_DIR, load_scene
     found = _doc_snippets()
     assert found, "no ```toml block found in docs/*.md"

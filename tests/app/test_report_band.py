@@ -11,9 +11,11 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 import numpy as np
 import pytest
 
-from assembly.app.cli import UsageError, main, parse_modes
-from assembly.app.pipeline import ModeSelectionError, RunOptions, run_pipeline
-from assembly.app.tables import in_band, modes_table
+from assembly.app.args import parse_modes
+from assembly.app.cli import main
+from assembly.app.errors import UsageError
+from assembly.app.report.pipeline import ModeSelectionError, RunOptions, run_pipeline
+from assembly.app.report.tables import in_band, modes_table
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.tables import DISPLAY_BAND_FACTOR
@@ -96,7 +98,7 @@ def test_no_images_says_what_it_skipped(tmp_path, capsys):
 
 def test_colour_bar_maximum_is_the_title_maximum():
     from cms.stress import NodalStress, von_mises
-    from assembly.app.render_fe import stress_scale
+    from assembly.app.render.fe import stress_scale
     # uniaxial stress s e_x e_x: von Mises = |s| (von Mises 1913); the largest at node 2
     s = np.array([10e6, -30e6, 50e6, 20e6])
     sigma = np.zeros((4, 3, 3))

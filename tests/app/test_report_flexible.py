@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.html_report import missing_references
+from assembly.app.report.html import missing_references
 
 # every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
 pytestmark = pytest.mark.slow

@@ -1,4 +1,4 @@
-"""The run report's frequency response (assembly.app.run_frf) on a small rigid scene:
+"""The run report's frequency response (assembly.app.report.run_frf) on a small rigid scene:
 the Campbell test chain (tests/support/campbell_scene.py) with the pinion driven by a
 generator through a coupling and the planetary carrier driving a rotor drum."""
 import csv

@@ -225,7 +225,7 @@ def test_a_stopped_run_never_writes_into_a_foreign_folder(tmp_path, capsys, monk
 
 def test_the_api_writes_a_partial_result_by_the_same_rules(tmp_path, monkeypatch):
     from assembly.app.output import OutputDirError
-    from assembly.app.simulate import sim_to_dir
+    from assembly.app.report.simulate import sim_to_dir
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
     from assembly.scene.schema import load_scene

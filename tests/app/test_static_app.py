@@ -6,7 +6,7 @@ import math
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
+from assembly.app.report.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
 from tests.assembly.test_core_cli import BASE
 
 # The Peeters et al. (2006) spur pair (r_b 50 mm, 20 deg) of the CLI tests, two load cases.

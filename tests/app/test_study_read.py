@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.study_engine import CONNECT_TIMEOUT_S, SchedulerUnreachable, run_study
-from assembly.app.study_file import read_study
-from assembly.app.study_spec import MAX_VARIANTS, variants
+from assembly.app.study.engine import CONNECT_TIMEOUT_S, SchedulerUnreachable, run_study
+from assembly.app.study.file import read_study
+from assembly.app.study.spec import MAX_VARIANTS, variants
 from assembly.errors import SceneError
 from assembly.scene.save import toml_text
 from assembly.scene.schema import load_scene
@@ -301,7 +301,7 @@ def test_a_nan_result_is_a_failed_row_and_no_file_holds_a_nan(pair, capsys, monk
 
 
 def test_a_nan_row_says_which_result():
-    from assembly.app.study_run import finite
+    from assembly.app.study.run import finite
     assert finite({"f1_hz": 1.5, "n_rigid": 1}) == {"f1_hz": 1.5, "n_rigid": 1}
     with pytest.raises(SceneError, match=r"^peak\[x\] = inf: the variant's result is not finite \(NaN or inf in 2 of"):
         finite({"peak_hz[x]": 2.0, "peak[x]": math.inf, "peak[y]": math.nan})

@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.static_tables import static_json, static_text
-from assembly.app.tables import modes_json, modes_table
+from assembly.app.report.static_tables import static_json, static_text
+from assembly.app.report.tables import modes_json, modes_table
 from assembly.model.body_table import AGREEMENT, body_properties
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
@@ -132,7 +132,7 @@ def test_cli_prints_both_numbers(tmp_path, capsys, caplog):
 
 
 def test_run_index_and_csv_have_the_table(tmp_path):
-    from assembly.app.pipeline import RunOptions, run_pipeline
+    from assembly.app.report.pipeline import RunOptions, run_pipeline
     ctx = run_pipeline(scene_from_dict(rod("rigid", **TYPED)), tmp_path / "out",
                        RunOptions(compare=False, images=False))
     html = (ctx.out_dir / "index.html").read_text()

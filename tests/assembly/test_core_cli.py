@@ -128,7 +128,7 @@ def test_every_domain_error_of_the_package_is_a_one_line_user_error():
     import importlib
     import inspect
 
-    from assembly.app.cli import user_errors
+    from assembly.app.errors import user_errors
     handled = user_errors()
     modules = ["assembly.errors", "cms.errors", "fe_components.errors", "assembly.app.output", "assembly.app.cli"]
     found = []

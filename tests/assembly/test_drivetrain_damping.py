@@ -17,7 +17,7 @@ import math
 import pytest
 
 from assembly import Bearing, Body, Scene, Shaft
-from assembly.app.elastodyn import fragment_text
+from assembly.app.export.elastodyn import fragment_text
 from assembly.analysis.two_mass import two_mass
 from assembly.scene.tables import Damping
 from tests.assembly.test_drivetrain import K1, K2, KM, chain

@@ -104,7 +104,7 @@ def test_compare_json(capsys):
 
 def test_flexible_summary_counts_match_the_superelements(solved):
     # reduced coordinates of a body = 6 per interface master + modes + residual vectors
-    from assembly.app.tables import flexible_summary, modes_json
+    from assembly.app.report.tables import flexible_summary, modes_json
     r = solved["flexible"]
     summary = flexible_summary(r.model)
     assert set(summary) == {"pinion", "wheel"}

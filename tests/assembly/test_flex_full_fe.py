@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, solve_modes
-from assembly.app.bench_flex import _with_flex, empty_superelement_cache, run
+from assembly.app.bench.flex import _with_flex, empty_superelement_cache, run
 
 # every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
 pytestmark = pytest.mark.slow

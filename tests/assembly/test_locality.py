@@ -12,7 +12,7 @@ import pytest
 import scipy.sparse as sp
 
 from assembly import Bearing, Body, Scene, Shaft, assemble, classify_modes, load_scene, solve_modes
-from assembly.app.tables import modes_table
+from assembly.app.report.tables import modes_table
 from assembly.errors import SceneError
 from assembly.analysis.locality import GLOBAL, LOCAL_SHARE, energy_table, group_shares, rayleigh_error, total_share
 from assembly.analysis.modal import solve_modes as _solve

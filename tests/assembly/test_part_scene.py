@@ -97,7 +97,7 @@ def test_run_draws_the_step_carrier(tmp_path):
     from PIL import Image
 
     from assembly.app.cli import main
-    from assembly.app.html_report import missing_references
+    from assembly.app.report.html import missing_references
     out = tmp_path / "out"
     assert main(["run", str(SCENE), "--out", str(out), "--quiet", "--modes", "2"]) == 0
     imgs = sorted(p.name for p in (out / "images").glob("stress_*.png"))

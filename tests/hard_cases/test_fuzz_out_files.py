@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pytest
 
-from assembly.app import export_superelement
+from assembly.app.export import superelement as export_superelement
 from assembly.app.cli import main
 from assembly.app.output import MANIFEST, OutputDirError
 from tests.app.test_simulate_cli import pair_file
@@ -106,10 +106,10 @@ def results(tmp_path_factory):
 
 def _api(command: str, out: Path, results: dict, body) -> None:
     """What the command writes, through the Python API."""
-    from assembly.app.campbell import campbell_to_dir
-    from assembly.app.elastodyn import write_fragment
-    from assembly.app.frf import frf_to_dir
-    from assembly.app.simulate import sim_to_dir
+    from assembly.app.report.campbell import campbell_to_dir
+    from assembly.app.export.elastodyn import write_fragment
+    from assembly.app.report.frf import frf_to_dir
+    from assembly.app.report.simulate import sim_to_dir
 
     r = results.get(command)
     if command in ("simulate", "stopped"):

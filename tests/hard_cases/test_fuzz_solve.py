@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from assembly.app.cli import user_errors
+from assembly.app.errors import user_errors
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.schema import SCENE_DIR, scene_from_dict

@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from assembly.app.cli import main, user_errors
+from assembly.app.cli import main
+from assembly.app.errors import user_errors
 from assembly.errors import SceneError
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
