@@ -17,7 +17,7 @@ shear/chord in y-z plane   (u_b - u_a) . ey / L + (th_a + th_b) . ex / 2    (N m
 with ``Phi = 12 E I / (kappa G A L^2)`` and the shear coefficient ``kappa`` of Cowper
 (1966), J. Appl. Mech. 33, 335-340, for a hollow circular section. ``B' diag(k) B`` is the
 textbook 12 x 12 Timoshenko stiffness matrix (Przemieniecki (1968), Theory of Matrix
-Structural Analysis, eq. 5.116), checked entry by entry in tests/assembly/test_beam_shaft.py.
+Structural Analysis, eq. 5.116), checked entry by entry in tests/mechanics/test_beam_shaft.py.
 
 Mass is lumped at the two nodes, half of the element to each: ``m_e / 2`` in each
 translation, ``rho J_p L / 2`` about the axis and ``rho I L / 2`` (``I = J_p / 2``) about

@@ -1,6 +1,6 @@
 """``flexgear export elastodyn``: the fragment's layout, its numbers read back, atomic write,
 one-line errors. The numbers themselves are checked against closed forms in
-tests/assembly/test_drivetrain.py; here they must read back equal to two_mass's."""
+tests/analysis/test_drivetrain.py; here they must read back equal to two_mass's."""
 from __future__ import annotations
 
 import os
@@ -11,7 +11,7 @@ import pytest
 from assembly import save_scene
 from assembly.app.cli import main
 from assembly.analysis.two_mass import two_mass
-from tests.assembly.test_drivetrain import chain
+from tests.analysis.test_drivetrain import chain
 
 # ElastoDyn's value line: value, name, "- description (unit)" (OpenFAST ElastoDyn input files)
 LINE = re.compile(r"^\s*(\S+)\s+(\w+)\s+- (.+) \((.+)\)$")

@@ -198,7 +198,7 @@ def test_keys_that_would_not_be_read_are_refused(pair):
 
 def test_a_modal_cutoff_below_twice_fmax_is_refused_before_any_variant(pair, capsys):
     # the residual term of a mode just above the cutoff is off by x^2 / (1 - x) of its static
-    # share, x = (fmax / cutoff)^2 (tests/assembly/test_frf_edges.py): 8.3 % at 2 x fmax, and the
+    # share, x = (fmax / cutoff)^2 (tests/dynamics/test_frf_edges.py): 8.3 % at 2 x fmax, and the
     # series diverges below fmax; such a cutoff is refused as flexgear frf --modes-hz refuses it
     data = copy.deepcopy(BASES["frf"])
     for cutoff in (500.0, 1000.0, 1599.0):                         # fmax = 800 Hz

@@ -144,7 +144,7 @@ def test_beam_beta_is_stiffness_proportional():
 
 def test_mesh_damper_along_line_of_action():
     # a spur mesh between gears of base radii r1, r2 held but for their spins: the mesh
-    # compression is r1 th1 + r2 th2 (tests/assembly/test_drivetrain.py), so
+    # compression is r1 th1 + r2 th2 (tests/analysis/test_drivetrain.py), so
     # C = c [r1, r2]' [r1, r2] on q, exactly as K = k [r1, r2]' [r1, r2]
     r1, r2, alpha, c, k = 0.2, 0.1, math.radians(20), 50.0, 1e8
     C_d = (r1 + r2) / math.cos(alpha)

@@ -1,6 +1,6 @@
 """DTTorDmp of the two-mass model (assembly.analysis.two_mass).
 
-Chain of tests/assembly/test_drivetrain.py: rotor -- shaft k1 -- wheel (r_w) -- mesh k_m --
+Chain of tests/analysis/test_drivetrain.py: rotor -- shaft k1 -- wheel (r_w) -- mesh k_m --
 pinion (r_p) -- shaft k2 -- generator, N = r_w / r_p; on the low-speed side the springs are
 in series, k = 1 / (1/k1 + 1/(k_m r_w^2) + 1/(k2 N^2)). The static condensation lets each
 spring take the share k / k_j of the end-to-end twist (series springs carry one torque), so
@@ -20,7 +20,7 @@ from assembly import Bearing, Body, Scene, Shaft
 from assembly.app.export.elastodyn import fragment_text
 from assembly.analysis.two_mass import two_mass
 from assembly.scene.tables import Damping
-from tests.assembly.test_drivetrain import K1, K2, KM, chain
+from tests.analysis.test_drivetrain import K1, K2, KM, chain
 
 INF = math.inf
 

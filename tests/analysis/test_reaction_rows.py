@@ -13,7 +13,7 @@ from assembly import Bearing, Body, LoadCase, Scene, Shaft
 from assembly.analysis.reactions import equilibrium, static_report
 from assembly.analysis.static import solve_static
 
-from tests.assembly.test_static_forces import pair
+from tests.analysis.test_static_forces import pair
 
 
 def test_bearing_and_shaft_rows_name_their_bodies():
