@@ -47,13 +47,20 @@ def given_fidelity(scene) -> str:
     return "flexible" if any(b.fidelity == "flexible" for b in scene.expanded().bodies) else "rigid"
 
 
-@dataclass
+@dataclass(frozen=True)
 class Comparison:
+    """The variants of one scene solved and paired: ``results`` {variant: ModalResult}
+    (:func:`variants`: torsional, rigid, flexible), ``rows`` one dict per mode of the most detailed
+    variant (mode, class, dominant_body, its frequency under each variant's name and the MAC
+    of each pairing, :func:`assembly.analysis.classify.pair_modes`, under ``mac_<variant>``;
+    None where a mode has no partner), ``timings`` {variant: solve seconds}."""
+
     results: dict
     rows: list
     timings: dict = field(default_factory=dict)
 
     def frequencies(self) -> dict:
+        """{variant: its natural frequencies (Hz), ascending}."""
         return {k: [float(f) for f in np.sort(r.frequencies_hz)] for k, r in self.results.items()}
 
 

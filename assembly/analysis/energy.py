@@ -48,7 +48,7 @@ def strain_energy_by_element(result) -> np.ndarray:
     m = result.model
     if not m.elements:
         return np.zeros((result.abs_shapes.shape[1], 0))
-    return np.column_stack([_element_energy(m, el, result.abs_shapes) for el in m.elements])
+    return np.column_stack([element_strain_energy(m, el, result.abs_shapes) for el in m.elements])
 
 
 def strain_energy_by_body(result) -> np.ndarray:
@@ -88,7 +88,9 @@ def strain_by_body(result) -> np.ndarray:
     return np.where(has[:, None], np.clip(E, 0.0, None) / np.where(has, total, 1.0)[:, None], 0.0)
 
 
-def _element_energy(model, el, Z) -> np.ndarray:
+def element_strain_energy(model, el, Z) -> np.ndarray:
+    """Strain energy 1/2 e' diag(k) e of element ``el`` of ``model`` in each column of ``Z``
+    (absolute coordinates), e = B_e T_e z: one number per mode."""
     e = el.B @ (model.attachment_operator(el) @ Z)
     return 0.5 * np.einsum("rm,r,rm->m", e, el.k, e)
 

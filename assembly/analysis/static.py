@@ -24,13 +24,11 @@ from .. import arguments
 from ..errors import MechanismError, SceneError
 from .load_cases import free_motions, held_directions, load_vector
 from .modal import DENSE_MAX
-from ..model.assemble import assemble
 from ..mechanics.nullity import STRUCT_RTOL
 from ..scene.tables import LoadCase
-from ..model.assemble import model_argument
-from ..scene.tables import scene_argument
+from ..model.assemble import model_of, source_scene
 
-@dataclass
+@dataclass(frozen=True)
 class StaticResult:
     """Static response of ``model`` to ``load`` (scene path ``path``): ``q`` on the
     independent coordinates (0 in every held direction), ``z = T q`` on the absolute ones
@@ -56,22 +54,20 @@ class StaticResult:
         return self.z[self.model.body_slice(name)]
 
 
-def solve_static(scene, load: LoadCase, bodies: dict | None = None, model=None,
-                 path: str = "load") -> StaticResult:
-    """Static response to ``load``; ``model``: the assembled ``scene`` to reuse (else it is
-    assembled, with pre-built ``bodies`` if given). Raises MechanismError naming ``path``
-    if the held assembly can still move."""
+def solve_static(model, load: LoadCase, path: str = "load") -> StaticResult:
+    """Static response of ``model`` (an :class:`AssembledModel`, or a Scene assembled as
+    given) to ``load``. Raises MechanismError naming ``path`` if the held assembly can still
+    move."""
     arguments.instance("load", load, LoadCase, "a LoadCase")
     arguments.text("path", path)
-    return solve_static_cases(scene, [(path, load)], bodies, model)[0]
+    return solve_static_cases(model, [(path, load)])[0]
 
 
-def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> list:
-    """:class:`StaticResult` of every (path, load case) in ``cases`` on one model
-    (default :meth:`Scene.load_cases`); cases holding the same directions share one
-    factorisation."""
-    scene_argument("scene", scene)
-    arguments.optional(model_argument, "model", model)
+def solve_static_cases(model, cases=None) -> list:
+    """:class:`StaticResult` of every (path, load case) in ``cases`` on ``model`` (an
+    :class:`AssembledModel`, or a Scene assembled as given; ``cases`` default: its scene's
+    :meth:`Scene.load_cases`); cases holding the same directions share one factorisation."""
+    scene = source_scene("model", model)
     if cases is not None:
         if not isinstance(cases, (list, tuple)):
             raise arguments.refuse("cases", cases, "must be a list of (name, LoadCase) pairs")
@@ -79,7 +75,7 @@ def solve_static_cases(scene, cases, bodies: dict | None = None, model=None) -> 
             if not (isinstance(c, (list, tuple)) and len(c) == 2 and isinstance(c[0], str)):
                 raise arguments.refuse(f"cases[{i}]", c, "must be a (name, LoadCase) pair")
             arguments.instance(f"cases[{i}]", c[1], LoadCase, "a (name, LoadCase) pair")
-    m = model if model is not None else assemble(scene, bodies=bodies)
+    m = model_of("model", model)
     cases = list(scene.load_cases() if cases is None else cases)
     out, solvers = [], {}
     for path, load in cases:

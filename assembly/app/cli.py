@@ -85,7 +85,7 @@ def cmd_static(args) -> int:
     if not scene.load_cases():
         raise SceneError("loads", [], "the scene has no load case: add a [load] table or [[loads]] tables")
     model = assemble(scene)
-    reports = [static_report(st) for st in solve_static_cases(scene, None, model=model)]
+    reports = [static_report(st) for st in solve_static_cases(model)]
     if args.json:
         _print_json(static_json(scene.name, reports, model))
     else:

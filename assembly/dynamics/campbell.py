@@ -31,13 +31,11 @@ from ..analysis.classify import classify_modes
 from ..analysis.drivetrain import speed_ratios
 from ..errors import MechanismError, SceneError
 from ..analysis.modal import solve_modes
-from ..model.assemble import assemble
+from ..model.assemble import model_of, source_scene
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
 from .phasing import RULE_CLASSES, excited_class
-from ..model.assemble import model_argument
-from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 
@@ -178,22 +176,21 @@ def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
     return mode.mode_class == cls, rule
 
 
-def campbell(scene, speed_range, reference: str | None = None, points: int = 41, gyroscopic: bool = False,
-             harmonics: int = 3, model=None) -> Campbell:
-    """The Campbell diagram of ``scene`` over ``speed_range`` (rpm of the reference body).
-    ``points``: speeds sampled (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1);
-    ``model``: the assembled scene (assembled here when None). Sizes over the memory budget
-    are refused (:func:`check_size`) before the model is assembled and again once its
+def campbell(model, speed_range, reference: str | None = None, points: int = 41, gyroscopic: bool = False,
+             harmonics: int = 3) -> Campbell:
+    """The Campbell diagram of ``model`` (an :class:`AssembledModel`, or a Scene assembled
+    here) over ``speed_range`` (rpm of the reference body). ``points``: speeds sampled
+    (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1). Sizes over the memory budget are
+    refused (:func:`check_size`) before a scene is assembled and again once the model's
     natural-frequency lines are known."""
-    scene_argument("scene", scene)
+    scene = source_scene("model", model)
     lo, hi = check_speed_range(speed_range)
     points, harmonics = arguments.integer("points", points, 2), arguments.integer("harmonics", harmonics, 1)
     arguments.flag("gyroscopic", gyroscopic)
-    arguments.optional(model_argument, "model", model)
     sources = len(scene.stages) + len(scene.meshes)
     check_size(points, harmonics, sources, 0)                  # before assembling: the orders alone
     ref = reference_body(scene, reference)
-    model = assemble(scene) if model is None else model
+    model = model_of("model", model)
     ratios = chain_ratios(model, ref)
     res = solve_modes(model)
     info = classify_modes(res)[res.n_rigid:]

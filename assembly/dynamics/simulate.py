@@ -35,8 +35,8 @@ from threadpoolctl import threadpool_limits
 
 from .. import arguments as check
 from ..analysis.modal import SMALL_DENSE
-from ..model.assemble import assemble, model_argument
-from ..scene.tables import scene_argument
+from ..model.assemble import AssembledModel, assemble, source_scene
+from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
 from .integrators import check_step
 from .load_series import range_warning
@@ -50,7 +50,7 @@ from .transient import Diverged, Stack, check_history, integrate
 
 log = logging.getLogger(__name__)
 
-@dataclass
+@dataclass(frozen=True)
 class SimulationResult:
     """``time_s`` (s) and ``outputs`` {name: (n_t,) array in ``units``}; ``meshes``: per
     nonlinear mesh its name, mesh frequency at the start (Hz) and contact-loss events;
@@ -77,20 +77,24 @@ class SimulationResult:
                 "warnings": self.warnings, "info": {k: v for k, v in self.info.items() if not k.startswith("_")}}
 
 
-def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=None, speed: float | None = None,
-             progress=None, full_fe: bool = False) -> SimulationResult:
-    """Integrate ``scene`` (its ``[simulation]`` table, or defaults) to ``t_end`` with step
-    ``dt`` (s), recording ``outputs`` (names; module notes; None: every named stress point of
-    ``simulation.points`` and every nonlinear mesh's force). ``speed`` (rad/s) overrides
-    ``simulation.speed``; ``base_dir``: where the scene's load files are (default: cwd).
-    A run that stops raises :class:`assembly.dynamics.transient.Diverged` whose ``partial``
-    is the :class:`SimulationResult` so far (``complete`` False). A run whose history does not
-    fit the memory budget is refused (SceneError at ``t_end``) before anything is assembled or
+def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base_dir=None,
+             speed: float | None = None, progress=None, full_fe: bool = False) -> SimulationResult:
+    """Integrate ``model`` (an :class:`AssembledModel`, or a Scene assembled here, unreduced
+    when ``full_fe``) to ``t_end`` with step ``dt`` (s) as its scene's ``[simulation]`` table
+    says (defaults when it has none; ``simulation``: a :class:`Simulation` table in its place,
+    checked against the scene as the scene's own is), recording ``outputs`` (names; module
+    notes; None: every named stress point of ``simulation.points`` and every nonlinear mesh's
+    force). ``speed`` (rad/s) overrides ``simulation.speed``; ``base_dir``: where the scene's
+    load files are (default: cwd). A run that stops raises
+    :class:`assembly.dynamics.transient.Diverged` whose ``partial`` is the
+    :class:`SimulationResult` so far (``complete`` False). A run whose history does not fit the
+    memory budget is refused (SceneError at ``t_end``) before anything is assembled or
     allocated (:func:`assembly.dynamics.transient.check_history`)."""
-    t_end, dt, outputs, speed = _arguments(scene, t_end, dt, outputs, model, base_dir, speed, progress, full_fe)
+    scene, t_end, dt, outputs, speed = _arguments(model, t_end, dt, outputs, simulation, base_dir, speed,
+                                                  progress, full_fe)
     check_history(dt, t_end, 0)                 # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
-    model = model if model is not None else assemble(scene, full_fe=full_fe)
+    model = model if isinstance(model, AssembledModel) else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
     n = model.K.shape[0]
     M, K, C, G = model_matrices(model)
@@ -123,16 +127,22 @@ def simulate(scene, t_end: float, dt: float, outputs=None, model=None, base_dir=
     return result
 
 
-def _arguments(scene, t_end, dt, outputs, model, base_dir, speed, progress, full_fe):
-    """The arguments of :func:`simulate`, checked (one SceneError naming the argument)."""
-    scene_argument("scene", scene)
+def _arguments(model, t_end, dt, outputs, simulation, base_dir, speed, progress, full_fe):
+    """The arguments of :func:`simulate`, checked (one SceneError naming the argument), and
+    the scene the run follows (the model's, its simulation table replaced by ``simulation``)."""
+    scene = source_scene("model", model)
     t_end, dt = check.number("t_end", t_end, "s", gt=0.0), check.number("dt", dt, "s", gt=0.0)
     outputs = None if outputs is None else check.names("outputs", outputs, empty=True)
-    check.optional(model_argument, "model", model)
+    if simulation is not None:
+        check.instance("simulation", simulation, Simulation, "a Simulation table")
+        scene = with_simulation(scene, simulation)
     check.optional(check.file_path, "base_dir", base_dir)
     speed = check.optional(check.number, "speed", speed, "rad/s")
     check.function("progress", progress)
     check.flag("full_fe", full_fe)
+    if full_fe and isinstance(model, AssembledModel):
+        raise check.refuse("full_fe", full_fe, "applies to a scene assembled here; the model given is assembled "
+                                               "already (assemble(scene, full_fe=True))")
     bodies = [b.name for b in scene.expanded().bodies]          # the bodies a name here must be
     if scene.simulation is not None and scene.simulation.reference is not None:
         check.one_of("simulation.reference", scene.simulation.reference, bodies)
@@ -140,7 +150,7 @@ def _arguments(scene, t_end, dt, outputs, model, base_dir, speed, progress, full
         if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
             raise check.refuse(f"outputs[{i}]", name,
                                f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")
-    return t_end, dt, outputs, speed
+    return scene, t_end, dt, outputs, speed
 
 
 def _start(M, K, nl, meshes, loads, sim, phi, v0) -> np.ndarray:

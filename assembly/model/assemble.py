@@ -353,3 +353,25 @@ def _frame_interface(scene: Scene, body) -> str | None:
 def model_argument(name: str, value) -> AssembledModel:
     """``value``, a :class:`AssembledModel` (SceneError naming the argument ``name`` otherwise)."""
     return arguments.instance(name, value, AssembledModel, "an assembled model (assemble(scene))")
+
+
+#: What an analysis of one model takes first, in words for its errors.
+MODEL_OR_SCENE = "an assembled model (assemble(scene)) or a Scene"
+
+
+def source_scene(name: str, value) -> Scene:
+    """The scene as the user gave it behind ``value`` (an :class:`AssembledModel`: its
+    ``source``; a :class:`Scene`: itself), for the checks an analysis makes before it has a
+    model; SceneError naming the argument ``name`` for anything else."""
+    if isinstance(value, AssembledModel):
+        return value.source
+    if isinstance(value, Scene):
+        return value
+    raise arguments.refuse(name, value, f"must be {MODEL_OR_SCENE}")
+
+
+def model_of(name: str, value) -> AssembledModel:
+    """The model an analysis of one model works on: ``value`` itself when it is an
+    :class:`AssembledModel`, a :class:`Scene` assembled as given (:func:`assemble`);
+    SceneError naming the argument ``name`` for anything else."""
+    return value if isinstance(value, AssembledModel) else assemble(source_scene(name, value))

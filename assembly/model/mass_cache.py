@@ -74,7 +74,9 @@ def _render(record: dict) -> str:
     return json.dumps(record, indent=1) + "\n"
 
 
-def _seal(record: dict) -> str:
+def seal(record: dict) -> str:
+    """The SHA-256 of ``record`` (its canonical JSON, keys sorted): what an entry stores to
+    show it was written whole by this code."""
     return hashlib.sha256(json.dumps(record, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
 
@@ -113,7 +115,7 @@ def _parse(text: str, rho: float) -> tuple[MassProperties, dict]:
     if _render(record) != text:
         raise ValueError("not the text this version writes (changed bytes or white space)")
     stored = record.pop("sha256")
-    if _seal(record) != stored:
+    if seal(record) != stored:
         raise ValueError("content hash mismatch")
     if record["format"] != FORMAT_VERSION:
         raise ValueError(f"format {record['format']!r}, expected {FORMAT_VERSION}")
@@ -138,7 +140,7 @@ def store(path: Path, props: MassProperties, mesh_file: Path, rho: float) -> Pat
               "mesh_sha256": props.mesh_sha256}
     try:
         record.update(_fingerprint(mesh_file))
-        record["sha256"] = _seal(record)
+        record["sha256"] = seal(record)
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         return write_text_atomic(path, _render(record))
     except OSError as exc:

@@ -41,7 +41,7 @@ from fe_components.params import COMPONENT_KINDS, MAX_PLANETS, CarrierParams
 
 from .. import arguments
 from ..errors import SceneError
-from .tables import MAX_NAME_LENGTH, Scene
+from .tables import MAX_NAME_LENGTH, BearingSpec, Scene
 
 log = logging.getLogger(__name__)
 
@@ -74,7 +74,8 @@ def convert(tp, value: Any, path: str, strict: bool = False):
 
     ``strict``: check a value built in Python instead (a dataclass field must hold an
     instance of its class, whose own fields are checked in turn by :func:`check_instance`;
-    only a component may still be given as a dict, converted as from a table).
+    only a component or a member's bearing may still be given as a dict, converted as from
+    a table).
     Ranges are the field rules' business (:func:`check_rules`), not the type's."""
     origin = get_origin(tp)
     if origin in (Union, types.UnionType):
@@ -122,6 +123,8 @@ def convert(tp, value: Any, path: str, strict: bool = False):
         return tuple(convert(a, v, f"{path}[{i}]", strict) for i, (a, v) in enumerate(zip(args, value)))
     if dataclasses.is_dataclass(tp):
         if strict:
+            if isinstance(value, dict) and tp is BearingSpec:     # a member's bearing: a table, as in TOML
+                return check_instance(from_dict(tp, value, path), path)
             if not isinstance(value, tp):
                 raise SceneError(path, value, f"must be a {tp.__name__}")
             return check_instance(value, path)

@@ -15,7 +15,9 @@ import math
 
 from .. import arguments
 from ..errors import SceneError
+from .schema import convert
 from .tables import SPLIT_STIFFNESSES, BearingSpec, Scene
+from .validate import check_bearing
 from .tables import scene_argument
 
 ROLES = ("sun", "ring", "carrier")
@@ -25,9 +27,9 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
     """The planetary stage ``stage_name`` of ``scene`` as a scene on its own: its sun, ring,
     carrier and planets with their bearings and meshes, nothing else of the scene (no other
     bodies, shafts or load cases). Members supported by a bearing or fixed keep their support;
-    ``bearings`` ({"sun" | "ring" | "carrier": BearingSpec}, N/m and N m/rad) puts the named
-    members on the given bearing to the housing instead, and must hold one for every floating
-    member. ``planar``: every bearing of the stage (members' and planets') rigid axially and
+    ``bearings`` ({"sun" | "ring" | "carrier": a bearing table, the dict of its stiffnesses in
+    N/m and N m/rad as in TOML}) puts the named members on the given bearing to the housing
+    instead, and must hold one for every floating member. ``planar``: every bearing of the stage (members' and planets') rigid axially and
     in tilt (``inf``), Lin & Parker's planar model. SceneError naming the field otherwise."""
     scene_argument("scene", scene)
     arguments.flag("planar", planar)
@@ -38,8 +40,9 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
     for role, b in given.items():
         if role not in ROLES:
             raise SceneError("bearings", role, f"a stage member is one of {list(ROLES)}")
-        if not isinstance(b, BearingSpec):
-            raise SceneError(f"bearings.{role}", b, "must be a BearingSpec (k_radial, k_axial, k_tilt, k_torsion)")
+        # a member's bearing table, as in TOML: {"k_radial": ..., "k_axial": ..., ...}
+        given[role] = convert(BearingSpec, b, f"bearings.{role}", strict=True)
+        check_bearing(given[role], f"bearings.{role}")
     st = stages[i]
     held = _planar if planar else (lambda b: b)
     changes = {"planets": dataclasses.replace(st.planets, bearing=held(st.planets.bearing))}
@@ -50,7 +53,7 @@ def stage_alone(scene: Scene, stage_name: str, bearings: dict | None = None, pla
         elif m.support == "floating":
             raise SceneError(f"stages[{i}].{role}.support", m.support,
                              f"the stage alone has no shaft or other stage to hold its {role}: "
-                             f"give bearings={{'{role}': BearingSpec(...)}}")
+                             f"give bearings={{'{role}': {{'k_radial': ..., 'k_axial': ..., 'k_tilt': ...}}}}")
         changes[role] = dataclasses.replace(m, bearing=held(m.bearing)) if m.support == "bearing" else m
     if st.coaxial_with is not None:   # the body it is coaxial with stays behind: keep where it put it
         placed = scene.stages[i]

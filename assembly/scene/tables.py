@@ -850,6 +850,15 @@ def with_fidelity(scene: Scene, fidelity: str, bodies=None) -> Scene:
                                stages=tuple(stages), **default)
 
 
+def with_simulation(scene: Scene, simulation) -> Scene:
+    """Copy of ``scene`` with ``simulation`` (a :class:`Simulation` table, or None) as its
+    ``[simulation]`` table, checked against the scene as a new scene is (the other tables as
+    the user gave them)."""
+    scene_argument("scene", scene)
+    return dataclasses.replace(scene, simulation=simulation,
+                               **{key: scene.as_given(key) for key in scene.__dict__.get("_given", {})})
+
+
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:
     """Copy of ``scene`` with the named bearing stiffnesses times ``factor`` (finite, > 0):
     its own bearings and the bearing tables of its planetary stages (kept as stages).

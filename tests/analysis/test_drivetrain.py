@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pytest
 
-from assembly import (Bearing, BearingSpec, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
+from assembly import (Bearing, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
                       assemble, solve_modes, with_fidelity)
 from assembly.mechanics.condensation import condense
 from assembly.analysis.drivetrain import chain_ends, speed_ratios, two_mass_frequencies

@@ -190,7 +190,10 @@ def test_stage_alone_planet_modes_appear_in_the_whole_drivetrain(quill):
     (("nostage",), "stage_name", "nostage"),                       # no stage of that name
     (("planetary",), "stages[0].sun.support", "floating"),         # floating member without a bearing
     (("planetary", {"planet": BearingSpec(1e9, 1e9, 1e6)}), "bearings", "planet"),   # not a member
-    (("planetary", {"sun": {"k_radial": 1e9}}), "bearings.sun", {"k_radial": 1e9}),  # not a BearingSpec
+    (("planetary", {"sun": [1e9]}), "bearings.sun", [1e9]),                       # not a bearing table
+    (("planetary", {"sun": {"k_radial": 1e9}}), "bearings.sun.k_axial", None),    # a table without k_axial
+    (("planetary", {"sun": {"k_radial": 1e9, "k_axial": 1e9, "k_tilt": 1e6, "c_radal": 1.0}}),
+     "bearings.sun.c_radal", 1.0),                                                 # a misspelt field
 ])
 def test_stage_alone_bad_input_names_the_field(args, path, value):
     with pytest.raises(SceneError) as e:

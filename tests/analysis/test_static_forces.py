@@ -145,7 +145,7 @@ def test_several_load_cases_share_one_model_and_scale_linearly():
     sc = dataclasses.replace(pair(), load=None, loads=(LoadCase(input="pinion", output="wheel", torque=T, name="a"),
                                                        LoadCase(input="pinion", output="wheel", torque=-3 * T,
                                                                 name="b")))
-    a, b = solve_static_cases(sc, None)
+    a, b = solve_static_cases(sc)
     assert a.model is b.model and (a.path, b.path) == ("loads[0]", "loads[1]")
     np.testing.assert_allclose(b.z, -3 * a.z, rtol=1e-12, atol=1e-18)   # linear statics
     assert not static_report(b).meshes[0]["drive_flank"]

@@ -119,7 +119,7 @@ def cantilever():
                bodies=(Body(name="beam", component=CylinderParams(length=LB, diameter=DB), fidelity="flexible",
                             flex=FlexOptions(mesh_size=0.0125, couplings={"end_a": "rbe2", "end_b": "rbe2"})),),
                bearings=(Bearing(body="beam", interface="end_a", k_radial=0.0, k_axial=0.0, k_tilt=0.0),))
-    res = solve_static_cases(sc, None)
+    res = solve_static_cases(sc)
     return {st.load.name: st for st in res}
 
 
@@ -166,7 +166,7 @@ def test_cantilever_reactions_balance(cantilever):
 def test_shipped_scene_cases_are_in_equilibrium(path):
     # Sum of applied loads and every reaction from the housing is zero (statics), force and
     # moment, to the round-off of the solve (documented check: relative 1e-9).
-    for st in solve_static_cases(load_scene(path), None):
+    for st in solve_static_cases(load_scene(path)):
         r = static_report(st)
         assert r.equilibrium["relative_error"] < 1e-9, st.path
         if st.load.torque is not None:             # the torque balance of a torque case

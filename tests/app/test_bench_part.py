@@ -48,7 +48,7 @@ def test_quick_run_prints_both_carriers_cold_and_warm(capsys):
 
 
 def test_size_list_is_checked(capsys):
-    assert bench_part._sizes("0.015, 0.012,0.008") == (0.015, 0.012, 0.008)
+    assert bench_part.size_list("0.015, 0.012,0.008") == (0.015, 0.012, 0.008)
     for bad in ("abc", "0.01,-1", ","):
         with pytest.raises(SystemExit) as exc:
             bench_part.main(["--size", bad])

@@ -87,7 +87,7 @@ def test_time_domain_stress_starts_at_the_static_stress(held_stage):
     node = int(np.argmax(static.von_mises))
     name = "stress:wheel:" + ",".join(f"{v:.17g}" for v in wheel.origin + wheel.axes @ static.points[node])
     scene = model.source.with_values({"simulation": {"loads": [{"body": "pinion", "interface": iface, "value": 1.0}]}})
-    r = simulate(scene, 2e-4, 1e-5, [name], model=model)
+    r = simulate(model, 2e-4, 1e-5, [name], simulation=scene.simulation)
     assert r.units[name] == "Pa"
     assert r.outputs[name][0] == pytest.approx(static.von_mises[node], rel=1e-9)
     # held at rest under a constant load: the stress stays static (to the run's round-off)
@@ -105,12 +105,12 @@ def test_named_stress_point_is_the_coordinate_output(held_stage):
     sim = {"loads": [{"body": "pinion", "interface": iface, "value": 1.0}],
            "points": [{"name": "rim", "body": "wheel", "point": p.tolist()}]}
     scene = model.source.with_values({"simulation": sim})
-    named = simulate(scene, 2e-4, 1e-5, model=model)
-    coord = simulate(scene, 2e-4, 1e-5, ["stress:wheel:" + ",".join(f"{v:.17g}" for v in p)], model=model)
+    named = simulate(model, 2e-4, 1e-5, simulation=scene.simulation)
+    coord = simulate(model, 2e-4, 1e-5, ["stress:wheel:" + ",".join(f"{v:.17g}" for v in p)], simulation=scene.simulation)
     assert list(named.outputs) == ["stress:rim"] and named.units["stress:rim"] == "Pa"
     np.testing.assert_array_equal(named.outputs["stress:rim"], next(iter(coord.outputs.values())))
     bad = model.source.with_values({"simulation": {**sim, "points": [{"name": "x", "body": "wheel",
                                                                        "point": [5.0, 5.0, 5.0]}]}})
     with pytest.raises(SceneError, match="off the body") as err:
-        simulate(bad, 2e-4, 1e-5, model=model)
+        simulate(model, 2e-4, 1e-5, simulation=bad.simulation)
     assert err.value.path == "simulation.points[0]"

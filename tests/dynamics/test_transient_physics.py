@@ -490,7 +490,7 @@ def test_brake_stop(stick):
     t_d, t_r = 10 * dt, 400 * dt                          # corners on steps; ramp = 4 periods
     t_s = t_d + t_r / 2 + J * OMEGA / TBRAKE
     model = assemble(_brake_scene(stick, t_d, t_r))
-    res = simulate(_brake_scene(stick, t_d, t_r), t_s + 0.1, dt, outputs=["speed:rotor", "speed:gen"], model=model)
+    res = simulate(model, t_s + 0.1, dt, outputs=["speed:rotor", "speed:gen"])
     t, wr, wg = res.time_s, res.outputs["speed:rotor"], res.outputs["speed:gen"]
     # momentum in the rigid-body mode: phi = null space of K, scaled to the rotor's speed
     assert model.dof_names == ["rotor.rz", "gen.rz"]

@@ -56,13 +56,15 @@ def objects(tmp_path_factory):
     load = LoadCase(input="g1", output="g2", torque=100.0)
     folder = tmp_path_factory.mktemp("api")
     path = save_scene(scene, folder / "pair.toml")
-    return {"scene": scene, "model": model, "result": result, "load": load, "static": solve_static(scene, load),
+    return {"scene": scene, "model": model, "result": result, "load": load, "static": solve_static(model, load),
             "file": str(path), "folder": folder, "planetary": load_scene("lin_parker_n3")}
 
 
 # wrong kinds, by what the argument holds ("S", "M", "R": the scene, model, modes of `objects`)
 SCENE = [None, 5, "pair.toml", "M", "R", {}, OTHER]
 MODEL = [None, 5, "S", "R", OTHER]
+# an analysis of one model takes a model or a scene (assembled as given)
+MODEL_OR_SCENE = [None, 5, "pair.toml", "R", {}, OTHER]
 MODES = [None, 5, "S", "M", OTHER]
 FLAG = ["yes", 1, None, OTHER]
 NAME = [None, 5, "", ["g1"], OTHER]
@@ -120,21 +122,21 @@ TABLE_OF_CALLS = [
      {"model": MODEL, "input": NAME + ["torque:g3"], "outputs": [None, 5, [5], [None], [], [""], OTHER],
       "frequency_hz": FREQUENCIES, "method": [None, 5, "", "exact", OTHER], "result": [5, "M", "S", OTHER],
       "modes_hz": ["1e3", NAN, [1e3], -1.0, 0.0, True, OTHER], "residual": FLAG}),
-    ("simulate", lambda o, **a: simulate(**a), {"scene": "<scene>", "t_end": 1e-3, "dt": 1e-4, "outputs": ["force:m"]},
-     {"scene": SCENE, "t_end": TIME, "dt": TIME, "outputs": [5, [5], [None], [""], ["speed:g3"], OTHER],
-      "model": [5, "S", "R", OTHER], "base_dir": [5, "", OTHER],
+    ("simulate", lambda o, **a: simulate(**a), {"model": "<model>", "t_end": 1e-3, "dt": 1e-4, "outputs": ["force:m"]},
+     {"model": MODEL_OR_SCENE, "t_end": TIME, "dt": TIME, "outputs": [5, [5], [None], [""], ["speed:g3"], OTHER],
+      "simulation": [5, {}, "S", OTHER], "base_dir": [5, "", OTHER],
       "speed": ["1", NAN, math.inf, [1.0], True, 1e308, OTHER], "progress": [5, "x"], "full_fe": FLAG}),
-    ("campbell", lambda o, **a: campbell(**a), {"scene": "<scene>", "speed_range": (0.0, 100.0)},
-     {"scene": SCENE, "speed_range": [None, 5, "0 100", [1.0], [0.0, NAN], [0.0, "1"], [0.0, 1.0, 2.0], [0.0, 1e308],
+    ("campbell", lambda o, **a: campbell(**a), {"model": "<model>", "speed_range": (0.0, 100.0)},
+     {"model": MODEL_OR_SCENE, "speed_range": [None, 5, "0 100", [1.0], [0.0, NAN], [0.0, "1"], [0.0, 1.0, 2.0], [0.0, 1e308],
                                       OTHER],
       "reference": OPTIONAL_NAME + ["g3"], "points": COUNT + [1], "harmonics": COUNT + [0],
-      "gyroscopic": FLAG, "model": [5, "S", "R", OTHER]}),
+      "gyroscopic": FLAG}),
     ("two_mass", lambda o, **a: two_mass(**a), {"scene": "<scene>"},
      {"scene": SCENE, "rotor": OPTIONAL_NAME + ["g3"], "generator": OPTIONAL_NAME + ["g3"]}),
-    ("solve_static", lambda o, **a: solve_static(**a), {"scene": "<scene>", "load": "<load>"},
-     {"scene": SCENE, "load": [None, 5, "x", {}, "S", OTHER], "model": [5, "S", "R", OTHER], "path": [None, 5, ""]}),
-    ("solve_static_cases", lambda o, **a: solve_static_cases(**a), {"scene": "<scene>", "cases": [("load", "<load>")]},
-     {"scene": SCENE, "cases": [5, "x", [5], [("load", None)], ["<load>"], OTHER], "model": [5, "S", OTHER]}),
+    ("solve_static", lambda o, **a: solve_static(**a), {"model": "<model>", "load": "<load>"},
+     {"model": MODEL_OR_SCENE, "load": [None, 5, "x", {}, "S", OTHER], "path": [None, 5, ""]}),
+    ("solve_static_cases", lambda o, **a: solve_static_cases(**a), {"model": "<model>", "cases": [("load", "<load>")]},
+     {"model": MODEL_OR_SCENE, "cases": [5, "x", [5], [("load", None)], ["<load>"], OTHER]}),
     ("static_report", lambda o, **a: static_report(**a), {"st": "<static>"}, {"st": [None, 5, "M", "S", OTHER]}),
     ("run_report", lambda o, **a: run_report(**a), {"scene": "<scene>", "out": "<folder>/never"},
      {"scene": [None, 5, "M", OTHER], "out": [None, 5, "", OTHER], "progress": FLAG,

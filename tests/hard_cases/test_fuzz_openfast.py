@@ -175,7 +175,7 @@ def test_openfast_file_refused_or_run_python_api(tmp_path, model, case):
     (tmp_path / name).write_bytes(raw)
     s = scene_from_dict(scene_dict(name, column))
     try:
-        r = simulate(s, 0.002, 2e-4, ["force:m"], model=model, base_dir=tmp_path)
+        r = simulate(model, 0.002, 2e-4, ["force:m"], simulation=s.simulation, base_dir=tmp_path)
     except SceneError as exc:
         assert refuse is not False, (cid, str(exc))
         _check_refusal(str(exc), cid)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from assembly.mechanics.beam import cowper_kappa, section, timoshenko_element
-from assembly.analysis.energy import _element_energy, kinetic_by_element, kinetic_energy_by_body
+from assembly.analysis.energy import element_strain_energy, kinetic_by_element, kinetic_energy_by_body
 from assembly.errors import SceneError
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
@@ -162,7 +162,7 @@ def test_mode_energies_add_up():
                              stations=(Station("inp_a", 0.333), Station("inp_b", 1.166))),))
     r = solve_modes(assemble(sc))
     m, Z = r.model, r.abs_shapes
-    strain = sum(_element_energy(m, el, Z) for el in m.elements)
+    strain = sum(element_strain_energy(m, el, Z) for el in m.elements)
     total = 0.5 * np.einsum("im,im->m", Z, m.K_abs @ Z)
     assert np.allclose(strain, total, rtol=1e-9, atol=1e-9 * total.max())
     kinetic = kinetic_energy_by_body(r).sum(axis=1) + kinetic_by_element(r).sum(axis=1)

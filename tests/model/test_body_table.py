@@ -111,7 +111,7 @@ def test_every_report_has_the_table_and_both_numbers(rigid_rod):
     assert f"{row.mass:.6g}" in text and "mass 60 (" in text and "FE mesh" in text
     js = json.loads(json.dumps(modes_json(res)))
     assert js["bodies"][0]["mass_kg"] == row.mass and js["bodies"][0]["typed"]["mass"] == 60.0
-    reports = [static_report(st) for st in solve_static_cases(rigid_rod.scene, None, model=rigid_rod)]
+    reports = [static_report(st) for st in solve_static_cases(rigid_rod)]
     st_text = static_text(reports, model=rigid_rod)
     assert f"{row.mass:.6g}" in st_text and "mass 60 (" in st_text
     assert static_json("rod", reports, rigid_rod)["bodies"][0]["typed"]["mass"] == 60.0

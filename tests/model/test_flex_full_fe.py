@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, solve_modes
-from assembly.app.bench.flex import _with_flex, empty_superelement_cache, run
+from assembly.app.bench.flex import with_flex_options, empty_superelement_cache, run
 
 # every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
 pytestmark = pytest.mark.slow
@@ -48,7 +48,7 @@ def full(scene):
 def reduced(scene):
     with empty_superelement_cache() as caches:
         def solve(**kw):
-            return _elastic(solve_modes(assemble(_with_flex(scene, **kw), caches=caches)))
+            return _elastic(solve_modes(assemble(with_flex_options(scene, **kw), caches=caches)))
         out = {n: solve(n_modes=n, cutoff_hz=None, residual_vectors=False) for n in (0, 4, 12)}
         out["4 +rv"] = solve(n_modes=4, cutoff_hz=None)
         out["default"] = solve(n_modes=None, cutoff_hz=None)

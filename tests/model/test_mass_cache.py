@@ -104,7 +104,7 @@ def _other_density(d: bytes) -> bytes:
     rec = json.loads(d)
     rec["rho"] = 1.0                                   # sealed, but not the density of its key
     rec.pop("sha256")
-    rec["sha256"] = mass_cache._seal(rec)
+    rec["sha256"] = mass_cache.seal(rec)
     return json.dumps(rec).encode()
 
 

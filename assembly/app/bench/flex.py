@@ -29,7 +29,9 @@ from ...scene.tables import FlexOptions, scale_bearings
 from ...scene.schema import load_scene
 
 
-def _with_flex(scene, **kw):
+def with_flex_options(scene, **kw):
+    """``scene`` expanded, each flexible body's FlexOptions replaced by ``kw`` (n_modes,
+    cutoff_hz, residual_vectors): the reduction settings a bench row varies."""
     sc = scene.expanded()
     bodies = []
     for b in sc.bodies:
@@ -92,9 +94,9 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
              + [("n_modes", m, False) for m in plain_modes] + [("cutoff", f, False) for f in plain_factors])
     for kind, val, rv in cases:
         with empty_superelement_cache() as caches:
-            sc = _with_flex(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
+            sc = with_flex_options(scene, n_modes=val, cutoff_hz=None, residual_vectors=rv) \
                 if kind == "n_modes" else \
-                _with_flex(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
+                with_flex_options(scene, n_modes=None, cutoff_hz=val * band, residual_vectors=rv)
             forget_fe_models()
             t1 = time.perf_counter()
             bodies = build_body_models(sc.expanded(), caches=caches)
@@ -142,7 +144,7 @@ def _study(scene, band, n, factor, n_cmp, out) -> dict:
         forget_fe_models()
         t1 = time.perf_counter()
         for v, f0 in zip(variants, ref):
-            sc = _with_flex(v, n_modes=None, cutoff_hz=factor * band)
+            sc = with_flex_options(v, n_modes=None, cutoff_hz=factor * band)
             r = solve_modes(assemble(sc, bodies=build_body_models(sc.expanded(), caches=caches)))
             f = r.frequencies_hz[r.n_rigid:r.n_rigid + n_cmp]
             k = min(len(f), len(f0))

@@ -222,7 +222,8 @@ def footnotes(cases: dict[str, Case]) -> str:
     ])
 
 
-def _sizes(text: str) -> tuple[float, ...]:
+def size_list(text: str) -> tuple[float, ...]:
+    """``--size`` value: comma-separated element sizes in m, each in (0, 1)."""
     try:
         sizes = tuple(float(x) for x in text.split(",") if x.strip())
     except ValueError:
@@ -234,7 +235,7 @@ def _sizes(text: str) -> tuple[float, ...]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="flexgear bench part", description=__doc__.split("\n")[0])
-    ap.add_argument("--size", type=_sizes, default=DEFAULT_SIZES, metavar="LIST",
+    ap.add_argument("--size", type=size_list, default=DEFAULT_SIZES, metavar="LIST",
                     help="element sizes in m, comma-separated (default 0.012, the STEP scene's)")
     ap.add_argument("--quick", action="store_true", help=f"element size {QUICK_SIZE} m only (a smoke run)")
     ap.add_argument("--no-warm", action="store_true", help="skip the warm-mesh-cache row")

@@ -88,12 +88,12 @@ def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]
     return out[0], out[1], solver.kind
 
 
-def timed(scene, t_end: float, dt: float, outputs, **kw):
+def timed(model, t_end: float, dt: float, outputs, **kw):
     """(result, simulate() wall s, s per step between the first and last progress calls)."""
     from ...dynamics.simulate import simulate
     marks = []
     t0 = time.perf_counter()
-    r = simulate(scene, t_end, dt, outputs, progress=lambda i, n, t: marks.append((i, time.perf_counter())), **kw)
+    r = simulate(model, t_end, dt, outputs, progress=lambda i, n, t: marks.append((i, time.perf_counter())), **kw)
     wall = time.perf_counter() - t0
     (i0, t0), (i1, t1) = marks[0], marks[-1]
     return r, wall, (t1 - t0) / max(i1 - i0, 1)
@@ -173,7 +173,7 @@ def _per_step(cases, a, out) -> None:
     print("|---|---|---|---|---|---|---|---|---|---|", file=out)
     warn = set()
     for name, (scene, model, _) in cases.items():
-        r, _, _ = timed(scene, a.steps * DT_5MW, DT_5MW, [], model=model)
+        r, _, _ = timed(model, a.steps * DT_5MW, DT_5MW, [])
         i = r.info
         step = (i["wall_s"] - i["factor_s"]) / i["steps"]
         solve, algebra, kind = bare_solve(model, scene, DT_5MW, a.repeat)
@@ -195,7 +195,7 @@ def _drivetrain(cases, a, out) -> None:
           "contact losses | mean torque:main_shaft [N m] | / rated | min, max [N m] |", file=out)
     print("|---|---|---|---|---|---|---|---|---|---|---|", file=out)
     for name, (scene, model, t_asm) in cases.items():
-        r, wall, _ = timed(scene, a.seconds, DT_5MW, ["torque:main_shaft"], model=model)
+        r, wall, _ = timed(model, a.seconds, DT_5MW, ["torque:main_shaft"])
         i, tq = r.info, r.outputs["torque:main_shaft"]
         print(f"| {name} | {i['dofs']} | {t_asm:.2f} | {i['steps']} | {wall:.1f} | {i['steps'] / wall:.0f} | "
               f"{i['mean_iterations']:.2f} | {i['losses_total']} | {tq.mean():.6g} | {tq.mean() / rated:.4f} | "

@@ -400,7 +400,7 @@ def step_static(ctx: RunContext, bar) -> None:
     if not ctx.scene.load_cases():
         bar.update(bar.total - bar.n)
         return
-    ctx.statics = solve_static_cases(ctx.scene, None, model=ctx.model)
+    ctx.statics = solve_static_cases(ctx.model)
     ctx.static_reports = [static_report(st) for st in ctx.statics]
     write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
                                                                    "checks (CSV; N, N m)"))
