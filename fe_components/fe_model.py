@@ -22,8 +22,8 @@ from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
-from .part_file import PartFile, PartFileError
-from .part_geometry import part_geometry
+from .part.file import PartFile, PartFileError
+from .part.geometry import part_geometry
 from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
                      params_as_flat_dict)
 
@@ -72,7 +72,7 @@ class FEModel:
     mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
     timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly", "matrices"
     checks: dict[str, float] = field(default_factory=dict)  # self-checks, e.g. FE vs CAD mass (relative)
-    read: Any = None  # a mesh file's ReadSummary (fe_components.part_cells): what was read and dropped
+    read: Any = None  # a mesh file's ReadSummary (fe_components.part.cells): what was read and dropped
     matrices: Callable[[], tuple] | None = field(default=None, repr=False, compare=False)  # -> (K, M)
 
     @functools.cached_property

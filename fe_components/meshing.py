@@ -344,9 +344,9 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
     """Build the solid, tag interface surfaces as physical groups, mesh and write ``path`` (.msh)."""
     if isinstance(params, PartFile):  # the user's CAD or mesh file
         if params.is_mesh:
-            from .part_mesh import generate_part_mesh
+            from .part.mesh import generate_part_mesh
         else:
-            from .part_cad import generate_part_mesh
+            from .part.cad import generate_part_mesh
         return generate_part_mesh(params, options, path)
     kind = component_kind(params)
     report = _report(params, options)

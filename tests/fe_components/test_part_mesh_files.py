@@ -25,7 +25,7 @@ from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
 from fe_components.fe_model import CAD_MASS_TOL, build_component
 from fe_components.material import STEEL
 from fe_components.meshing import read_mesh
-from fe_components.part_file import InterfaceRule, PartFile
+from fe_components.part.file import InterfaceRule, PartFile
 from tests.support.mesh_writers import med_order, nastran_deck, write_med
 
 R = 0.025            # m: cylinder radius (0.05 m diameter)

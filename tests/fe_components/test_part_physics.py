@@ -16,7 +16,7 @@ from fe_components.fe_model import build_component
 from fe_components.geometry import build_solid, interface_defs
 from fe_components.material import STEEL
 from fe_components.meshing import MeshOptions, mesh_path
-from fe_components.part_file import InterfaceRule, PartFile
+from fe_components.part.file import InterfaceRule, PartFile
 from fe_components.reference import WHEEL_SMOOTH
 from tests.support.lamb_sphere import sphere_frequencies
 
@@ -183,8 +183,8 @@ def test_cache_keys_on_the_file_content_not_its_name(tmp_path):
 def test_step_units_are_the_files_unless_told(units, factor, tmp_path):
     """A STEP file's declared unit (mm here) is converted to metres; units = "m" takes its
     numbers as metres instead (a part 1000 x larger: the size check then refuses it)."""
-    from fe_components.part_file import PartFileError
-    from fe_components.part_geometry import part_geometry
+    from fe_components.part.file import PartFileError
+    from fe_components.part.geometry import part_geometry
     part = PartFile(str(CARRIER_STEP), carrier_part().interfaces, units=units)
     if factor == 1.0:
         geo = part_geometry(part)

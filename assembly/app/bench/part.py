@@ -88,8 +88,8 @@ def _peak_mb() -> float:
 
 #: Modules the timed steps use, imported before the clock starts.
 WARM_IMPORTS = ("gmsh", "meshio", "skfem", "skfem.io.meshio", "skfem.models.elasticity", "scipy.sparse.linalg",
-                "cms.craig_bampton", "fe_components.coupling", "fe_components.fe_model", "fe_components.part_cad",
-                "fe_components.part_geometry")
+                "cms.craig_bampton", "fe_components.coupling", "fe_components.fe_model", "fe_components.part.cad",
+                "fe_components.part.geometry")
 
 
 def _warm_imports() -> None:
@@ -107,8 +107,8 @@ def build_and_reduce(case: Case, size: float, cache_dir: str) -> dict:
     from cms.craig_bampton import CraigBamptonReductor
     from fe_components.coupling import couple
     from fe_components.fe_model import build_component
-    from fe_components.part_file import PartFile
-    from fe_components.part_geometry import part_geometry
+    from fe_components.part.file import PartFile
+    from fe_components.part.geometry import part_geometry
 
     from ...scene.tables import MAX_MODES
 

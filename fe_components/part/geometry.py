@@ -2,9 +2,9 @@
 properties and its interfaces (faces found by the rules, master positions). SI units.
 
 :func:`part_geometry` reads the file once per process (memoised on the file's content hash
-and the rules): a CAD file with gmsh's OpenCASCADE kernel (:mod:`fe_components.part_cad`),
-a mesh file with meshio (:mod:`fe_components.part_mesh`). Every problem is a
-:class:`~fe_components.part_file.PartFileError` naming the field and the file.
+and the rules): a CAD file with gmsh's OpenCASCADE kernel (:mod:`fe_components.part.cad`),
+a mesh file with meshio (:mod:`fe_components.part.mesh`). Every problem is a
+:class:`~fe_components.part.file.PartFileError` naming the field and the file.
 """
 from __future__ import annotations
 
@@ -16,10 +16,10 @@ from typing import Optional
 
 import numpy as np
 
-from .part_cells import ReadSummary, counts_text
-from .part_file import SIZE_RANGE, UNITS, PartFile, PartFileError
-from .part_frame import PartFrame
-from .part_rules import computed_master, faces_match, unreached
+from .cells import ReadSummary, counts_text
+from .file import SIZE_RANGE, UNITS, PartFile, PartFileError
+from .frame import PartFrame
+from .rules import computed_master, faces_match, unreached
 
 log = logging.getLogger(__name__)
 
@@ -56,7 +56,7 @@ class PartGeometry:
     ``axis`` and ``origin`` give): bounding box, volume, centroid, the inertia tensor per
     unit density about the centroid (m^5; CAD-exact for a CAD file, integrated over the
     elements for a mesh file), the interfaces in rule order and, for a mesh file, what was
-    read (:class:`~fe_components.part_cells.ReadSummary`)."""
+    read (:class:`~fe_components.part.cells.ReadSummary`)."""
 
     lo: np.ndarray
     hi: np.ndarray
@@ -171,9 +171,9 @@ def report_read(summary: ReadSummary) -> None:
 @functools.lru_cache(maxsize=32)
 def _geometry(part: PartFile) -> PartGeometry:
     if part.is_mesh:
-        from .part_mesh import read_part_geometry
+        from .mesh import read_part_geometry
     else:
-        from .part_cad import read_part_geometry
+        from .cad import read_part_geometry
     geo = read_part_geometry(part)
     if geo.read is not None:
         report_read(geo.read)
