@@ -23,7 +23,7 @@ from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
 from .part.file import PartFile, PartFileError
-from .part.geometry import part_geometry
+from .part.read import part_geometry
 from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
                      params_as_flat_dict)
 

@@ -85,7 +85,7 @@ def check_part(part, flex: FlexOptions = FlexOptions(), n_elastic: int = 6, cach
     errors (PartFileError, MeshingError) and SolverError if the modes are not finite."""
     from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
     from fe_components.part.file import PartFile
-    from fe_components.part.geometry import part_geometry
+    from fe_components.part.read import part_geometry
 
     from ..model.components import CacheDirs, build_fe, mesh_size
 

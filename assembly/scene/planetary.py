@@ -54,7 +54,7 @@ def check_part_pins(st: PlanetaryStage, path: str) -> None:
     """Each planet n rides on interface ``pin_n`` of a carrier read from a file: that
     interface must exist and its master be the planet's centre, (R_c cos psi_n, R_c sin
     psi_n, 0) in the carrier's local axes (m)."""
-    from fe_components.part.geometry import part_geometry
+    from fe_components.part.read import part_geometry
     part = st.carrier.component
     where = f"{path}.carrier.component"
     try:

@@ -103,7 +103,7 @@ def check_part(component, path: str) -> None:
     """A part read from a file (``kind = "file"``): read it now (size, volumes, interfaces
     found by their rules), so that a problem names its scene path before anything is meshed."""
     if isinstance(component, PartFile):
-        from fe_components.part.geometry import part_geometry
+        from fe_components.part.read import part_geometry
         try:
             part_geometry(component)
         except GeometryError as err:

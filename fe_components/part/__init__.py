@@ -9,8 +9,10 @@ Modules, lowest first:
 * :mod:`.frame`: the part's own frame in its file (``axis``, ``origin``);
 * :mod:`.rules`: the geometric rules on face samples, computed masters;
 * :mod:`.cells`: a mesh file's cells, what is read and dropped; :mod:`.nastran`: Nastran bulk data;
-* :mod:`.geometry`: ``part_geometry(part)``: size, volume, mass properties, interfaces;
-* :mod:`.cad`: STEP/BREP through gmsh's OpenCASCADE; :mod:`.mesh`: mesh files through meshio.
+* :mod:`.geometry`: ``PartGeometry`` (size, volume, mass properties, interfaces), the rules
+  applied to the faces a reader found;
+* :mod:`.cad`: STEP/BREP through gmsh's OpenCASCADE; :mod:`.mesh`: mesh files through meshio;
+* :mod:`.read`: ``part_geometry(part)``, the part read by the reader of its kind, once per process.
 
 Importing the package imports none of them (nor gmsh).
 """

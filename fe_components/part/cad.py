@@ -18,6 +18,7 @@ import re
 import numpy as np
 
 from ..gmsh_session import gmsh_model
+from ..volume_mesh import mesh_volume
 from .file import UNITS, PartFile, PartFileError
 from .frame import PartFrame
 from .geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
@@ -169,8 +170,6 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
     """Mesh the CAD part with ``options`` (:class:`~fe_components.meshing.MeshOptions`):
     one physical volume ``solid`` and one physical surface group per interface, in metres and
     the part's local frame; write ``path``."""
-    from ..meshing import mesh_volume
-
     with gmsh_model("part-mesh") as gmsh:
         geo, f = _geometry(gmsh, part)
         vol = [t for _, t in gmsh.model.getEntities(3)]

@@ -235,6 +235,6 @@ def test_scene_commands_say_what_was_left_out(files, tmp_path):
                        env={**os.environ, "FLEXGEAR_CACHE_DIR": str(tmp_path)}, cwd=REPO, timeout=300)
     assert p.returncode == 0, p.stderr
     (line,) = p.stderr.splitlines()
-    assert line.startswith("WARNING fe_components.part.geometry: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
+    assert line.startswith("WARNING fe_components.part.read: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
                            "(surface); lifted to P2"), line
     assert "Left out of the model (only tetrahedra are read): 1 triangle (surface)" in line

@@ -27,7 +27,7 @@ from fe_components.fe_model import build_component
 from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
 from fe_components.part.file import InterfaceRule, PartFile, PartFileError
-from fe_components.part.geometry import part_geometry
+from fe_components.part.read import part_geometry
 
 OBLIQUE = (1.0, -2.0, 2.5)
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0), "oblique": OBLIQUE,

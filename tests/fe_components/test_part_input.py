@@ -42,7 +42,7 @@ from assembly.scene.schema import SCENE_DIR, from_dict
 from fe_components.fe_model import build_component
 from fe_components.part.cad import step_length_unit
 from fe_components.part.file import SIZE_RANGE, InterfaceRule, PartFile, PartFileError
-from fe_components.part.geometry import part_geometry
+from fe_components.part.read import part_geometry
 from tests.support.fuzz import examples
 
 REPO = Path(__file__).resolve().parents[2]

@@ -184,7 +184,7 @@ def test_step_units_are_the_files_unless_told(units, factor, tmp_path):
     """A STEP file's declared unit (mm here) is converted to metres; units = "m" takes its
     numbers as metres instead (a part 1000 x larger: the size check then refuses it)."""
     from fe_components.part.file import PartFileError
-    from fe_components.part.geometry import part_geometry
+    from fe_components.part.read import part_geometry
     part = PartFile(str(CARRIER_STEP), carrier_part().interfaces, units=units)
     if factor == 1.0:
         geo = part_geometry(part)

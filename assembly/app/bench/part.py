@@ -89,7 +89,7 @@ def _peak_mb() -> float:
 #: Modules the timed steps use, imported before the clock starts.
 WARM_IMPORTS = ("gmsh", "meshio", "skfem", "skfem.io.meshio", "skfem.models.elasticity", "scipy.sparse.linalg",
                 "cms.craig_bampton", "fe_components.coupling", "fe_components.fe_model", "fe_components.part.cad",
-                "fe_components.part.geometry")
+                "fe_components.part.read")
 
 
 def _warm_imports() -> None:
@@ -108,7 +108,7 @@ def build_and_reduce(case: Case, size: float, cache_dir: str) -> dict:
     from fe_components.coupling import couple
     from fe_components.fe_model import build_component
     from fe_components.part.file import PartFile
-    from fe_components.part.geometry import part_geometry
+    from fe_components.part.read import part_geometry
 
     from ...scene.tables import MAX_MODES
 
