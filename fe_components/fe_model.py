@@ -191,7 +191,9 @@ def cad_mass_check(model: "FEModel", part: PartFile) -> dict:
     return out
 
 
-def _skfem_mesh(raw: RawMesh):
+def skfem_mesh(raw: RawMesh):
+    """The scikit-fem mesh of a mesh read by :func:`~fe_components.meshing.read_mesh` (P1 or
+    curved P2 tetrahedra, through meshio)."""
     import meshio
     import skfem.io.meshio  # noqa: F401  (registers from_meshio; not auto-imported)
     from skfem.io.meshio import from_meshio
@@ -208,7 +210,7 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     from skfem.models.elasticity import lame_parameters, linear_elasticity
 
     t0 = time.perf_counter()
-    mesh = _skfem_mesh(raw)
+    mesh = skfem_mesh(raw)
     p = 2 if raw.cell_type == "tetra10" else 1
     elem = ElementVector(ElementTetP2() if p == 2 else ElementTetP1())
     k_order = 2 * p - 2 if stiffness_intorder is None else stiffness_intorder

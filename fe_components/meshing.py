@@ -192,7 +192,7 @@ def cached_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | Non
         with build_lock(path):  # another process may have meshed it while we waited
             sha = _load_entry(path, mesh_content_hash, heal)
             if sha is None:
-                sha = _generate_entry(params, options, path)
+                sha = generate_entry(params, options, path)
     return MeshEntry(path, sha)
 
 
@@ -206,7 +206,7 @@ def load_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None 
         with build_lock(path):
             raw = _load_entry(path, read_mesh, heal)
             if raw is None:
-                _generate_entry(params, options, path)
+                generate_entry(params, options, path)
     if raw is None:
         try:
             raw = read_mesh(path)
@@ -273,8 +273,9 @@ def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: st
     log.warning("unusable %s %s (%s): %s; %s", what, path, reason, where, then)
 
 
-def _generate_entry(params, options: MeshOptions, path: Path) -> str:
-    """Mesh into a unique temporary file next to ``path``, seal it, move it into place."""
+def generate_entry(params, options: MeshOptions, path: Path) -> str:
+    """Mesh ``params`` into a unique temporary file next to ``path``, seal it, move it into
+    place; return its content hash (the cache's build step: callers hold :func:`build_lock`)."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.msh", dir=path.parent)
