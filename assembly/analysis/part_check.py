@@ -3,7 +3,7 @@ properties (against the CAD-exact ones for a STEP/BREP file), its free-free mode
 rigid-body modes expected, then the first elastic ones), the interfaces its rules found, what
 its file held and what was left out, and the element order. SI units, the part's local axes.
 
-:func:`check_part` takes a :class:`fe_components.part_file.PartFile` (and how it is meshed,
+:func:`check_part` takes a :class:`fe_components.part.file.PartFile` (and how it is meshed,
 :class:`assembly.scene.tables.FlexOptions`); :func:`check_body_part` the part of a scene's body, as
 the scene builds it (its ``flex`` table, the same caches). ``flexgear part`` prints either.
 """
@@ -45,7 +45,7 @@ class PartCheck:
     file : the part's file; source : "cad" or "mesh"; order : element order of the model
     (1 or 2); n_elements, n_nodes, n_dofs : FE model size; mesh_size : element size given
     to gmsh (CAD) or the file's median edge (mesh) [m]; read : a mesh file's
-    :class:`~fe_components.part_cells.ReadSummary` (None for CAD); material : E, nu, rho;
+    :class:`~fe_components.part.cells.ReadSummary` (None for CAD); material : E, nu, rho;
     mass [kg], center_of_mass [m], inertia [kg m^2, about the centre of mass] of the FE model;
     cad : the same three from the CAD geometry (None for a mesh file) and cad_rel their
     relative differences (mass, centre against the part's size, inertia in the 2-norm);
@@ -84,8 +84,8 @@ def check_part(part, flex: FlexOptions = FlexOptions(), n_elastic: int = 6, cach
     (:class:`assembly.model.components.CacheDirs`, default the user's cache). Raises the part's own
     errors (PartFileError, MeshingError) and SolverError if the modes are not finite."""
     from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
-    from fe_components.part_file import PartFile
-    from fe_components.part_geometry import part_geometry
+    from fe_components.part.file import PartFile
+    from fe_components.part.read import part_geometry
 
     from ..model.components import CacheDirs, build_fe, mesh_size
 
@@ -136,7 +136,7 @@ def mesh_pieces(cells: np.ndarray) -> int:
 def part_bodies(scene) -> dict:
     """Body name -> body of every body of ``scene`` (stages expanded) whose component is a
     part file."""
-    from fe_components.part_file import PartFile
+    from fe_components.part.file import PartFile
     return {b.name: b for b in scene.expanded().bodies if isinstance(b.component, PartFile)}
 
 

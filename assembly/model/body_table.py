@@ -65,7 +65,7 @@ class BodyMass:
 
 
 def _component_source(component) -> str:
-    from fe_components.part_file import PartFile
+    from fe_components.part.file import PartFile
     if isinstance(component, PartFile) and not component.is_mesh:
         return "STEP/CAD"
     return "FE mesh"

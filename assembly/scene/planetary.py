@@ -18,7 +18,7 @@ import numpy as np
 
 from fe_components.errors import GeometryError
 from fe_components.params import CarrierParams
-from fe_components.part_file import PartFile
+from fe_components.part.file import PartFile
 
 from ..errors import SceneError
 from ..mechanics.kinematics import axis_frame
@@ -31,7 +31,7 @@ def carrier_pins(st: PlanetaryStage, path: str) -> CarrierParams:
     """The carrier component of stage ``st`` (scene path ``path``) with its pins at the
     planets: their angles (rad) on the carrier radius (m). A pin check that fails names the
     carrier's field, or the planets' count or angles when the pins follow from those. A
-    carrier read from a file (:class:`fe_components.part_file.PartFile`) keeps its own pins,
+    carrier read from a file (:class:`fe_components.part.file.PartFile`) keeps its own pins,
     which must be where the planets are (:func:`check_part_pins`)."""
     if isinstance(st.carrier.component, PartFile):
         check_part_pins(st, path)
@@ -54,7 +54,7 @@ def check_part_pins(st: PlanetaryStage, path: str) -> None:
     """Each planet n rides on interface ``pin_n`` of a carrier read from a file: that
     interface must exist and its master be the planet's centre, (R_c cos psi_n, R_c sin
     psi_n, 0) in the carrier's local axes (m)."""
-    from fe_components.part_geometry import part_geometry
+    from fe_components.part.read import part_geometry
     part = st.carrier.component
     where = f"{path}.carrier.component"
     try:

@@ -22,7 +22,7 @@ import numpy as np
 from fe_components.geometry import volume_lower_bound
 from fe_components.errors import GeometryError
 from fe_components.params import CarrierParams, component_kind
-from fe_components.part_file import PartFile
+from fe_components.part.file import PartFile
 
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .body_names import body_references, scene_body_names, unknown_body_reason
@@ -103,7 +103,7 @@ def check_part(component, path: str) -> None:
     """A part read from a file (``kind = "file"``): read it now (size, volumes, interfaces
     found by their rules), so that a problem names its scene path before anything is meshed."""
     if isinstance(component, PartFile):
-        from fe_components.part_geometry import part_geometry
+        from fe_components.part.read import part_geometry
         try:
             part_geometry(component)
         except GeometryError as err:

@@ -25,7 +25,7 @@ from assembly.analysis.part_check import check_body_part, check_part
 from assembly.scene.schema import load_scene
 from assembly.scene.tables import FlexOptions
 from fe_components.gmsh_session import gmsh_model
-from fe_components.part_file import PartFile, PartFileError
+from fe_components.part.file import PartFile, PartFileError
 from tests.support.mesh_writers import kuhn_box
 
 REPO = Path(__file__).resolve().parents[2]
@@ -235,6 +235,6 @@ def test_scene_commands_say_what_was_left_out(files, tmp_path):
                        env={**os.environ, "FLEXGEAR_CACHE_DIR": str(tmp_path)}, cwd=REPO, timeout=300)
     assert p.returncode == 0, p.stderr
     (line,) = p.stderr.splitlines()
-    assert line.startswith("WARNING fe_components.part_geometry: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
+    assert line.startswith("WARNING fe_components.part.read: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
                            "(surface); lifted to P2"), line
     assert "Left out of the model (only tetrahedra are read): 1 triangle (surface)" in line

@@ -118,7 +118,7 @@ def test_concurrent_writers_of_one_entry_each_publish_a_whole_file(tmp_path, mon
 
     def run():
         start.wait()
-        out.append(meshing._generate_entry(params, options, mesh_path(params, options, tmp_path)))
+        out.append(meshing.generate_entry(params, options, mesh_path(params, options, tmp_path)))
 
     threads = [threading.Thread(target=run) for _ in range(8)]
     for t in threads:

@@ -12,8 +12,8 @@ import pytest
 from assembly import assemble, load_scene, solve_modes
 from assembly.errors import SceneError
 from assembly.scene.schema import SCENE_DIR
-from fe_components.part_file import PartFile
-from fe_components.part_geometry import part_geometry
+from fe_components.part.file import PartFile
+from fe_components.part.read import part_geometry
 
 pytestmark = pytest.mark.slow   # meshes and reduces the carrier (about 15 s cold)
 

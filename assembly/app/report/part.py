@@ -32,14 +32,14 @@ def parse_vector(text: str, flag: str) -> tuple:
 def _file_part(args):
     """The PartFile and FlexOptions of the FILE form."""
     from fe_components.errors import GeometryError
-    from fe_components.part_file import PartFile
+    from fe_components.part.file import PartFile
 
     from ...scene.tables import FlexOptions
     from ..errors import UsageError
 
     if args.body is not None:
         raise UsageError(f"--body {args.body}: names a body of a scene; {args.target} is a part file")
-    from fe_components.part_file import CAD_SUFFIXES, UNITS
+    from fe_components.part.file import CAD_SUFFIXES, UNITS
 
     from ... import arguments
     if args.mesh_size is not None:
@@ -87,7 +87,7 @@ def flagged(err, typed: dict | None = None):
 def check(args):
     """The :class:`~assembly.analysis.part_check.PartCheck` the command's arguments name."""
     from fe_components.errors import GeometryError
-    from fe_components.part_file import CAD_SUFFIXES, MESH_SUFFIXES
+    from fe_components.part.file import CAD_SUFFIXES, MESH_SUFFIXES
 
     from ...errors import SceneError
     from ...analysis.part_check import check_body_part, check_part
@@ -122,7 +122,7 @@ def _vec(v) -> str:
 
 def report_text(c) -> str:
     """The check as a report (SI units)."""
-    from fe_components.part_cells import counts_text
+    from fe_components.part.cells import counts_text
 
     m = c.material
     kind = "CAD, meshed by gmsh" if c.source == "cad" else "mesh file"

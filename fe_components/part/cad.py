@@ -4,7 +4,7 @@ metres, its interface faces found by the rules, meshed into the mesh cache.
 gmsh is imported inside the functions only. Units: a STEP file's declared length unit is
 converted to mm by OpenCASCADE, then to m here; ``units`` given overrides it
 (the file's numbers are taken in that unit); a BREP file is in mm unless ``units`` says
-otherwise. The checks, each a :class:`~fe_components.part_file.PartFileError` naming the
+otherwise. The checks, each a :class:`~fe_components.part.file.PartFileError` naming the
 file: nothing readable, an open shell (faces but no closed volume), several volumes
 (refused, or fused with ``volumes = "fuse"`` when they touch), loose faces bounding no
 volume (non-manifold), a size that betrays wrong units.
@@ -17,10 +17,11 @@ import re
 
 import numpy as np
 
-from .gmsh_session import gmsh_model
-from .part_file import UNITS, PartFile, PartFileError
-from .part_frame import PartFrame
-from .part_geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
+from ..gmsh_session import gmsh_model
+from ..volume_mesh import mesh_volume
+from .file import UNITS, PartFile, PartFileError
+from .frame import PartFrame
+from .geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
 
 log = logging.getLogger(__name__)
 
@@ -160,7 +161,7 @@ def _geometry(gmsh, part: PartFile) -> tuple[PartGeometry, float]:
 
 def read_part_geometry(part: PartFile) -> PartGeometry:
     """The part's size, CAD-exact volume, centroid and inertia per unit density, and its
-    interfaces (:class:`~fe_components.part_geometry.PartGeometry`), without meshing."""
+    interfaces (:class:`~fe_components.part.geometry.PartGeometry`), without meshing."""
     with gmsh_model("part") as gmsh:
         return _geometry(gmsh, part)[0]
 
@@ -169,8 +170,6 @@ def generate_part_mesh(part: PartFile, options, path) -> None:
     """Mesh the CAD part with ``options`` (:class:`~fe_components.meshing.MeshOptions`):
     one physical volume ``solid`` and one physical surface group per interface, in metres and
     the part's local frame; write ``path``."""
-    from .meshing import mesh_volume
-
     with gmsh_model("part-mesh") as gmsh:
         geo, f = _geometry(gmsh, part)
         vol = [t for _, t in gmsh.model.getEntities(3)]

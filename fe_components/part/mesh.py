@@ -1,18 +1,18 @@
 """A user's volume mesh file (gmsh .msh, Abaqus .inp, Salome/Code_Aster .med, .vtu, ...: read
-by meshio; Nastran .bdf/.nas: :mod:`fe_components.nastran_bulk`) as a component: checked,
+by meshio; Nastran .bdf/.nas: :mod:`fe_components.part.nastran`) as a component: checked,
 converted to metres and to the part's own frame, its interfaces found by name or rule,
 written into the mesh cache in the package's own sealed gmsh format.
 
 Tetrahedra only, linear (``tetra``, P1) or quadratic (``tetra10``, P2: the midside nodes are
 kept where the file puts them, so curved boundaries stay curved); ``order = 2`` lifts a
-linear mesh to P2 (:func:`fe_components.part_cells.lift_to_p2`). Node order: a format's own
-(MED's is VTK's mirror image, :data:`~fe_components.part_cells.MIRROR`; Nastran numbers a
+linear mesh to P2 (:func:`fe_components.part.cells.lift_to_p2`). Node order: a format's own
+(MED's is VTK's mirror image, :data:`~fe_components.part.cells.MIRROR`; Nastran numbers a
 CTETRA either way and a left-handed one is renumbered, as Nastran does). Named groups: gmsh
 physical groups, any meshio cell set of surface triangles (an Abaqus ``*ELSET`` of faces), a
 MED group of faces, and point sets (an Abaqus ``*NSET``, a MED group of nodes): the boundary
 faces whose nodes all belong to the set. What else the file holds is dropped and reported
-(:class:`~fe_components.part_cells.ReadSummary`). Checks
-(:class:`~fe_components.part_file.PartFileError`, naming the file): unreadable, no volume
+(:class:`~fe_components.part.cells.ReadSummary`). Checks
+(:class:`~fe_components.part.file.PartFileError`, naming the file): unreadable, no volume
 elements, other element types, inverted (negative volume) or degenerate (zero volume)
 tetrahedra, a size that betrays wrong units.
 """
@@ -27,13 +27,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .gmsh_session import gmsh_model
-from .nastran_bulk import NastranError, read_bulk
-from .part_cells import (MIRROR, OTHER_VOLUME_TYPES, SOLID_TYPES, TET_EDGES, CellCount, ReadSummary, boundary_faces,
+from ..gmsh_session import gmsh_model
+from .nastran import NastranError, read_bulk
+from .cells import (MIRROR, OTHER_VOLUME_TYPES, SOLID_TYPES, TET_EDGES, CellCount, ReadSummary, boundary_faces,
                          dropped_cells, lift_to_p2, med_groups, tet_volumes)
-from .part_file import UNITS, PartFile, PartFileError
-from .part_frame import PartFrame
-from .part_geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
+from .file import UNITS, PartFile, PartFileError
+from .frame import PartFrame
+from .geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
 
 log = logging.getLogger(__name__)
 
@@ -262,7 +262,7 @@ def _resolved(part: PartFile):
 
 def read_part_geometry(part: PartFile) -> PartGeometry:
     """The part's size, volume, centroid and inertia per unit density (of the straight
-    elements), median edge, interfaces (:class:`~fe_components.part_geometry.PartGeometry`)
+    elements), median edge, interfaces (:class:`~fe_components.part.geometry.PartGeometry`)
     and what was read, in its local frame."""
     mp, pts, _, interfaces, (lo, hi) = _resolved(part)
     V, c, J = mass_moments(pts, mp.cells)

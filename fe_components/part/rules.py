@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .part_file import InterfaceRule
+from .file import InterfaceRule
 
 
 def _unit(v) -> np.ndarray:

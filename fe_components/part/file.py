@@ -31,7 +31,7 @@ of the selected faces (for a cylinder rule: projected onto the axis).
 The part's own frame: every component turns about its local z. A part modelled about
 another axis of its file gives ``axis`` (the file's rotation axis) and ``origin`` (a point
 of it, m after the unit conversion, the file's axes); the part is read in the frame of
-:mod:`fe_components.part_frame`. Rules, masters and ``origin`` are in the file's axes; the
+:mod:`fe_components.part.frame`. Rules, masters and ``origin`` are in the file's axes; the
 part's geometry (mesh, mass properties, interface masters) comes out in its local frame.
 
 ``order`` (mesh files): left out, the file's elements as they are (linear tetrahedra with a
@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal, Optional
 
-from .errors import GeometryError
-from .fields import check_fields, first_problem, quantity
+from ..errors import GeometryError
+from ..fields import check_fields, first_problem, quantity
 
 #: Length units a file may be in, and their size in metres.
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6, "in": 0.0254, "ft": 0.3048}

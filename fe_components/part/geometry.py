@@ -1,25 +1,26 @@
 """What a user's part is, read from its file before anything is meshed: size, volume, mass
 properties and its interfaces (faces found by the rules, master positions). SI units.
 
-:func:`part_geometry` reads the file once per process (memoised on the file's content hash
-and the rules): a CAD file with gmsh's OpenCASCADE kernel (:mod:`fe_components.part_cad`),
-a mesh file with meshio (:mod:`fe_components.part_mesh`). Every problem is a
-:class:`~fe_components.part_file.PartFileError` naming the field and the file.
+The readers build it: a CAD file with gmsh's OpenCASCADE kernel (:mod:`fe_components.part.cad`),
+a mesh file with meshio (:mod:`fe_components.part.mesh`); both hand their faces to
+:func:`resolve_interfaces` and check the size with :func:`check_size`.
+:func:`fe_components.part.read.part_geometry` picks the reader and reads a file once per
+process. Every problem is a :class:`~fe_components.part.file.PartFileError` naming the field
+and the file.
 """
 from __future__ import annotations
 
 import dataclasses
-import functools
 import logging
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
-from .part_cells import ReadSummary, counts_text
-from .part_file import SIZE_RANGE, UNITS, PartFile, PartFileError
-from .part_frame import PartFrame
-from .part_rules import computed_master, faces_match, unreached
+from .cells import ReadSummary
+from .file import SIZE_RANGE, UNITS, PartFile, PartFileError
+from .frame import PartFrame
+from .rules import computed_master, faces_match, unreached
 
 log = logging.getLogger(__name__)
 
@@ -56,7 +57,7 @@ class PartGeometry:
     ``axis`` and ``origin`` give): bounding box, volume, centroid, the inertia tensor per
     unit density about the centroid (m^5; CAD-exact for a CAD file, integrated over the
     elements for a mesh file), the interfaces in rule order and, for a mesh file, what was
-    read (:class:`~fe_components.part_cells.ReadSummary`)."""
+    read (:class:`~fe_components.part.cells.ReadSummary`)."""
 
     lo: np.ndarray
     hi: np.ndarray
@@ -143,43 +144,3 @@ def in_frame(interfaces, frame: PartFrame) -> tuple[ResolvedInterface, ...]:
         c = frame.points(corners)
         out.append(dataclasses.replace(itf, master=frame.points(itf.master), lo=c.min(axis=0), hi=c.max(axis=0)))
     return tuple(out)
-
-
-#: What a linear mesh costs, measured (tests/fe_components/test_part_order.py): a free steel
-#: beam 300 x 10 x 10 mm, 5 mm tetrahedra (2 through the thickness), first bending frequency
-#: 762.3 Hz as P1 against 588.4 Hz for the same mesh lifted to P2: +30 %.
-P1_STIFFER = 30  # %
-
-
-def report_read(summary: ReadSummary) -> None:
-    """Log what a mesh file held: a WARNING when cells that are not the solid's boundary tags
-    were left out (shells, beams, masses ...) or when linear tetrahedra run as P1 unasked;
-    else INFO."""
-    text = f"{summary.file}: {summary.text()}"
-    level = logging.INFO
-    if summary.left_out:
-        text += f". Left out of the model (only tetrahedra are read): {counts_text(summary.left_out)}"
-        level = logging.WARNING
-    if summary.order == 1 and not summary.linear_ok:
-        text += (f". Linear tetrahedra (P1) are too stiff in bending (first bending frequency +{P1_STIFFER} % "
-                 "against P2 on a beam two elements thick; the error falls as h^2): set order = 2 in the "
-                 "component table to lift the mesh to P2, or order = 1 to keep it linear")
-        level = logging.WARNING
-    log.log(level, "%s", text)
-
-
-@functools.lru_cache(maxsize=32)
-def _geometry(part: PartFile) -> PartGeometry:
-    if part.is_mesh:
-        from .part_mesh import read_part_geometry
-    else:
-        from .part_cad import read_part_geometry
-    geo = read_part_geometry(part)
-    if geo.read is not None:
-        report_read(geo.read)
-    return geo
-
-
-def part_geometry(part: PartFile) -> PartGeometry:
-    """The part read from its file (memoised per process on its content hash and rules)."""
-    return _geometry(part)
