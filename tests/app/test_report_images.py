@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.app.render.renderer import (AssemblyRenderer, body_shapes, mode_title, pitch_radii, rigid_displacement,
-                             spring_glyphs)
+from assembly.app.render.renderer import AssemblyRenderer, mode_title, spring_glyphs
+from assembly.app.render.shapes import body_shapes, pitch_radii, rigid_displacement
 
 SIZE = (480, 360)
 STD_FLOOR = 20.0 / 255
@@ -97,16 +97,16 @@ def test_geometry_rules():
 
 
 def test_width_from_transverse_inertia():
-    from assembly.app.render.renderer import _width_from_inertia
+    from assembly.app.render.shapes import width_from_inertia
     from assembly.scene.tables import Body
 
     r, L, mass = 0.05, 0.08, 3.0
     jp = mass * r ** 2 / 2
     jt = mass * (3 * r ** 2 + L ** 2) / 12
     b = Body(name="c", mass=mass, polar_inertia=jp, transverse_inertia=jt)
-    assert _width_from_inertia(b, r, 0.35) == pytest.approx(L)
+    assert width_from_inertia(b, r, 0.35) == pytest.approx(L)
     thin = Body(name="d", mass=mass, polar_inertia=jp)  # default J_t = J_p / 2: no length
-    assert _width_from_inertia(thin, r, 0.35) == pytest.approx(0.35 * r)
+    assert width_from_inertia(thin, r, 0.35) == pytest.approx(0.35 * r)
 
 
 def test_rigid_displacement_small_rotation():
