@@ -26,13 +26,13 @@ from __future__ import annotations
 
 import logging
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...mechanics.kinematics import axis_frame, rigid_transfer
+from .plotter import kept_plotter, load_pyvista, save_png
 from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
                      solid_surface)
 
@@ -58,15 +58,6 @@ BEARING_COLOR = "#303030"
 MESH_COLOR = "#c03000"
 SHAFT_COLOR = "#1f4e99"
 CMAP = "viridis"
-
-
-def load_pyvista():
-    """Import pyvista for off-screen rendering (EGL when no X server)."""
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista as pv
-
-    pv.OFF_SCREEN = True
-    return pv
 
 
 def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, coils: int = 6,
@@ -385,35 +376,6 @@ def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View
     return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
 
 
-#: zlib level of the PNG files: 3 writes in half the time of PIL's default 6, files ~15 % larger.
-PNG_COMPRESS_LEVEL = 3
-
-
-def save_png(pl, path) -> None:
-    """The plotter's current image as a PNG file (PNG_COMPRESS_LEVEL)."""
-    from PIL import Image
-    Image.fromarray(pl.screenshot(None, return_img=True)).save(str(path), format="PNG",
-                                                               compress_level=PNG_COMPRESS_LEVEL)
-
-
-def _kept_plotter(pv, window_size):
-    """An off-screen plotter whose ``close()`` clears it for the next image; ``release()``
-    closes it."""
-    class KeptPlotter(pv.Plotter):
-        def close(self, *args, **kwargs):
-            self.clear()
-
-        def release(self):
-            pv.Plotter.close(self)
-
-        def __del__(self):
-            if getattr(self, "_initialized", False) and not self._closed:
-                self.release()
-            super().__del__()
-
-    return KeptPlotter(off_screen=True, window_size=list(window_size))
-
-
 class AssemblyRenderer:
     """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
 
@@ -445,7 +407,7 @@ class AssemblyRenderer:
         OpenGL context and shader compilation. Actors are added with rendering suppressed;
         :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
         if self._pl is None:
-            self._pl = _kept_plotter(load_pyvista(), self.window_size)
+            self._pl = kept_plotter(load_pyvista(), self.window_size)
             # FXAA is not supported with EGL; MSAA (4 samples) draws as smooth edges as SSAA here
             # in half the time (SSAA renders every image at twice the size)
             self._pl.enable_anti_aliasing("msaa", multi_samples=4)
