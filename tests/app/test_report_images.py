@@ -119,7 +119,7 @@ def test_rigid_displacement_small_rotation():
 def test_frame_view_fits_the_focus_box(side):
     """The framed box lies inside the drawing band of the image (below the title, above
     the colour bar) and fills a good part of it, for the oblique and the side view."""
-    from assembly.app.render.renderer import FILL_H, FILL_V, frame_view, project
+    from assembly.app.render.views import FILL_H, FILL_V, frame_view, project
 
     W, H = 1200, 900
     lo, hi = np.array([0.30, -0.05, 0.10]), np.array([0.42, 0.07, 0.16])   # a small pinion far off-centre

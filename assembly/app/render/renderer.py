@@ -9,10 +9,10 @@ point, on the front face so it stays visible). A faint grey ghost shows the unde
 assembly.
 
 Deformation scale: each mode is drawn with the scale that makes its largest displacement
-:data:`DEFORMATION_FRACTION` of the assembly's size (bounding-box diagonal); the colour is
-the displacement magnitude (m) of the mass-normalised shape (modal mass 1 kg). The camera
-(parallel projection), window size and colours depend only on the undeformed assembly, so
-images are identical from run to run.
+:data:`assembly.app.render.views.DEFORMATION_FRACTION` of the assembly's size (bounding-box
+diagonal); the colour is the displacement magnitude (m) of the mass-normalised shape (modal
+mass 1 kg). The camera (parallel projection, :mod:`assembly.app.render.views`), window size
+and colours depend only on the undeformed assembly, so images are identical from run to run.
 
 Flexible bodies
 ---------------
@@ -31,17 +31,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ...mechanics.kinematics import axis_frame, rigid_transfer
+from ...mechanics.kinematics import rigid_transfer
 from .plotter import kept_plotter, load_pyvista, save_png
 from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
                      solid_surface)
+from .views import (DEFORMATION_FRACTION, WINDOW_SIZE, View, assembly_view, fit_view, frame_view, place_camera,
+                    view_axes, wants_side_view)
 
 log = logging.getLogger(__name__)
 
-#: Largest drawn displacement as a fraction of the assembly size (bounding-box diagonal).
-DEFORMATION_FRACTION = 0.10
-#: Default image size (pixels).
-WINDOW_SIZE = (1200, 900)
 
 #: Overview: stage colours, beam shaft colour, label font (points) and margin (fraction of
 #: the assembly size) around the drawing and its labels.
@@ -227,125 +225,8 @@ def reference_surface(model, name: str, shapes: dict | None = None, _cache: dict
     return surf
 
 
-@dataclass
-class View:
-    """Fixed camera of an assembly: parallel projection from its bounding box."""
-
-    focal: np.ndarray
-    direction: np.ndarray  # from focal point towards the camera
-    up: np.ndarray
-    parallel_scale: float
-    size: float
-
-
-#: Vertical / horizontal fraction of the image the fitted drawing may fill (the rest:
-#: title band at the top, colour bar and scale bar at the bottom).
-FILL_V, FILL_H = 0.76, 0.97
-#: Side view (perpendicular to the shafts) when the bodies' centres spread along the shaft
-#: axis by more than this fraction of the largest body radius (stages one behind another).
-SIDE_VIEW_SPREAD = 0.5
 #: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
 CONTEXT_OPACITY = 0.25
-
-
-def view_axes(axis, side: bool = False, across=None) -> tuple[np.ndarray, np.ndarray]:
-    """(direction from the focal point towards the camera, view-up), unit vectors.
-
-    Oblique front view along the shaft ``axis`` (default), or a side view looking
-    perpendicular to the axis and to ``across`` (the transverse direction along which the
-    shafts lie apart), slightly from the front and above, so shafts appear side by side."""
-    R = axis_frame(np.asarray(axis, float))
-    ax, e1, e2 = R[:, 2], R[:, 0], R[:, 1]
-    if side:
-        a = e2 if across is None else np.asarray(across, float) - (np.asarray(across, float) @ ax) * ax
-        a = a / np.linalg.norm(a) if np.linalg.norm(a) > 1e-12 else e2
-        n = np.cross(ax, a)
-        direction, up0 = n + 0.30 * ax + 0.25 * a, a
-    else:
-        direction, up0 = ax * 1.0 + e1 * 0.35 - e2 * 0.45, e2
-    direction = direction / np.linalg.norm(direction)
-    up = up0 - (up0 @ direction) * direction
-    return direction, up / np.linalg.norm(up)
-
-
-def _fit(P: np.ndarray, direction, up, window_size, size: float, margin: float) -> View:
-    """Parallel-projection view of points ``P`` (n, 3) seen along ``direction``, with
-    ``margin`` (m) around them, between the title band and the colour bar."""
-    right = np.cross(up, direction)
-    x, y = P @ right, P @ up
-    xc, yc = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
-    half_w = 0.5 * (x.max() - x.min()) + margin
-    half_h = 0.5 * (y.max() - y.min()) + margin
-    aspect = window_size[0] / window_size[1]
-    scale = max(half_h / FILL_V, half_w / aspect / FILL_H)
-    focal = P.mean(axis=0)
-    focal = focal + right * (xc - focal @ right) + up * (yc - focal @ up) + up * 0.04 * scale
-    return View(focal, np.asarray(direction, float), np.asarray(up, float), float(scale), float(size))
-
-
-def assembly_view(shapes: dict, window_size=WINDOW_SIZE, extra_points=None) -> View:
-    """Oblique front view along the (first) gear axis, fitted to the undeformed bodies (and
-    ``extra_points``, e.g. spring ends) plus the largest drawn displacement, leaving room
-    for the title (top) and the colour bar (bottom). Side view for bodies stacked along
-    the axis (:func:`wants_side_view`)."""
-    first = next(iter(shapes.values()))
-    side, across = wants_side_view(shapes)
-    direction, up = view_axes(first.axes[:, 2], side, across)
-    size = assembly_size(shapes)
-    pts = [solid_surface(s, n_radial=1)[0] for s in shapes.values()]
-    if extra_points is not None and len(extra_points):
-        pts.append(np.asarray(extra_points, float).reshape(-1, 3))
-    return _fit(np.vstack(pts), direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
-
-
-def wants_side_view(shapes: dict) -> tuple[bool, np.ndarray | None]:
-    """(side view?, transverse direction along which the bodies lie apart): side view when
-    the body centres spread along the shaft axis by more than :data:`SIDE_VIEW_SPREAD` x the
-    largest body radius (a multi-stage box, where the front view hides stages)."""
-    first = next(iter(shapes.values()))
-    ax = first.axes[:, 2]
-    P = np.array([s.position for s in shapes.values()])
-    z = P @ ax
-    T = P - np.outer(z, ax)
-    T = T - T.mean(axis=0)
-    across = None
-    if len(P) > 1 and np.abs(T).max() > 0:
-        across = np.linalg.svd(T, full_matrices=False)[2][0]
-    r_max = max(s.r_outer for s in shapes.values())
-    return bool(np.ptp(z) > SIDE_VIEW_SPREAD * r_max), across
-
-
-def frame_view(lo, hi, axis, window_size=WINDOW_SIZE, side: bool = False, across=None) -> View:
-    """Camera framing the box ``lo``..``hi`` (m, global axes; e.g. a mode's dominant
-    bodies) seen obliquely along the shaft ``axis`` (or from the side: :func:`view_axes`),
-    with room for a drawn displacement of :data:`DEFORMATION_FRACTION` of the box diagonal
-    (the ``size`` of the returned view)."""
-    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-    corners = np.array([[(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]]
-                        for i in (0, 1) for j in (0, 1) for k in (0, 1)])
-    size = float(np.linalg.norm(hi - lo))
-    direction, up = view_axes(axis, side, across)
-    return _fit(corners, direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
-
-
-def project(view: View, points, window_size=WINDOW_SIZE) -> np.ndarray:
-    """Pixel coordinates (x right, y up from the bottom-left corner) of ``points`` (n, 3)
-    in the image of ``view`` (parallel projection, as :func:`_camera` sets it)."""
-    W, H = window_size
-    right = np.cross(view.up, view.direction)
-    d = np.asarray(points, float).reshape(-1, 3) - view.focal
-    half = H / 2 / view.parallel_scale   # pixels per metre
-    return np.column_stack([W / 2 + (d @ right) * half, H / 2 + (d @ view.up) * half])
-
-
-def _camera(plotter, view: View):
-    cam = plotter.camera
-    cam.parallel_projection = True
-    cam.focal_point = tuple(view.focal)
-    cam.position = tuple(view.focal + view.direction * 10 * view.size)
-    cam.up = tuple(view.up)
-    cam.parallel_scale = view.parallel_scale
-    cam.clipping_range = (0.01 * view.size, 30 * view.size)
 
 
 def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View):
@@ -488,7 +369,7 @@ class AssemblyRenderer:
         """Scale bar, the camera (the assembly's unless ``view``), and the PNG written to ``path``."""
         view = view or self.view
         self._scale_bar(pl, view)
-        _camera(pl, view)
+        place_camera(pl, view)
         pl.suppress_rendering = False
         pl.render()
         save_png(pl, path)
@@ -547,7 +428,7 @@ class AssemblyRenderer:
         side, across = wants_side_view(self.shapes)
         direction, up = view_axes(first.axes[:, 2], side, across)
         size = assembly_size(self.shapes)
-        return _fit(np.vstack(pts), direction, up, self.window_size, size, OVERVIEW_MARGIN * size)
+        return fit_view(np.vstack(pts), direction, up, self.window_size, size, OVERVIEW_MARGIN * size)
 
     def render_overview(self, path, title: str = "") -> Path:
         """Undeformed assembly (PNG): bodies coloured per stage with one label per stage (a
