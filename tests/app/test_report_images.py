@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.app.render.renderer import AssemblyRenderer, mode_title, spring_glyphs
+from assembly.app.render.renderer import AssemblyRenderer, mode_title
 from assembly.app.render.shapes import body_shapes, pitch_radii, rigid_displacement
+from assembly.app.render.springs import spring_glyphs
 
 SIZE = (480, 360)
 STD_FLOOR = 20.0 / 255
