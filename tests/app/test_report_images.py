@@ -148,7 +148,8 @@ def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tm
     assert view.size < rnd.view.size or len(focus) == len(m.bodies)
     scale, dmax = rnd.mode_scale(r, i, view.size)
     # The colour bar's maximum is the largest displacement over every drawn surface point.
-    from assembly.app.render.renderer import body_actor, mode_caption
+    from assembly.app.render.renderer import mode_caption
+    from assembly.app.render.surfaces import body_actor
     d = max(float(np.max(body_actor(m, n, r.abs_shapes[m.body_slice(n), i], 0.0).point_data["displacement_m"]))
             for n in m.bodies)
     assert dmax == pytest.approx(d, rel=1e-12)

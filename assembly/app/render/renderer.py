@@ -16,9 +16,9 @@ and colours depend only on the undeformed assembly, so images are identical from
 
 Flexible bodies
 ---------------
-:func:`body_actor` draws a flexible body (``bm.flexible``) as its own FE surface moved by
-the back-expanded displacement (:func:`assembly.app.render.fe.fe_surface`); springs attach
-through ``motion_at(point)``, which every body model provides.
+A flexible body (``bm.flexible``) is drawn as its own FE surface moved by the back-expanded
+displacement (:mod:`assembly.app.render.surfaces`); springs attach through
+``motion_at(point)``, which every body model provides.
 
 pyvista/VTK are imported lazily inside the functions (never at import of this module).
 """
@@ -35,6 +35,7 @@ from .plotter import kept_plotter, load_pyvista, save_png
 from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
                      solid_surface)
 from .springs import spring_glyphs, spring_points
+from .surfaces import body_actor, reference_surface
 from .views import (DEFORMATION_FRACTION, WINDOW_SIZE, View, assembly_view, fit_view, frame_view, place_camera,
                     view_axes, wants_side_view)
 
@@ -58,7 +59,6 @@ SHAFT_COLOR = "#1f4e99"
 CMAP = "viridis"
 
 
-
 def _nice_length(x: float) -> float:
     """Largest 1-2-5 x 10^k not above ``x``."""
     e = math.floor(math.log10(x))
@@ -75,48 +75,6 @@ def _format_length(L: float) -> str:
         return f"{L * 1e3:g} mm"
     return f"{L * 1e6:g} um"
 
-
-# --------------------------------------------------------------------------------------
-# Rendering
-# --------------------------------------------------------------------------------------
-
-def body_actor(model, name: str, shape, scale: float = 1.0, shapes: dict | None = None,
-               _cache: dict | None = None):
-    """Warped surface (pyvista PolyData) of body ``name`` for mode shape ``shape`` (the body's
-    slice of ``ModalResult.abs_shapes``), points moved by ``scale * displacement``, with point
-    array ``"displacement_m"`` = unscaled displacement magnitude (m).
-
-    A flexible body draws its own FE surface; rigid and torsional bodies are solids of their
-    geometry moved rigidly.
-    """
-    pv = load_pyvista()
-    bm = model.bodies[name]
-    if bm.flexible:
-        from .fe import fe_surface
-        return fe_surface(bm, np.asarray(shape), scale)
-    ref = reference_surface(model, name, shapes, _cache)
-    d = rigid_displacement(rigid_part(bm, shape), bm.position, np.asarray(ref.points))
-    out = pv.PolyData(np.asarray(ref.points) + scale * d, ref.faces)
-    out.point_data["displacement_m"] = np.linalg.norm(d, axis=1)
-    return out
-
-
-def reference_surface(model, name: str, shapes: dict | None = None, _cache: dict | None = None):
-    """Undeformed surface (pyvista PolyData) of body ``name``."""
-    pv = load_pyvista()
-    if _cache is not None and name in _cache:
-        return _cache[name]
-    bm = model.bodies[name]
-    if bm.flexible:
-        from .fe import fe_surface
-        surf = fe_surface(bm, None, 0.0)
-    else:
-        shapes = shapes if shapes is not None else body_shapes(model)
-        P, F = solid_surface(shapes[name])
-        surf = pv.PolyData(P, np.hstack([np.full((len(F), 1), 3), F]).ravel())
-    if _cache is not None:
-        _cache[name] = surf
-    return surf
 
 
 #: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
