@@ -24,39 +24,42 @@ pyvista/VTK are imported lazily inside the functions (never at import of this mo
 """
 from __future__ import annotations
 
-import logging
 import math
 from pathlib import Path
 
 import numpy as np
 
 from ...mechanics.kinematics import rigid_transfer
+from .labels import CHAR_WIDTH, ROW_HEIGHT, pixel_box, place_labels, stage_groups
 from .plotter import kept_plotter, load_pyvista, save_png
+from .shafts import shaft_segments, shaft_tube
 from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
                      solid_surface)
 from .springs import spring_glyphs, spring_points
 from .surfaces import body_actor, reference_surface
+from .twist import referred_angles, twist_arrows
 from .views import (DEFORMATION_FRACTION, WINDOW_SIZE, View, assembly_view, fit_view, frame_view, place_camera,
                     view_axes, wants_side_view)
-
-log = logging.getLogger(__name__)
-
 
 #: Overview: stage colours, beam shaft colour, label font (points) and margin (fraction of
 #: the assembly size) around the drawing and its labels.
 PALETTE = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3", "#8c8c8c",
            "#ccb974", "#64b5cd")
 BEAM_COLOR = "#a0a4aa"
-#: Twist arrows: turning with the reference body, against it.
-TWIST_COLORS = ("#d62728", "#1f5fbf")
 LABEL_FONT = 12
 OVERVIEW_MARGIN = 0.04
-
+#: Twist arrows: turning with the reference body, against it.
+TWIST_COLORS = ("#d62728", "#1f5fbf")
+#: The undeformed ghost and index marks; springs by kind; the colour map of the displacement.
 GHOST_COLOR = "#6a6a6a"
 BEARING_COLOR = "#303030"
 MESH_COLOR = "#c03000"
 SHAFT_COLOR = "#1f4e99"
 CMAP = "viridis"
+#: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
+CONTEXT_OPACITY = 0.25
+#: Number format of the colour-bar labels and of the largest displacement in the caption.
+BAR_FMT = "%.3g"
 
 
 def _nice_length(x: float) -> float:
@@ -76,11 +79,6 @@ def _format_length(L: float) -> str:
     return f"{L * 1e6:g} um"
 
 
-
-#: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
-CONTEXT_OPACITY = 0.25
-
-
 class AssemblyRenderer:
     """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
 
@@ -90,7 +88,6 @@ class AssemblyRenderer:
     def __init__(self, model, window_size=WINDOW_SIZE):
         self.model = model
         self.window_size = tuple(int(v) for v in window_size)
-        from .shafts import shaft_segments
         self.shapes = body_shapes(model)
         self.glyphs = spring_glyphs(model, self.shapes)
         self.segments = shaft_segments(model)
@@ -168,7 +165,6 @@ class AssemblyRenderer:
 
     def _tubes(self, shape_of, scale):
         """Beam shaft tubes (pyvista) moved by ``scale`` x the mode ``shape_of`` (None: undeformed)."""
-        from .shafts import shaft_tube
         motion = None if shape_of is None else self._motion(shape_of)
         return [shaft_tube(sg, motion, scale) for sg in self.segments]
 
@@ -219,7 +215,6 @@ class AssemblyRenderer:
     # -- public ----------------------------------------------------------------------
     def _label_layout(self, groups: dict, view, font: int) -> dict:
         """Key -> (label text, x, y, side, box) in pixels of ``view`` (render_labels)."""
-        from .labels import pixel_box, place_labels
         right = np.cross(view.up, view.direction)
         ppm = self.window_size[1] / 2 / view.parallel_scale
         boxes, texts = {}, {}
@@ -241,7 +236,6 @@ class AssemblyRenderer:
 
     def overview_view(self, groups: dict, font: int = LABEL_FONT) -> View:
         """The assembly's view refitted with room for the stage labels' rows."""
-        from .labels import CHAR_WIDTH, ROW_HEIGHT
         v0 = self.view
         pts = [solid_surface(s, n_radial=1)[0] for s in self.shapes.values()] + [np.asarray(self._ends).reshape(-1, 3)]
         for text, x, y, side, _ in self._label_layout(groups, v0, font).values():
@@ -260,7 +254,6 @@ class AssemblyRenderer:
         beam shafts as cylinders of their diameter, springs, a length scale, and a note on
         bodies drawn smaller than their equivalent radius (a lumped rotor drawn as a hub).
         ``self.labels_drawn`` lists the label texts drawn."""
-        from .labels import CHAR_WIDTH, ROW_HEIGHT, stage_groups
         pv = load_pyvista()
         pl = self._plotter()
         try:
@@ -331,7 +324,6 @@ class AssemblyRenderer:
 
     def _twist(self, pl, result, mode: int, sign: float, view) -> str:
         """Twist arrows of ``mode`` (render_twist) added to ``pl``; returns their caption."""
-        from .twist import referred_angles, twist_arrows
         pv = load_pyvista()
         angles, ref = referred_angles(self.model, sign * result.abs_shapes[:, mode])
         if ref is not None and angles.get(ref, 0.0) < 0:   # the reference turns the positive way
@@ -411,10 +403,6 @@ class AssemblyRenderer:
         finally:
             pl.close()
         return Path(path)
-
-
-#: Number format of the colour-bar labels and of the largest displacement in the caption.
-BAR_FMT = "%.3g"
 
 
 def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:
