@@ -18,6 +18,7 @@ import numpy as np
 from .shapes import assembly_size, rigid_displacement, rigid_part
 from .views import View
 
+
 def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, coils: int = 6,
            lead: float = 0.15) -> np.ndarray:
     """Points of a zig-zag spring from ``a`` to ``b`` (straight leads at both ends)."""
@@ -31,9 +32,10 @@ def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, 
 
 @dataclass
 class SpringGlyph:
-    """A spring drawn from ``a`` (moves with body ``body_a``) to ``b`` (``body_b``; None =
-    housing, fixed). ``attach_a/attach_b`` are the element points whose motion (plus the
-    rigid offset) moves each end."""
+    """A spring of element ``name`` (its ``kind``, e.g. 'bearing', 'mesh', 'shaft') drawn
+    from ``a`` (moves with body ``body_a``) to ``b`` (``body_b``; None = housing, fixed);
+    ``ground``: ``b`` is a housing point (drawn as a small cube). Each end moves with its
+    body's motion at that point (:func:`spring_points`)."""
 
     name: str
     kind: str
@@ -122,6 +124,11 @@ def spring_glyphs(model, shapes: dict) -> list:
 
 
 def spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View):
+    """(zig-zag points (n, 3), unscaled displacement (m) of end ``a``, of end ``b``) of the
+    spring ``g`` with each end moved by ``scale`` x its body's motion in the mode shape
+    ``res_shape_of(body)`` (None: undeformed); a flexible body moves an interface point
+    with ``motion_at``, any other point rigidly. The zig-zag lies across ``view``'s
+    direction."""
     def moved(p, body):
         if body is None:
             return p, 0.0

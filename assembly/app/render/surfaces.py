@@ -4,7 +4,8 @@ A rigid or torsional body is the triangulated solid of its drawn shape
 (:mod:`assembly.app.render.shapes`) moved rigidly; a flexible body (``bm.flexible``) is its
 own FE surface moved by the back-expanded displacement
 (:func:`assembly.app.render.fe.fe_surface`). Each surface carries the point array
-``"displacement_m"``: the unscaled displacement magnitude (m) the images are coloured by. pyvista is imported lazily (:func:`assembly.app.render.plotter.load_pyvista`).
+``"displacement_m"``: the unscaled displacement magnitude (m) the images are coloured by.
+pyvista is imported lazily (:func:`assembly.app.render.plotter.load_pyvista`).
 """
 from __future__ import annotations
 
