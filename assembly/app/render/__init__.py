@@ -1,3 +1,5 @@
-"""Images of an assembled drivetrain (pyvista off-screen, imported lazily): mode shapes and
-stresses (:mod:`.renderer`), flexible bodies' FE surfaces (:mod:`.fe`), labels
-(:mod:`.labels`), beam shafts (:mod:`.shafts`) and the static twist (:mod:`.twist`)."""
+"""Images of an assembled drivetrain (pyvista off-screen, imported lazily: :mod:`.plotter`):
+mode shapes and the overview (:mod:`.renderer`), drawn from the bodies' solids
+(:mod:`.shapes`) and their surfaces (:mod:`.surfaces`), springs (:mod:`.springs`), beam
+shafts (:mod:`.shafts`), fixed cameras (:mod:`.views`), stage labels (:mod:`.labels`) and
+twist arrows (:mod:`.twist`); flexible bodies' FE surfaces and stress images (:mod:`.fe`)."""

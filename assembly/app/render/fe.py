@@ -5,7 +5,7 @@ import time
 
 import numpy as np
 
-from .renderer import load_pyvista, save_png
+from .plotter import load_pyvista, save_png
 
 _SURF: dict = {}
 

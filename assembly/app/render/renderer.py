@@ -1,461 +1,65 @@
 """Mode-shape images of an assembled drivetrain (PNG, pyvista off-screen).
 
-Every body is drawn where it is, as a solid of its geometry moved by its mode shape:
-
-* a gear (a body taking part in gear meshes) is a toothed disc of its pitch radius
-  ``|base_radius| / cos(pressure_angle)``; an internal gear (ring) is a toothed annulus;
-* any other body is the equivalent solid cylinder of its mass properties,
-  ``r = sqrt(2 J_polar / m)``; a body that carries others in its frame (a planet carrier)
-  is drawn as a plate just behind the bodies it carries, so it does not hide them;
-* the face width follows from the transverse inertia of a solid cylinder,
-  ``J_t = m (3 r^2 + L^2) / 12``, where that gives a real length, else a fixed fraction of
-  the radius;
-* bearings, shafts and gear meshes are zig-zag springs between their attachment points
-  (a bearing to the housing ends on a fixed ground point; a mesh spring lies along the
-  line of action at the contact point, on the front face so it stays visible).
-
-Torsional bodies need nothing special: their mode shape only holds the spin, so the same
-rigid-motion drawing rotates them. A faint grey ghost shows the undeformed assembly.
+Every body is drawn where it is, as a solid of its geometry moved by its mode shape
+(:mod:`assembly.app.render.shapes`: gears as toothed discs, other bodies as equivalent
+cylinders, a planet carrier as a plate behind the bodies it carries). Bearings, shafts and
+gear meshes are zig-zag springs between their attachment points
+(:mod:`assembly.app.render.springs`: a bearing to the housing ends on a fixed ground point;
+a mesh spring lies along the line of action at the contact point, on the front face so it
+stays visible). A faint grey ghost shows the undeformed assembly.
 
 Deformation scale: each mode is drawn with the scale that makes its largest displacement
-:data:`DEFORMATION_FRACTION` of the assembly's size (bounding-box diagonal); the colour is
-the displacement magnitude (m) of the mass-normalised shape (modal mass 1 kg). The camera
-(parallel projection), window size and colours depend only on the undeformed assembly, so
-images are identical from run to run.
+:data:`assembly.app.render.views.DEFORMATION_FRACTION` of the assembly's size (bounding-box
+diagonal); the colour is the displacement magnitude (m) of the mass-normalised shape (modal
+mass 1 kg). The camera (parallel projection, :mod:`assembly.app.render.views`), window size
+and colours depend only on the undeformed assembly, so images are identical from run to run.
 
 Flexible bodies
 ---------------
-:func:`body_actor` draws a flexible body (``bm.flexible``) as its own FE surface moved by
-the back-expanded displacement (:func:`assembly.app.render.fe.fe_surface`); springs attach
-through ``motion_at(point)``, which every body model provides.
+A flexible body (``bm.flexible``) is drawn as its own FE surface moved by the back-expanded
+displacement (:mod:`assembly.app.render.surfaces`); springs attach through
+``motion_at(point)``, which every body model provides.
 
 pyvista/VTK are imported lazily inside the functions (never at import of this module).
 """
 from __future__ import annotations
 
-import logging
 import math
-import os
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ...mechanics.kinematics import axis_frame, rigid_transfer
-
-log = logging.getLogger(__name__)
-
-#: Largest drawn displacement as a fraction of the assembly size (bounding-box diagonal).
-DEFORMATION_FRACTION = 0.10
-#: Default image size (pixels).
-WINDOW_SIZE = (1200, 900)
-#: Face width (fraction of the radius) when the inertia gives no real length.
-WIDTH_FRACTION = 0.35
-PLATE_WIDTH_FRACTION = 0.12
-#: Smallest gear of the scene gets this many teeth (drawing only).
-MIN_TEETH = 18
-#: A gearless scene caps a plain body's drawn radius at this fraction of the spread of the
-#: body positions (m): :func:`plain_radius_cap`.
-CAP_LENGTH_FRACTION = 0.25
-#: A beam shaft's station (bearing seat) is drawn as a collar of this many shaft radii,
-#: as wide as its radius.
-COLLAR_RADIUS = 1.3
+from ...mechanics.kinematics import rigid_transfer
+from .labels import CHAR_WIDTH, ROW_HEIGHT, pixel_box, place_labels, stage_groups
+from .plotter import kept_plotter, load_pyvista, save_png
+from .shafts import shaft_segments, shaft_tube
+from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
+                     solid_surface)
+from .springs import spring_glyphs, spring_points
+from .surfaces import body_actor, reference_surface
+from .twist import referred_angles, twist_arrows
+from .views import (DEFORMATION_FRACTION, WINDOW_SIZE, View, assembly_view, fit_view, frame_view, place_camera,
+                    view_axes, wants_side_view)
 
 #: Overview: stage colours, beam shaft colour, label font (points) and margin (fraction of
 #: the assembly size) around the drawing and its labels.
 PALETTE = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3", "#8c8c8c",
            "#ccb974", "#64b5cd")
 BEAM_COLOR = "#a0a4aa"
-#: Twist arrows: turning with the reference body, against it.
-TWIST_COLORS = ("#d62728", "#1f5fbf")
 LABEL_FONT = 12
 OVERVIEW_MARGIN = 0.04
-
+#: Twist arrows: turning with the reference body, against it.
+TWIST_COLORS = ("#d62728", "#1f5fbf")
+#: The undeformed ghost and index marks; springs by kind; the colour map of the displacement.
 GHOST_COLOR = "#6a6a6a"
 BEARING_COLOR = "#303030"
 MESH_COLOR = "#c03000"
 SHAFT_COLOR = "#1f4e99"
 CMAP = "viridis"
-
-
-def load_pyvista():
-    """Import pyvista for off-screen rendering (EGL when no X server)."""
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista as pv
-
-    pv.OFF_SCREEN = True
-    return pv
-
-
-# --------------------------------------------------------------------------------------
-# Geometry of the bodies (pure numpy; no pyvista)
-# --------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class BodyShape:
-    """Drawn solid of one body: an annulus between ``r_inner`` and ``r_outer`` (m) of
-    axial ``width`` (m), centred ``axial_offset`` (m) along the axis from ``position``.
-    ``teeth`` > 0 puts that many teeth on the outer (external gear) or inner (internal
-    gear) rim. ``kind``: 'gear', 'ring', 'plate' or 'cylinder'."""
-
-    name: str
-    kind: str
-    position: np.ndarray
-    axes: np.ndarray
-    r_inner: float
-    r_outer: float
-    width: float
-    axial_offset: float = 0.0
-    teeth: int = 0
-    tooth_height: float = 0.0
-    equivalent_radius: float = 0.0   # m: sqrt(2 J / m) of a plain body drawn smaller (capped)
-
-    @property
-    def face_center_front(self) -> np.ndarray:
-        return self.position + self.axes[:, 2] * (self.axial_offset + self.width / 2)
-
-    @property
-    def face_center_back(self) -> np.ndarray:
-        return self.position + self.axes[:, 2] * (self.axial_offset - self.width / 2)
-
-
-def pitch_radii(scene) -> dict:
-    """Signed pitch radius (m) of every gear from the meshes it takes part in
-    (``|base_radius| / cos(pressure_angle)``; negative = internal gear)."""
-    out = {}
-    for m in scene.meshes:
-        for g, rb in ((m.gear1, m.base_radius1), (m.gear2, m.base_radius2)):
-            r = rb / math.cos(m.pressure_angle)
-            if g not in out or abs(r) > abs(out[g]):
-                out[g] = r
-    return out
-
-
-def _local_inertia(bm) -> np.ndarray:
-    """Inertia (kg m^2) about the centre of mass in the body's local axes (x, y, axis),
-    from the assembled body model (rigid or flexible: both carry mass, inertia, axes)."""
-    R = np.asarray(bm.axes, float)
-    return R.T @ np.asarray(bm.inertia, float) @ R
-
-
-class _MassProps:
-    """Mass properties of an assembled body model, shaped like a scene Body for sizing."""
-
-    def __init__(self, bm):
-        self.mass = float(bm.mass)
-        self._J = _local_inertia(bm)
-
-    def inertia_local(self):
-        return self._J
-
-
-def _width_from_inertia(body, radius: float, fraction: float) -> float:
-    """Face width L from the body's inertia, ``fraction * radius`` when that gives no real
-    length. Any axisymmetric body whose mass is spread evenly along its axis has
-    ``J_t = J_p / 2 + m L^2 / 12`` (a solid cylinder: ``m (3 r^2 + L^2) / 12``; a thin
-    ring likewise), so ``L = sqrt(12 (J_t - J_p / 2) / m)``."""
-    J = body.inertia_local()
-    jt = 0.5 * (J[0, 0] + J[1, 1])
-    L2 = 12.0 * (jt - 0.5 * J[2, 2]) / body.mass
-    if L2 > (0.02 * radius) ** 2:
-        return float(math.sqrt(L2))
-    return fraction * radius
-
-
-def plain_radius_cap(scene, rp: dict) -> float:
-    """Largest drawn radius (m) of a body without gear geometry: the largest pitch radius of
-    the scene's gears, or without gears :data:`CAP_LENGTH_FRACTION` of the spread of the
-    body positions (inf for a scene of coincident bodies). A lumped rotor's equivalent
-    solid cylinder (``sqrt(2 J / m)``: 26 m for the NREL 5 MW rotor) would hide the
-    drivetrain; a hub of the size of the largest gear does not."""
-    if rp:
-        return max(abs(r) for r in rp.values())
-    P = np.array([b.position for b in scene.bodies if b.position is not None], float).reshape(-1, 3)
-    spread = float(np.linalg.norm(np.ptp(P, axis=0))) if len(P) > 1 else 0.0
-    return CAP_LENGTH_FRACTION * spread if spread > 0 else math.inf
-
-
-def _station_shaft_radii(scene) -> dict:
-    """Station body name -> outer radius (m) of its beam shaft."""
-    from ...scene.shafts import station_body
-    return {station_body(s, st): 0.5 * s.diameter for s in scene.shafts if s.is_beam for st in s.stations}
-
-
-def body_shapes(model) -> dict:
-    """:class:`BodyShape` of every body of an assembled model (name -> shape). A beam
-    shaft's station is a collar on the shaft (:data:`COLLAR_RADIUS`); a plain body's radius
-    is capped by :func:`plain_radius_cap` (``equivalent_radius`` keeps the uncapped one)."""
-    sc = model.scene
-    by_name = {b.name: b for b in sc.bodies}
-    rp = pitch_radii(sc)
-    gear_r = [abs(r) for r in rp.values()]
-    module = 2.0 * min(gear_r) / MIN_TEETH if gear_r else 0.0
-    cap = plain_radius_cap(sc, rp)
-    collars = _station_shaft_radii(sc)
-    children = {}
-    for b in sc.bodies:
-        if b.frame in by_name:
-            children.setdefault(b.frame, []).append(b.name)
-    shapes = {}
-    # Gears and plain bodies first; plates (bodies carrying others) need their children.
-    for b in sc.bodies:
-        bm = model.bodies[b.name]
-        mp = _MassProps(bm)
-        if b.name in children and b.name not in rp:
-            continue
-        if b.name in rp:
-            r = rp[b.name]
-            n_teeth = max(6, int(round(2 * abs(r) / module)))
-            h = 1.1 * module
-            if r < 0 or b.role == "ring":
-                r = abs(r)
-                width = _width_from_inertia(mp, r, WIDTH_FRACTION * 0.6)
-                shapes[b.name] = BodyShape(b.name, "ring", bm.position, bm.axes, r, r * 1.18 + h,
-                                           width, 0.0, n_teeth, h)
-            else:
-                width = _width_from_inertia(mp, r, WIDTH_FRACTION)
-                shapes[b.name] = BodyShape(b.name, "gear", bm.position, bm.axes, 0.22 * r, r,
-                                           width, 0.0, n_teeth, h)
-        elif b.name in collars:
-            r = COLLAR_RADIUS * collars[b.name]
-            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, r, r)
-        else:
-            r = math.sqrt(2.0 * mp.inertia_local()[2, 2] / mp.mass)
-            width = _width_from_inertia(mp, min(r, cap), WIDTH_FRACTION)
-            if r > cap:
-                width = min(width, 2.0 * WIDTH_FRACTION * cap)
-            shapes[b.name] = BodyShape(b.name, "cylinder", bm.position, bm.axes, 0.0, min(r, cap), width,
-                                       equivalent_radius=r if r > cap else 0.0)
-    for name, kids in children.items():
-        if name in shapes:
-            continue
-        bm = model.bodies[name]
-        mp = _MassProps(bm)
-        r = math.sqrt(2.0 * mp.inertia_local()[2, 2] / mp.mass)
-        width = _width_from_inertia(mp, r, PLATE_WIDTH_FRACTION)
-        width = min(width, PLATE_WIDTH_FRACTION * r * 2)
-        # Behind the carried bodies: their rearmost face, a small gap, then the plate.
-        ax = bm.axes[:, 2]
-        back = min(((shapes[k].face_center_back - bm.position) @ ax) for k in kids if k in shapes)
-        offset = back - 0.15 * width - width / 2
-        shapes[name] = BodyShape(name, "plate", bm.position, bm.axes, 0.12 * r, r, width, offset)
-    return shapes
-
-
-def _profile(shape: BodyShape, n_theta: int):
-    """Angles and (inner, outer) radii around the body (teeth on one rim)."""
-    th = np.linspace(0.0, 2 * np.pi, n_theta, endpoint=False)
-    r_in = np.full(n_theta, shape.r_inner)
-    r_out = np.full(n_theta, shape.r_outer)
-    if shape.teeth:
-        # Trapezoidal teeth: tanh-flattened cosine, tooth height h centred on the pitch circle.
-        t = np.tanh(2.5 * np.cos(shape.teeth * th)) / np.tanh(2.5)
-        if shape.kind == "ring":
-            r_in = shape.r_inner - 0.5 * shape.tooth_height * t
-        else:
-            r_out = shape.r_outer + 0.5 * shape.tooth_height * t
-    return th, r_in, r_out
-
-
-def solid_surface(shape: BodyShape, n_radial: int = 3):
-    """Triangulated closed surface of ``shape`` in global coordinates: (points, faces)
-    with faces as an (n, 3) index array."""
-    n_theta = max(96, 10 * shape.teeth) if shape.teeth else 96
-    th, r_in, r_out = _profile(shape, n_theta)
-    c, s = np.cos(th), np.sin(th)
-    ring_r = [r_in + (r_out - r_in) * k / n_radial for k in range(n_radial + 1)]
-    zs = (shape.axial_offset - shape.width / 2, shape.axial_offset + shape.width / 2)
-    pts, faces = [], []
-
-    def add_ring(r, z):
-        start = len(pts)
-        for j in range(n_theta):
-            pts.append((r[j] * c[j], r[j] * s[j], z))
-        return start
-
-    def strip(a, b, flip):
-        for j in range(n_theta):
-            j1 = (j + 1) % n_theta
-            q = (a + j, a + j1, b + j1, b + j)
-            if flip:
-                q = q[::-1]
-            faces.append((q[0], q[1], q[2]))
-            faces.append((q[0], q[2], q[3]))
-
-    # End faces: concentric rings from inner to outer rim at each z.
-    for zi, z in enumerate(zs):
-        idx = [add_ring(r, z) for r in ring_r]
-        for k in range(n_radial):
-            strip(idx[k], idx[k + 1], flip=(zi == 0))
-        if zi == 0:
-            in0, out0 = idx[0], idx[-1]
-        else:
-            in1, out1 = idx[0], idx[-1]
-    strip(out0, out1, flip=True)   # outer wall
-    if shape.r_inner > 0 or shape.teeth and shape.kind == "ring":
-        strip(in0, in1, flip=False)  # inner wall (bore)
-    P = np.asarray(pts, float)
-    P = shape.position + P @ shape.axes.T
-    return P, np.asarray(faces, int)
-
-
-def rigid_displacement(shape6: np.ndarray, origin: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Displacement of ``points`` (n, 3) under the small rigid motion [u, theta] at ``origin``."""
-    u, th = shape6[:3], shape6[3:6]
-    return u[None, :] + np.cross(th[None, :], points - origin[None, :])
-
-
-def rigid_part(body_model, shape) -> np.ndarray:
-    """6-vector [u, theta] (global axes, at the body's position) of a body's mode shape:
-    the shape itself for a rigid/torsional body, the rigid-equivalent motion
-    (``rigid_motion``) for a flexible body without its own drawing."""
-    z = np.asarray(shape, float)
-    if z.shape[0] == 6:
-        return z
-    rm = getattr(body_model, "rigid_motion", None)
-    if rm is None:
-        raise TypeError(f"cannot draw body {getattr(body_model, 'name', '?')!r}: "
-                        f"{z.shape[0]} DOFs and no rigid_motion")
-    return np.asarray(rm(z), float)
-
-
-def zigzag(a: np.ndarray, b: np.ndarray, lateral: np.ndarray, amplitude: float, coils: int = 6,
-           lead: float = 0.15) -> np.ndarray:
-    """Points of a zig-zag spring from ``a`` to ``b`` (straight leads at both ends)."""
-    d = b - a
-    ts = [0.0, lead]
-    ts += list(lead + (1 - 2 * lead) * (np.arange(1, 2 * coils) / (2 * coils)))
-    ts += [1 - lead, 1.0]
-    offs = [0.0, 0.0] + [amplitude * (1 if k % 2 == 0 else -1) for k in range(2 * coils - 1)] + [0.0, 0.0]
-    return np.array([a + t * d + o * lateral for t, o in zip(ts, offs)])
-
-
-# --------------------------------------------------------------------------------------
-# Springs: where each element is drawn and which body each end moves with
-# --------------------------------------------------------------------------------------
-
-@dataclass
-class SpringGlyph:
-    """A spring drawn from ``a`` (moves with body ``body_a``) to ``b`` (``body_b``; None =
-    housing, fixed). ``attach_a/attach_b`` are the element points whose motion (plus the
-    rigid offset) moves each end."""
-
-    name: str
-    kind: str
-    a: np.ndarray
-    b: np.ndarray
-    body_a: str | None
-    body_b: str | None
-    ground: bool = False
-
-
-def spring_glyphs(model, shapes: dict) -> list:
-    """Where to draw each bearing, shaft and mesh of ``model`` (beam shafts are cylinders:
-    :mod:`assembly.app.render.shafts`)."""
-    size = assembly_size(shapes)
-    out = []
-    used_starts: list = []
-
-    def free_start(p, axis, shape):
-        # Spread springs that would start at the same point (coaxial sun/ring/carrier).
-        e1 = shape.axes[:, 1]
-        k = 0
-        q = p.copy()
-        while any(np.linalg.norm(q - u) < 1e-3 * size for u in used_starts):
-            k += 1
-            q = p - e1 * (0.35 * k * shape.r_outer)
-        used_starts.append(q)
-        return q
-
-    beams = {i for i, sh in enumerate(model.scene.shafts) if sh.is_beam}
-    for el in model.elements:
-        if el.kind == "shaft" and el.item[:1] == ("shafts",) and el.item[1] in beams:
-            continue   # drawn as a cylinder (render_shafts)
-        if el.kind == "mesh":
-            s1, s2 = shapes[el.bodies[0]], shapes[el.bodies[1]]
-            ax = s1.axes[:, 2]
-            # The element's own contact point and line of action (B = [n, 0, -n ...]).
-            p, n = np.asarray(el.point, float), np.asarray(el.B[0, :3], float)
-            half = 0.5 * min(abs(s1.r_outer) if s1.kind != "ring" else s1.r_inner,
-                              abs(s2.r_outer) if s2.kind != "ring" else s2.r_inner)
-            front = max(s1.axial_offset + s1.width / 2, s2.axial_offset + s2.width / 2)
-            # Mesh spring in the front-face plane, along the line of action (in-plane part).
-            nt = n - (n @ ax) * ax
-            nt = nt / np.linalg.norm(nt)
-            zc = (p - s1.position) @ ax
-            p_front = p + ax * (front - zc + 0.02 * size)
-            out.append(SpringGlyph(el.name, "mesh", p_front - half * nt, p_front + half * nt,
-                                   el.bodies[0], el.bodies[1]))
-        else:
-            ba, bb = el.bodies
-            sa = shapes[ba]
-            ax = sa.axes[:, 2]
-            L = 0.12 * size
-            off_body = np.linalg.norm(np.asarray(el.point, float) - sa.position) > 1e-3 * size
-            if bb is None and off_body:
-                # Bearing seat away from the body's centre (e.g. on a shaft): radial spring
-                # from the seat to the housing.
-                start = np.asarray(el.point, float)
-                out.append(SpringGlyph(el.name, el.kind, start, start - L * sa.axes[:, 1], ba, None, True))
-            elif bb is None:
-                # Bearing to the housing: axial spring out of the free face to a ground point.
-                if sa.kind == "plate":
-                    start = sa.face_center_back
-                    direction = -ax
-                else:
-                    start = sa.face_center_front
-                    direction = ax
-                    if sa.kind == "ring":
-                        start = start - sa.axes[:, 1] * 0.5 * (sa.r_inner + sa.r_outer)
-                start = free_start(start, ax, sa)
-                out.append(SpringGlyph(el.name, el.kind, start, start + L * direction, ba, None, True))
-            else:
-                sb = shapes[bb]
-                if sb.kind == "plate" or sa.kind == "plate":
-                    body, plate = (sa, sb) if sb.kind == "plate" else (sb, sa)
-                    a = body.face_center_back
-                    b = a + plate.axes[:, 2] * ((plate.face_center_front - a) @ plate.axes[:, 2])
-                    if sa.kind == "plate":
-                        a, b = b, a
-                    out.append(SpringGlyph(el.name, el.kind, a, b, ba, bb))
-                elif np.linalg.norm(sa.position - sb.position) > 1e-3 * size:
-                    out.append(SpringGlyph(el.name, el.kind, sa.position.copy(), sb.position.copy(), ba, bb))
-                else:
-                    a = free_start(sa.face_center_front, ax, sa)
-                    out.append(SpringGlyph(el.name, el.kind, a, a + 0.6 * L * ax, ba, bb))
-    return out
-
-
-def index_mark(shape: BodyShape) -> np.ndarray:
-    """Two points of a radial index line on the body's free face (along local x), so that
-    a rotation about the axis shows against the ghost."""
-    face = shape.face_center_back if shape.kind == "plate" else shape.face_center_front
-    ax = shape.axes[:, 2] * (-1 if shape.kind == "plate" else 1)
-    lift = ax * 0.01 * shape.width
-    r0 = shape.r_inner if shape.r_inner > 0 else 0.0
-    r1 = shape.r_outer - (0.5 * shape.tooth_height if shape.kind == "gear" else 0.0)
-    e1 = shape.axes[:, 0]
-    return np.array([face + lift + r0 * e1, face + lift + r1 * e1])
-
-
-def assembly_bounds(shapes: dict) -> tuple[np.ndarray, np.ndarray]:
-    """Axis-aligned bounding box (m) of the undeformed bodies."""
-    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-    for s in shapes.values():
-        ax = s.axes
-        r = s.r_outer + (0.5 * s.tooth_height if s.kind == "gear" else 0.0)
-        for z in (s.axial_offset - s.width / 2, s.axial_offset + s.width / 2):
-            c = s.position + ax[:, 2] * z
-            for e in (ax[:, 0], ax[:, 1]):
-                lo = np.minimum(lo, np.minimum(c - r * e, c + r * e))
-                hi = np.maximum(hi, np.maximum(c - r * e, c + r * e))
-    return lo, hi
-
-
-def assembly_size(shapes: dict) -> float:
-    """Bounding-box diagonal (m) of the undeformed bodies."""
-    lo, hi = assembly_bounds(shapes)
-    return float(np.linalg.norm(hi - lo))
+#: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
+CONTEXT_OPACITY = 0.25
+#: Number format of the colour-bar labels and of the largest displacement in the caption.
+BAR_FMT = "%.3g"
 
 
 def _nice_length(x: float) -> float:
@@ -475,227 +79,6 @@ def _format_length(L: float) -> str:
     return f"{L * 1e6:g} um"
 
 
-# --------------------------------------------------------------------------------------
-# Rendering
-# --------------------------------------------------------------------------------------
-
-def body_actor(model, name: str, shape, scale: float = 1.0, shapes: dict | None = None,
-               _cache: dict | None = None):
-    """Warped surface (pyvista PolyData) of body ``name`` for mode shape ``shape`` (the body's
-    slice of ``ModalResult.abs_shapes``), points moved by ``scale * displacement``, with point
-    array ``"displacement_m"`` = unscaled displacement magnitude (m).
-
-    A flexible body draws its own FE surface; rigid and torsional bodies are solids of their
-    geometry moved rigidly.
-    """
-    pv = load_pyvista()
-    bm = model.bodies[name]
-    if bm.flexible:
-        from .fe import fe_surface
-        return fe_surface(bm, np.asarray(shape), scale)
-    ref = reference_surface(model, name, shapes, _cache)
-    d = rigid_displacement(rigid_part(bm, shape), bm.position, np.asarray(ref.points))
-    out = pv.PolyData(np.asarray(ref.points) + scale * d, ref.faces)
-    out.point_data["displacement_m"] = np.linalg.norm(d, axis=1)
-    return out
-
-
-def reference_surface(model, name: str, shapes: dict | None = None, _cache: dict | None = None):
-    """Undeformed surface (pyvista PolyData) of body ``name``."""
-    pv = load_pyvista()
-    if _cache is not None and name in _cache:
-        return _cache[name]
-    bm = model.bodies[name]
-    if bm.flexible:
-        from .fe import fe_surface
-        surf = fe_surface(bm, None, 0.0)
-    else:
-        shapes = shapes if shapes is not None else body_shapes(model)
-        P, F = solid_surface(shapes[name])
-        surf = pv.PolyData(P, np.hstack([np.full((len(F), 1), 3), F]).ravel())
-    if _cache is not None:
-        _cache[name] = surf
-    return surf
-
-
-@dataclass
-class View:
-    """Fixed camera of an assembly: parallel projection from its bounding box."""
-
-    focal: np.ndarray
-    direction: np.ndarray  # from focal point towards the camera
-    up: np.ndarray
-    parallel_scale: float
-    size: float
-
-
-#: Vertical / horizontal fraction of the image the fitted drawing may fill (the rest:
-#: title band at the top, colour bar and scale bar at the bottom).
-FILL_V, FILL_H = 0.76, 0.97
-#: Side view (perpendicular to the shafts) when the bodies' centres spread along the shaft
-#: axis by more than this fraction of the largest body radius (stages one behind another).
-SIDE_VIEW_SPREAD = 0.5
-#: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
-CONTEXT_OPACITY = 0.25
-
-
-def view_axes(axis, side: bool = False, across=None) -> tuple[np.ndarray, np.ndarray]:
-    """(direction from the focal point towards the camera, view-up), unit vectors.
-
-    Oblique front view along the shaft ``axis`` (default), or a side view looking
-    perpendicular to the axis and to ``across`` (the transverse direction along which the
-    shafts lie apart), slightly from the front and above, so shafts appear side by side."""
-    R = axis_frame(np.asarray(axis, float))
-    ax, e1, e2 = R[:, 2], R[:, 0], R[:, 1]
-    if side:
-        a = e2 if across is None else np.asarray(across, float) - (np.asarray(across, float) @ ax) * ax
-        a = a / np.linalg.norm(a) if np.linalg.norm(a) > 1e-12 else e2
-        n = np.cross(ax, a)
-        direction, up0 = n + 0.30 * ax + 0.25 * a, a
-    else:
-        direction, up0 = ax * 1.0 + e1 * 0.35 - e2 * 0.45, e2
-    direction = direction / np.linalg.norm(direction)
-    up = up0 - (up0 @ direction) * direction
-    return direction, up / np.linalg.norm(up)
-
-
-def _fit(P: np.ndarray, direction, up, window_size, size: float, margin: float) -> View:
-    """Parallel-projection view of points ``P`` (n, 3) seen along ``direction``, with
-    ``margin`` (m) around them, between the title band and the colour bar."""
-    right = np.cross(up, direction)
-    x, y = P @ right, P @ up
-    xc, yc = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
-    half_w = 0.5 * (x.max() - x.min()) + margin
-    half_h = 0.5 * (y.max() - y.min()) + margin
-    aspect = window_size[0] / window_size[1]
-    scale = max(half_h / FILL_V, half_w / aspect / FILL_H)
-    focal = P.mean(axis=0)
-    focal = focal + right * (xc - focal @ right) + up * (yc - focal @ up) + up * 0.04 * scale
-    return View(focal, np.asarray(direction, float), np.asarray(up, float), float(scale), float(size))
-
-
-def assembly_view(shapes: dict, window_size=WINDOW_SIZE, extra_points=None) -> View:
-    """Oblique front view along the (first) gear axis, fitted to the undeformed bodies (and
-    ``extra_points``, e.g. spring ends) plus the largest drawn displacement, leaving room
-    for the title (top) and the colour bar (bottom). Side view for bodies stacked along
-    the axis (:func:`wants_side_view`)."""
-    first = next(iter(shapes.values()))
-    side, across = wants_side_view(shapes)
-    direction, up = view_axes(first.axes[:, 2], side, across)
-    size = assembly_size(shapes)
-    pts = [solid_surface(s, n_radial=1)[0] for s in shapes.values()]
-    if extra_points is not None and len(extra_points):
-        pts.append(np.asarray(extra_points, float).reshape(-1, 3))
-    return _fit(np.vstack(pts), direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
-
-
-def wants_side_view(shapes: dict) -> tuple[bool, np.ndarray | None]:
-    """(side view?, transverse direction along which the bodies lie apart): side view when
-    the body centres spread along the shaft axis by more than :data:`SIDE_VIEW_SPREAD` x the
-    largest body radius (a multi-stage box, where the front view hides stages)."""
-    first = next(iter(shapes.values()))
-    ax = first.axes[:, 2]
-    P = np.array([s.position for s in shapes.values()])
-    z = P @ ax
-    T = P - np.outer(z, ax)
-    T = T - T.mean(axis=0)
-    across = None
-    if len(P) > 1 and np.abs(T).max() > 0:
-        across = np.linalg.svd(T, full_matrices=False)[2][0]
-    r_max = max(s.r_outer for s in shapes.values())
-    return bool(np.ptp(z) > SIDE_VIEW_SPREAD * r_max), across
-
-
-def frame_view(lo, hi, axis, window_size=WINDOW_SIZE, side: bool = False, across=None) -> View:
-    """Camera framing the box ``lo``..``hi`` (m, global axes; e.g. a mode's dominant
-    bodies) seen obliquely along the shaft ``axis`` (or from the side: :func:`view_axes`),
-    with room for a drawn displacement of :data:`DEFORMATION_FRACTION` of the box diagonal
-    (the ``size`` of the returned view)."""
-    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-    corners = np.array([[(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]]
-                        for i in (0, 1) for j in (0, 1) for k in (0, 1)])
-    size = float(np.linalg.norm(hi - lo))
-    direction, up = view_axes(axis, side, across)
-    return _fit(corners, direction, up, window_size, size, (DEFORMATION_FRACTION + 0.02) * size)
-
-
-def project(view: View, points, window_size=WINDOW_SIZE) -> np.ndarray:
-    """Pixel coordinates (x right, y up from the bottom-left corner) of ``points`` (n, 3)
-    in the image of ``view`` (parallel projection, as :func:`_camera` sets it)."""
-    W, H = window_size
-    right = np.cross(view.up, view.direction)
-    d = np.asarray(points, float).reshape(-1, 3) - view.focal
-    half = H / 2 / view.parallel_scale   # pixels per metre
-    return np.column_stack([W / 2 + (d @ right) * half, H / 2 + (d @ view.up) * half])
-
-
-def _camera(plotter, view: View):
-    cam = plotter.camera
-    cam.parallel_projection = True
-    cam.focal_point = tuple(view.focal)
-    cam.position = tuple(view.focal + view.direction * 10 * view.size)
-    cam.up = tuple(view.up)
-    cam.parallel_scale = view.parallel_scale
-    cam.clipping_range = (0.01 * view.size, 30 * view.size)
-
-
-def _spring_points(model, g: SpringGlyph, res_shape_of, scale: float, view: View):
-    def moved(p, body):
-        if body is None:
-            return p, 0.0
-        bm = model.bodies[body]
-        z = res_shape_of(body)
-        if z is None:
-            return p, 0.0
-        if bm.flexible:  # drawn with its own mesh
-            try:
-                d = (bm.motion_at(p) @ np.asarray(z, float))[:3]
-            except (ValueError, KeyError):  # glyph end is not an interface point
-                d = rigid_displacement(rigid_part(bm, z), bm.position, p[None, :])[0]
-        else:
-            d = rigid_displacement(rigid_part(bm, z), bm.position, p[None, :])[0]
-        return p + scale * d, float(np.linalg.norm(d))
-
-    a, da = moved(g.a, g.body_a)
-    b, db = moved(g.b, g.body_b)
-    L0 = float(np.linalg.norm(g.b - g.a))
-    d = b - a
-    lat = np.cross(d, view.direction)
-    if np.linalg.norm(lat) < 1e-12 * max(L0, 1e-30):
-        lat = view.up
-    lat = lat / np.linalg.norm(lat)
-    return zigzag(a, b, lat, 0.12 * L0 if g.kind != "mesh" else 0.09 * L0, coils=5), da, db
-
-
-#: zlib level of the PNG files: 3 writes in half the time of PIL's default 6, files ~15 % larger.
-PNG_COMPRESS_LEVEL = 3
-
-
-def save_png(pl, path) -> None:
-    """The plotter's current image as a PNG file (PNG_COMPRESS_LEVEL)."""
-    from PIL import Image
-    Image.fromarray(pl.screenshot(None, return_img=True)).save(str(path), format="PNG",
-                                                               compress_level=PNG_COMPRESS_LEVEL)
-
-
-def _kept_plotter(pv, window_size):
-    """An off-screen plotter whose ``close()`` clears it for the next image; ``release()``
-    closes it."""
-    class KeptPlotter(pv.Plotter):
-        def close(self, *args, **kwargs):
-            self.clear()
-
-        def release(self):
-            pv.Plotter.close(self)
-
-        def __del__(self):
-            if getattr(self, "_initialized", False) and not self._closed:
-                self.release()
-            super().__del__()
-
-    return KeptPlotter(off_screen=True, window_size=list(window_size))
-
-
 class AssemblyRenderer:
     """Renders mode shapes (and an overview) of one assembled model with a fixed camera.
 
@@ -705,7 +88,6 @@ class AssemblyRenderer:
     def __init__(self, model, window_size=WINDOW_SIZE):
         self.model = model
         self.window_size = tuple(int(v) for v in window_size)
-        from .shafts import shaft_segments
         self.shapes = body_shapes(model)
         self.glyphs = spring_glyphs(model, self.shapes)
         self.segments = shaft_segments(model)
@@ -727,7 +109,7 @@ class AssemblyRenderer:
         OpenGL context and shader compilation. Actors are added with rendering suppressed;
         :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
         if self._pl is None:
-            self._pl = _kept_plotter(load_pyvista(), self.window_size)
+            self._pl = kept_plotter(load_pyvista(), self.window_size)
             # FXAA is not supported with EGL; MSAA (4 samples) draws as smooth edges as SSAA here
             # in half the time (SSAA renders every image at twice the size)
             self._pl.enable_anti_aliasing("msaa", multi_samples=4)
@@ -783,7 +165,6 @@ class AssemblyRenderer:
 
     def _tubes(self, shape_of, scale):
         """Beam shaft tubes (pyvista) moved by ``scale`` x the mode ``shape_of`` (None: undeformed)."""
-        from .shafts import shaft_tube
         motion = None if shape_of is None else self._motion(shape_of)
         return [shaft_tube(sg, motion, scale) for sg in self.segments]
 
@@ -808,7 +189,7 @@ class AssemblyRenderer:
         """Scale bar, the camera (the assembly's unless ``view``), and the PNG written to ``path``."""
         view = view or self.view
         self._scale_bar(pl, view)
-        _camera(pl, view)
+        place_camera(pl, view)
         pl.suppress_rendering = False
         pl.render()
         save_png(pl, path)
@@ -819,7 +200,7 @@ class AssemblyRenderer:
         colors = {"bearing": BEARING_COLOR, "mesh": MESH_COLOR, "shaft": SHAFT_COLOR}
         ground_pts = []
         for g in self.glyphs:
-            pts, _, _ = _spring_points(self.model, g, shape_of, scale, view)
+            pts, _, _ = spring_points(self.model, g, shape_of, scale, view)
             pl.add_mesh(pv.lines_from_points(pts), color=colors.get(g.kind, BEARING_COLOR), line_width=4,
                         render_lines_as_tubes=True)
             if g.ground:
@@ -834,7 +215,6 @@ class AssemblyRenderer:
     # -- public ----------------------------------------------------------------------
     def _label_layout(self, groups: dict, view, font: int) -> dict:
         """Key -> (label text, x, y, side, box) in pixels of ``view`` (render_labels)."""
-        from .labels import pixel_box, place_labels
         right = np.cross(view.up, view.direction)
         ppm = self.window_size[1] / 2 / view.parallel_scale
         boxes, texts = {}, {}
@@ -856,7 +236,6 @@ class AssemblyRenderer:
 
     def overview_view(self, groups: dict, font: int = LABEL_FONT) -> View:
         """The assembly's view refitted with room for the stage labels' rows."""
-        from .labels import CHAR_WIDTH, ROW_HEIGHT
         v0 = self.view
         pts = [solid_surface(s, n_radial=1)[0] for s in self.shapes.values()] + [np.asarray(self._ends).reshape(-1, 3)]
         for text, x, y, side, _ in self._label_layout(groups, v0, font).values():
@@ -867,7 +246,7 @@ class AssemblyRenderer:
         side, across = wants_side_view(self.shapes)
         direction, up = view_axes(first.axes[:, 2], side, across)
         size = assembly_size(self.shapes)
-        return _fit(np.vstack(pts), direction, up, self.window_size, size, OVERVIEW_MARGIN * size)
+        return fit_view(np.vstack(pts), direction, up, self.window_size, size, OVERVIEW_MARGIN * size)
 
     def render_overview(self, path, title: str = "") -> Path:
         """Undeformed assembly (PNG): bodies coloured per stage with one label per stage (a
@@ -875,7 +254,6 @@ class AssemblyRenderer:
         beam shafts as cylinders of their diameter, springs, a length scale, and a note on
         bodies drawn smaller than their equivalent radius (a lumped rotor drawn as a hub).
         ``self.labels_drawn`` lists the label texts drawn."""
-        from .labels import CHAR_WIDTH, ROW_HEIGHT, stage_groups
         pv = load_pyvista()
         pl = self._plotter()
         try:
@@ -946,7 +324,6 @@ class AssemblyRenderer:
 
     def _twist(self, pl, result, mode: int, sign: float, view) -> str:
         """Twist arrows of ``mode`` (render_twist) added to ``pl``; returns their caption."""
-        from .twist import referred_angles, twist_arrows
         pv = load_pyvista()
         angles, ref = referred_angles(self.model, sign * result.abs_shapes[:, mode])
         if ref is not None and angles.get(ref, 0.0) < 0:   # the reference turns the positive way
@@ -1026,10 +403,6 @@ class AssemblyRenderer:
         finally:
             pl.close()
         return Path(path)
-
-
-#: Number format of the colour-bar labels and of the largest displacement in the caption.
-BAR_FMT = "%.3g"
 
 
 def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:

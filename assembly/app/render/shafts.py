@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .plotter import load_pyvista
+
 #: Points along each element's drawn centre line.
 CENTRELINE_POINTS = 9
 
@@ -76,7 +78,6 @@ def shaft_tube(seg: ShaftSegment, motion, scale: float = 0.0, n_sides: int = 24)
     """Tube (pyvista PolyData) of ``seg``: its centre line moved by ``scale`` x the Hermite
     displacement of the node motions ``motion(body, point)`` -> [u, theta] (None: undeformed),
     with point array ``"displacement_m"`` (unscaled magnitude, m)."""
-    from .renderer import load_pyvista
     pv = load_pyvista()
     zero = np.zeros(6)
     ma = zero if motion is None else motion(seg.body_a, seg.a)
