@@ -6,6 +6,7 @@ import time
 import numpy as np
 
 from .plotter import load_pyvista, save_png
+from .views import WINDOW_SIZE
 
 _SURF: dict = {}
 
@@ -20,8 +21,8 @@ def fe_surface(body, shape, scale: float):
     level 1), so curved faces follow the FE geometry and the quadratic displacement field.
     Every drawn point is an FE node (matched once by position), so the displacement is
     the nodal one, not an interpolation."""
-    import pyvista as pv
     from scipy.spatial import cKDTree
+    pv = load_pyvista()
     fe, _ = body.coupled()
     key = id(fe)
     if key not in _SURF:
@@ -69,7 +70,7 @@ class StressImages:
     for every image (a new plotter costs a new OpenGL context per image). Use as a
     context manager; :meth:`render` writes one PNG."""
 
-    def __init__(self, window_size=(1200, 900)):
+    def __init__(self, window_size=WINDOW_SIZE):
         self.window_size = list(window_size)
         self._pl = None
         self.timings: list = []            # seconds per image
