@@ -20,10 +20,10 @@ a half-written file and concurrent writers never mix their bytes.
 """
 from __future__ import annotations
 
+import errno
 import hashlib
 import io
 import json
-import errno
 import logging
 import os
 import tempfile

@@ -22,10 +22,9 @@ from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
+from .params import CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind, params_as_flat_dict
 from .part.file import PartFile, PartFileError
 from .part.read import part_geometry
-from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
-                     params_as_flat_dict)
 
 log = logging.getLogger(__name__)
 

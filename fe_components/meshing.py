@@ -33,11 +33,11 @@ gmsh is imported only when :func:`generate_mesh` meshes (through
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
 import logging
-import contextlib
 import os
 import tempfile
 import time
@@ -48,10 +48,11 @@ from pathlib import Path
 import numpy as np
 
 from .errors import GeometryError, MeshCacheError, MeshingError
-from .gmsh_session import gmsh_model
 from .geometry import build_solid, characteristic_length, interface_defs
+from .gmsh_session import gmsh_model
 from .params import PartFile, component_kind, params_as_flat_dict, params_digest
-from .part import cad as part_cad, mesh as part_mesh
+from .part import cad as part_cad
+from .part import mesh as part_mesh
 from .volume_mesh import mesh_volume
 
 log = logging.getLogger(__name__)

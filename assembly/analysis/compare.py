@@ -15,13 +15,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import arguments
-from ..model.body_table import body_properties, replaced, replaced_note
-from .classify import classify_modes, pair_modes
-from .modal import solve_modes
 from ..model.assemble import assemble
-from ..scene.tables import with_fidelity
-from .modal import modes_argument
-from ..scene.tables import scene_argument
+from ..model.body_table import body_properties, replaced, replaced_note
+from ..scene.tables import scene_argument, with_fidelity
+from .classify import classify_modes, pair_modes
+from .modal import modes_argument, solve_modes
 
 log = logging.getLogger(__name__)
 FIDELITIES = ("torsional", "rigid", "flexible")

@@ -25,11 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import arguments
-from ..mechanics.condensation import condense
 from ..errors import MechanismError, SceneError, SolverError
-from .load_cases import single_rigid_mode
+from ..mechanics.condensation import condense
 from ..model.probes import axial_rotation
 from ..scene.paths import body_origins
+from .load_cases import single_rigid_mode
 
 log = logging.getLogger(__name__)
 

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.probes import axial_rotation, load_point
 from ..mechanics.kinematics import block_rotation
 from ..mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
+from ..model.probes import axial_rotation, load_point
 from ..scene.tables import DOF_NAMES
 
 

@@ -22,10 +22,10 @@ import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
 from .. import arguments
-from . import resolution
 from ..errors import SceneError, SolverError
 from ..mechanics.nullity import rigid_body_count
 from ..model.assemble import model_argument
+from . import resolution
 
 log = logging.getLogger(__name__)
 

@@ -32,11 +32,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import arguments
-from ..model.constraints import constrained_dofs
 from ..mechanics.kinematics import block_rotation
-from .load_cases import applied_loads, speed_ratio
+from ..model.constraints import constrained_dofs
 from ..model.probes import load_point
 from ..scene.tables import DOF_NAMES, HOUSING
+from .load_cases import applied_loads, speed_ratio
 from .static import StaticResult
 
 _FORCE = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")

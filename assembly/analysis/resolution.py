@@ -150,7 +150,7 @@ def cause(model, n_zero: int, why: str) -> SceneError | None:
     """SceneError naming a body placed a hair off the axis of a body it is joined to, when
     that offset is what takes a rigid-body mode from the structure (a lever arm, not a
     magnitude: :func:`assembly.analysis.lever_arms.hair_error`), else None."""
-    from .lever_arms import hair_error   # it reads the scene paths defined here
+    from .lever_arms import hair_error  # it reads the scene paths defined here
     return hair_error(model, n_zero, why, scene_paths(model))
 
 

@@ -22,11 +22,12 @@ import scipy.sparse as sp
 
 from .. import arguments
 from ..errors import MechanismError, SceneError
+from ..mechanics.nullity import STRUCT_RTOL
+from ..model.assemble import model_of, source_scene
+from ..scene.tables import LoadCase
 from .load_cases import free_motions, held_directions, load_vector
 from .modal import DENSE_MAX
-from ..mechanics.nullity import STRUCT_RTOL
-from ..scene.tables import LoadCase
-from ..model.assemble import model_of, source_scene
+
 
 @dataclass(frozen=True)
 class StaticResult:

@@ -27,12 +27,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from .drivetrain import RANK_ONE_RTOL, TwoMass, chain_ends, own_rotation_column, two_mass_stiffness
 from ..errors import SolverError
 from ..mechanics.condensation import condense_along
 from ..model.assemble import assemble
 from ..model.damping import damping_matrix, has_damping
 from ..scene.tables import scene_argument, with_fidelity
+from .drivetrain import RANK_ONE_RTOL, TwoMass, chain_ends, own_rotation_column, two_mass_stiffness
 
 
 def two_mass_damping(model, tm) -> float:

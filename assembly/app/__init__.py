@@ -24,8 +24,8 @@ def run_report(scene, out, *, progress: bool = False, **options):
 
     from .. import arguments
     from ..scene.tables import Scene
-    from .report.pipeline import RunOptions, run_pipeline
     from .progress import Progress
+    from .report.pipeline import RunOptions, run_pipeline
 
     if not isinstance(scene, Scene):
         arguments.file_path("scene", scene)

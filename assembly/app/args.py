@@ -12,7 +12,6 @@ from contextlib import contextmanager
 
 from .errors import UsageError
 
-
 SCENE_HELP = "scene TOML file (or the name of a shipped example)"
 
 

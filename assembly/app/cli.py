@@ -16,8 +16,23 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from .args import (SCENE_HELP, Parser, add_campbell, add_export, add_frf, add_part, add_run, add_simulate,
-                   add_study, api_flags, at_least, check_options, parse_modes, scene_file, with_flags)
+from .args import (
+    SCENE_HELP,
+    Parser,
+    add_campbell,
+    add_export,
+    add_frf,
+    add_part,
+    add_run,
+    add_simulate,
+    add_study,
+    api_flags,
+    at_least,
+    check_options,
+    parse_modes,
+    scene_file,
+    with_flags,
+)
 from .errors import Terminated, UsageError, user_errors
 
 log = logging.getLogger("flexgear")
@@ -74,11 +89,11 @@ def cmd_compare(args) -> int:
 def cmd_static(args) -> int:
     """``flexgear static``: mesh forces, bearing reactions, shaft loads and checks of
     every load case of the scene."""
+    from ..analysis.reactions import static_report
+    from ..analysis.static import solve_static_cases
     from ..errors import SceneError
     from ..model.assemble import assemble
-    from ..analysis.reactions import static_report
     from ..scene.schema import load_scene
-    from ..analysis.static import solve_static_cases
     from .report.static_tables import static_json, static_text
 
     scene = load_scene(scene_file(args))
@@ -95,8 +110,8 @@ def cmd_static(args) -> int:
 
 def cmd_run(args) -> int:
     """``flexgear run``: the whole pipeline into ``--out``."""
-    from .report.pipeline import RunOptions, run_pipeline, skipped_text
     from .progress import Progress
+    from .report.pipeline import RunOptions, run_pipeline, skipped_text
 
     n, numbers = parse_modes(args.modes)
     opts = RunOptions(n_modes=RunOptions.n_modes if n is None else n, mode_numbers=numbers,

@@ -20,12 +20,13 @@ def user_errors() -> tuple:
     """Exception types the package raises on input it cannot use (scene, geometry, meshing,
     coupling, reduction and its cache, eigen solve, a singular matrix, output folder, command
     line): reported in one line with exit code 2, never a traceback."""
+    from numpy.linalg import LinAlgError
+
     from cms.errors import ReductionError
     from fe_components.errors import CouplingError, GeometryError, MeshCacheError, MeshingError
 
     from ..errors import MechanismError, SceneError, SolverError
     from .output import OutputDirError
-    from numpy.linalg import LinAlgError
     return (SceneError, MechanismError, SolverError, OutputDirError, GeometryError, MeshingError, MeshCacheError,
             CouplingError, ReductionError, UsageError, ModeSelectionError, LinAlgError)
 

@@ -29,8 +29,8 @@ import numpy as np
 from .. import arguments
 from ..analysis.classify import classify_modes
 from ..analysis.drivetrain import speed_ratios
-from ..errors import MechanismError, SceneError
 from ..analysis.modal import solve_modes
+from ..errors import MechanismError, SceneError
 from ..model.assemble import model_of, source_scene
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies

@@ -102,7 +102,7 @@ def _pair(s_all: np.ndarray, Y: np.ndarray):
     """One root per mode: among the roots of Im(s) >= 0 (a complex pair's upper member;
     both real roots of an overdamped mode), the one-to-one choice of largest total MAC
     ``|y_i|^2 / |y|^2``. Returns (s, MAC) per mode."""
-    from scipy.optimize import linear_sum_assignment     # only for a damped scene: startup time
+    from scipy.optimize import linear_sum_assignment  # only for a damped scene: startup time
     cand = np.flatnonzero(s_all.imag >= -1e-12 * np.abs(s_all).max(initial=1.0))
     P = np.abs(Y[:, cand]) ** 2
     P = P / np.maximum(P.sum(axis=0), 1e-300)

@@ -74,15 +74,14 @@ import numpy as np
 import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
+from ..analysis.modal import SMALL_DENSE, modes_argument
 from ..errors import SceneError, SolverError
-from ..analysis.modal import SMALL_DENSE
 from ..mechanics.nullity import rigid_body_count, rigid_body_modes
+from ..model.assemble import model_argument
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_on_q, needs_modes, section_factors, section_share
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
 from .modal_ratios import mode_ratios
-from ..analysis.modal import modes_argument
-from ..model.assemble import model_argument
 
 log = logging.getLogger(__name__)
 
@@ -148,7 +147,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     ``inf`` for every mode; ``residual=False`` drops the modes above it altogether (plain
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
-    from .. import arguments as check                # each argument's kind, one SceneError naming it
+    from .. import arguments as check  # each argument's kind, one SceneError naming it
     model_argument("model", model)
     check.text("input", input)
     outputs = check.names("outputs", outputs)

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.probes import spin_row, strain_rows
-from ..scene.tables import HOUSING
 from ..scene.paths import body_origins, element_paths, stage_mesh_side
+from ..scene.tables import HOUSING
 from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear
 

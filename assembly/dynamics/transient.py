@@ -33,7 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .budget import check_memory
-from .integrators import DENSE_INVERSE_MAX, Scheme, effective_matrix, Solver, check_step, newmark
+from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 
 log = logging.getLogger(__name__)
 

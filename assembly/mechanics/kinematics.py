@@ -5,7 +5,8 @@ import numpy as np
 
 # re-exported: a body's local axes (x_global = position + axis_frame(axis) @ x_local) are the
 # frame a user's part is read in from its file, one definition for both
-from fe_components.part.frame import axis_frame, unit_vector as unit  # noqa: F401
+from fe_components.part.frame import axis_frame  # noqa: F401
+from fe_components.part.frame import unit_vector as unit
 
 
 def skew(a) -> np.ndarray:

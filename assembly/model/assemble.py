@@ -19,17 +19,16 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import arguments
+from ..mechanics.elements import Element, gear_mesh, relative_spring
+from ..mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
 from ..scene.attach import bearing_point, component_masters, mesh_centers, shaft_points
+from ..scene.paths import body_origins
+from ..scene.tables import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft, scene_argument
 from .bodies import RigidBodyModel
 from .components import CacheDirs, mass_properties
 from .constraints import candidates, constrained_dofs, rigidify
-from ..mechanics.elements import Element, gear_mesh, relative_spring
 from .flexible import flexible_body
-from ..mechanics.kinematics import axis_frame, block_rotation, rigid_transfer
-from ..scene.tables import DOF_NAMES, HOUSING, FlexOptions, Scene, Shaft
 from .shaft_elements import beam_elements
-from ..scene.paths import body_origins
-from ..scene.tables import scene_argument
 
 log = logging.getLogger(__name__)
 

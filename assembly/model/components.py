@@ -22,7 +22,6 @@ import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
-
 from ..scene.attach import placement
 from ..scene.tables import FlexOptions
 

@@ -28,12 +28,12 @@ import scipy.sparse as sp
 
 from cms.errors import CacheError, ModeLimitError
 
-from ..scene.attach import placement
-from .components import CacheDirs, build_fe, mesh_entry, mesh_size
-from ..scene.cutoffs import cutoff_for, cutoff_source
 from ..errors import SceneError, SolverError
 from ..mechanics.kinematics import block_rotation, rigid_transfer
+from ..scene.attach import placement
+from ..scene.cutoffs import cutoff_for, cutoff_source
 from ..scene.tables import MAX_MODES, FlexOptions
+from .components import CacheDirs, build_fe, mesh_entry, mesh_size
 
 log = logging.getLogger(__name__)
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import dataclasses
 
 from ..mechanics.beam import section, timoshenko_element
-from ..scene.tables import Shaft
 from ..scene.shafts import beam_nodes
+from ..scene.tables import Shaft
 
 
 def beam_elements(s: Shaft, i: int, by_name: dict, masters: dict, name: str) -> list:

@@ -24,8 +24,7 @@ from typing import Any, get_args, get_origin
 from .. import arguments
 from ..errors import SceneError
 from .schema import field_types, join_path, scene_from_dict, to_dict
-from .tables import Scene
-from .tables import scene_argument
+from .tables import Scene, scene_argument
 
 _STEP = re.compile(r"\s*(?:([^.\[\]\s]+)|\[\s*(-?\d+)\s*\]|\[\s*'([^']*)'\s*\]|\[\s*\"([^\"]*)\"\s*\])\s*")
 

@@ -40,9 +40,18 @@ import math
 
 from fe_components.errors import GeometryError
 from fe_components.gear_blank import blank_mass_properties
-from fe_components.gear_pair import (base_helix_angle, base_radius, pair_geometry, pair_mismatch,
-                                     shift_sum_for_centre_distance, tip_alteration, tip_thickness,
-                                     transverse_contact_ratio, working_centre_distance, working_pressure_angle)
+from fe_components.gear_pair import (
+    base_helix_angle,
+    base_radius,
+    pair_geometry,
+    pair_mismatch,
+    shift_sum_for_centre_distance,
+    tip_alteration,
+    tip_thickness,
+    transverse_contact_ratio,
+    working_centre_distance,
+    working_pressure_angle,
+)
 from fe_components.mesh_stiffness import mesh_stiffness
 from fe_components.params import PinionParams, WheelParams, check_face_per_module
 

@@ -57,7 +57,7 @@ def filled(v: MeshVariation, path: str, teeth: int | None, contact_ratio: float 
 def stage_variations(st, path: str, psi: float) -> tuple:
     """(sun-planet, planet-ring) variations of the planet at angle ``psi`` (rad) of stage
     ``st`` (None where the stage gives none): counted on the sun's / ring's teeth."""
-    from .gears import stage_contact_ratios      # gear_data reads this module's mesh_variation
+    from .gears import stage_contact_ratios  # gear_data reads this module's mesh_variation
     with_teeth = st.normal_module is not None
     ratios = stage_contact_ratios(st) if with_teeth and (st.variation_sun or st.variation_ring) else (None, None)
     eps_b = overlap_ratio(st.face_width, st.helix_angle, st.normal_module) if with_teeth else None

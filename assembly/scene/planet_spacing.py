@@ -18,8 +18,8 @@ import numpy as np
 
 from ..errors import SceneError
 from .gears import RING_CENTRE_TOLERANCE
-from .tables import PlanetaryStage
 from .schema import as_written
+from .tables import PlanetaryStage
 
 #: Largest part of a circular pitch by which a planet's given angle may miss the assembly
 #: condition: a residual of eps pitches displaces the tooth pattern the planet must meet by

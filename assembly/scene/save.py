@@ -16,9 +16,8 @@ from pathlib import Path
 
 from .. import arguments
 from ..atomic_file import write_text_atomic
-from .tables import Scene
 from .schema import to_dict
-from .tables import scene_argument
+from .tables import Scene, scene_argument
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 

@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
 import numpy as np
+
 from fe_components.errors import GeometryError
 from fe_components.fields import value_problem
 from fe_components.params import COMPONENT_KINDS, MAX_PLANETS, CarrierParams

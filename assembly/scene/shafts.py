@@ -17,10 +17,10 @@ import numpy as np
 
 from fe_components.sizes import SHAFT_DIAMETER, SLENDERNESS, unit_hint
 
-from .attach import global_masters, interface_point
-from ..mechanics.beam import node_mass, section
 from ..errors import SceneError
+from ..mechanics.beam import node_mass, section
 from ..mechanics.kinematics import unit
+from .attach import global_masters, interface_point
 from .tables import HOUSING, Body, Shaft
 
 #: Largest angle (rad) between a beam shaft's axis and body1's axis that counts as parallel.

@@ -16,9 +16,8 @@ import math
 from .. import arguments
 from ..errors import SceneError
 from .schema import convert
-from .tables import SPLIT_STIFFNESSES, BearingSpec, Scene
+from .tables import SPLIT_STIFFNESSES, BearingSpec, Scene, scene_argument
 from .validate import check_bearing
-from .tables import scene_argument
 
 ROLES = ("sun", "ring", "carrier")
 

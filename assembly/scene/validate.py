@@ -19,23 +19,36 @@ import math
 
 import numpy as np
 
-from fe_components.geometry import volume_lower_bound
 from fe_components.errors import GeometryError
+from fe_components.geometry import volume_lower_bound
 from fe_components.params import CarrierParams, component_kind
 from fe_components.part.file import PartFile
 
+from ..errors import SceneError
+from ..mechanics.kinematics import unit
 from .attach import bearing_point, component_masters, mesh_centers, shaft_points
 from .body_names import body_references, scene_body_names, unknown_body_reason
-from ..errors import SceneError
-from .paths import body_origins, element_paths
 from .cutoffs import CB_CUTOFF_FACTOR, cutoff_source, weyl_mode_count
-from ..mechanics.kinematics import unit
+from .paths import body_origins, element_paths
 from .planet_spacing import check_planet_assembly, check_planet_spacing
-from .sizes import positions_plausible
-from .tables import (MAX_MODES, MODE_CLASSES, HOUSING, DOF_NAMES, SPLIT_DAMPINGS, SPLIT_STIFFNESSES, Bearing, Body,
-                    FlexOptions, Fixed, GearMesh, PlanetaryStage, Shaft)
 from .schema import as_written, check_instance
 from .shafts import check_along_axis, check_slenderness, shaft_ends, shaft_line, station_body
+from .sizes import positions_plausible
+from .tables import (
+    DOF_NAMES,
+    HOUSING,
+    MAX_MODES,
+    MODE_CLASSES,
+    SPLIT_DAMPINGS,
+    SPLIT_STIFFNESSES,
+    Bearing,
+    Body,
+    Fixed,
+    FlexOptions,
+    GearMesh,
+    PlanetaryStage,
+    Shaft,
+)
 from .validate_loads import check_load
 
 

@@ -9,8 +9,8 @@ springs.
 """
 from __future__ import annotations
 
-from .attach import interface_point
 from ..errors import SceneError
+from .attach import interface_point
 from .tables import DOF_NAMES, HOUSING, LoadCase
 
 _TORQUE_FIELDS = ("input", "output", "torque")

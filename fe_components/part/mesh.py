@@ -28,12 +28,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gmsh_session import gmsh_model
-from .nastran import NastranError, read_bulk
-from .cells import (MIRROR, OTHER_VOLUME_TYPES, SOLID_TYPES, TET_EDGES, CellCount, ReadSummary, boundary_faces,
-                         dropped_cells, lift_to_p2, med_groups, tet_volumes)
+from .cells import (
+    MIRROR,
+    OTHER_VOLUME_TYPES,
+    SOLID_TYPES,
+    TET_EDGES,
+    CellCount,
+    ReadSummary,
+    boundary_faces,
+    dropped_cells,
+    lift_to_p2,
+    med_groups,
+    tet_volumes,
+)
 from .file import UNITS, PartFile, PartFileError
 from .frame import PartFrame
 from .geometry import Faces, PartGeometry, check_size, in_frame, resolve_interfaces
+from .nastran import NastranError, read_bulk
 
 log = logging.getLogger(__name__)
 

@@ -22,11 +22,22 @@ import math
 import numpy as np
 import pytest
 
-from assembly import (Bearing, Body, Fixed, GearMesh, MechanismError, Scene, SceneError, Shaft,
-                      assemble, solve_modes, with_fidelity)
-from assembly.mechanics.condensation import condense
+from assembly import (
+    Bearing,
+    Body,
+    Fixed,
+    GearMesh,
+    MechanismError,
+    Scene,
+    SceneError,
+    Shaft,
+    assemble,
+    solve_modes,
+    with_fidelity,
+)
 from assembly.analysis.drivetrain import chain_ends, speed_ratios, two_mass_frequencies
 from assembly.analysis.two_mass import two_mass
+from assembly.mechanics.condensation import condense
 from assembly.scene.schema import load_scene
 
 INF = math.inf

@@ -17,8 +17,8 @@ import math
 import pytest
 
 from assembly import Bearing, Body, Scene, Shaft
-from assembly.app.export.elastodyn import fragment_text
 from assembly.analysis.two_mass import two_mass
+from assembly.app.export.elastodyn import fragment_text
 from assembly.scene.tables import Damping
 from tests.analysis.test_drivetrain import K1, K2, KM, chain
 
@@ -77,6 +77,7 @@ def test_bearing_dampers_without_torsion_give_no_dttordmp():
     # resists the torsional twist, so the two-mass damper is exactly zero (the torsional
     # model sees them only as round-off of the bearing frames), not a damper to the housing.
     from pathlib import Path
+
     from assembly.scene.schema import load_scene
     scene = load_scene(Path(__file__).resolve().parents[2] / "assembly" / "scenes" / "nrel5mw.toml")
     assert all(b.c_radial_x for b in scene.bearings)

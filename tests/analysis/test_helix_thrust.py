@@ -32,8 +32,8 @@ import math
 import pytest
 
 from assembly.analysis.reactions import static_report
-from assembly.scene.schema import scene_from_dict
 from assembly.analysis.static import solve_static
+from assembly.scene.schema import scene_from_dict
 
 M_N, ALPHA_N, BETA, WIDTH = 0.004, 20.0, 15.0, 0.04      # m, deg, deg, m
 T = 200.0                                                  # N m, into gear 1

@@ -12,12 +12,12 @@ import pytest
 import scipy.sparse as sp
 
 from assembly import Bearing, Body, Scene, Shaft, assemble, classify_modes, load_scene, solve_modes
-from assembly.app.report.tables import modes_table
-from assembly.errors import SceneError
 from assembly.analysis.locality import GLOBAL, LOCAL_SHARE, energy_table, group_shares, rayleigh_error, total_share
 from assembly.analysis.modal import solve_modes as _solve
-from assembly.scene.tables import BearingSpec
+from assembly.app.report.tables import modes_table
+from assembly.errors import SceneError
 from assembly.scene.stage_alone import stage_alone
+from assembly.scene.tables import BearingSpec
 
 
 @pytest.fixture(scope="module")

@@ -18,15 +18,14 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.scene.attach import component_masters
-from assembly.scene.attach import global_masters
-from assembly.model.components import CacheDirs, mass_properties
-from assembly.errors import SceneError
 from assembly.analysis.drivetrain import speed_ratios, two_mass_frequencies
 from assembly.analysis.two_mass import two_mass
-from assembly.scene.tables import BearingSpec, derive, with_fidelity
+from assembly.errors import SceneError
+from assembly.model.components import CacheDirs, mass_properties
+from assembly.scene.attach import component_masters, global_masters
 from assembly.scene.shafts import shaft_line
 from assembly.scene.stage_alone import stage_alone
+from assembly.scene.tables import BearingSpec, derive, with_fidelity
 from fe_components.material import STEEL
 
 Z = dict(s1=19, p1=17, r1=56, s2=18, p2=36, r2=93, wheel=95, pinion=24)   # Nejad et al. Table V

@@ -12,7 +12,6 @@ import pytest
 from assembly import Bearing, Body, LoadCase, Scene, Shaft
 from assembly.analysis.reactions import equilibrium, static_report
 from assembly.analysis.static import solve_static
-
 from tests.analysis.test_static_forces import pair
 
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, GearMesh, LoadCase, Scene, load_scene, with_fidelity
-from assembly.errors import MechanismError, SceneError
 from assembly.analysis.reactions import static_report
 from assembly.analysis.static import solve_static, solve_static_cases
+from assembly.errors import MechanismError, SceneError
 
 R_B, ALPHA = 0.05, math.radians(20.0)   # Peeters et al. (2006) test pair: r_b 50 mm, 20 deg
 T = 100.0                               # N m

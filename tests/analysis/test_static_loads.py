@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, FlexOptions, LoadCase, PointLoad, Scene, Support, load_scene
+from assembly.analysis.reactions import static_report
+from assembly.analysis.static import solve_static, solve_static_cases
 from assembly.errors import MechanismError, SceneError
 from assembly.mechanics.kinematics import unit
-from assembly.analysis.reactions import static_report
-from assembly.scene.schema import scene_from_dict, shipped_scenes
 from assembly.scene.save import scene_to_toml
-from assembly.analysis.static import solve_static, solve_static_cases
+from assembly.scene.schema import scene_from_dict, shipped_scenes
 from fe_components.material import STEEL
 from fe_components.params import CylinderParams
 

@@ -38,8 +38,8 @@ def test_bench_drivetrain_prints_sizes_times_and_the_in_band_error(tmp_path):
 
     import numpy as np
 
-    from assembly.app.bench.drivetrain import main
     from assembly.analysis.modal import solve_modes
+    from assembly.app.bench.drivetrain import main
     from assembly.model.assemble import assemble
     from assembly.scene.schema import load_scene
     from tests.support.shaft_scene import shaft_scene

@@ -18,7 +18,6 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.scene.schema import SCENE_DIR
-
 from tests.support.variants import write_variant
 
 ALPHA_N = math.radians(20.0)   # normal pressure angle of every NREL gear (Nejad et al. 2016, Table V)

@@ -9,8 +9,8 @@ import re
 import pytest
 
 from assembly import save_scene
-from assembly.app.cli import main
 from assembly.analysis.two_mass import two_mass
+from assembly.app.cli import main
 from tests.analysis.test_drivetrain import chain
 
 # ElastoDyn's value line: value, name, "- description (unit)" (OpenFAST ElastoDyn input files)

@@ -13,7 +13,7 @@ import math
 import pytest
 
 from assembly.app.cli import main
-from tests.app.test_frf_cli import C, J1, J2, K, SCENE
+from tests.app.test_frf_cli import J1, J2, SCENE, C, K
 
 F_N = math.sqrt(K * (J1 + J2) / (J1 * J2)) / (2 * math.pi)
 

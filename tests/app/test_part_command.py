@@ -19,9 +19,9 @@ import meshio
 import numpy as np
 import pytest
 
+from assembly.analysis.part_check import check_body_part, check_part
 from assembly.app.cli import main
 from assembly.errors import SceneError
-from assembly.analysis.part_check import check_body_part, check_part
 from assembly.scene.schema import load_scene
 from assembly.scene.tables import FlexOptions
 from fe_components.gmsh_session import gmsh_model

@@ -11,9 +11,9 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 import pytest
 
-from assembly.app.report.html import local_references, missing_references
 from assembly.app.cli import build_parser
 from assembly.app.output import MANIFEST, OutputDirError
+from assembly.app.report.html import local_references, missing_references
 from assembly.app.report.pipeline import RunOptions, run_pipeline
 
 SCENE = "lin_parker_n4.toml"

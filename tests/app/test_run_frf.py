@@ -7,8 +7,8 @@ import tomllib
 import numpy as np
 import pytest
 
-from assembly.app import run_report
 from assembly.analysis.load_cases import single_rigid_mode
+from assembly.app import run_report
 from assembly.model.probes import axial_rotation
 from assembly.scene.schema import scene_from_dict
 from tests.support.campbell_scene import campbell_scene

@@ -168,7 +168,6 @@ PARTIAL_FILES = ["flexgear_run.json", "index.html", "partial_simulation.h5", "sp
 
 def _stop_after_10(monkeypatch, calls=None):
     import assembly.dynamics.simulate as sim_mod
-
     from tests.support.tiny_runs import stop_after
     monkeypatch.setattr(sim_mod, "integrate", stop_after(10, calls))
 

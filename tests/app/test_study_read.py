@@ -19,8 +19,8 @@ import time
 import tracemalloc
 from pathlib import Path
 
-import pyarrow.parquet as pq
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 
 from assembly.app.cli import main
@@ -280,6 +280,7 @@ def test_a_nan_result_is_a_failed_row_and_no_file_holds_a_nan(pair, capsys, monk
     # one, so one is planted: the FRF's response replaced by NaN): such a row fails, whatever
     # computed it, and no file holds a NaN
     import dataclasses
+
     import assembly.dynamics.frf as frf
     real = frf.frequency_response
 

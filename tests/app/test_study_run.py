@@ -7,9 +7,9 @@ import pickle
 
 import numpy as np
 
+from assembly.analysis.modal import solve_modes
 from assembly.app.study.run import run_variant
 from assembly.app.study.spec import variants
-from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 

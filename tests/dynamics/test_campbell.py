@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, assemble
+from assembly.analysis.modal import solve_modes
 from assembly.dynamics.campbell import campbell, check_speed_range, line_crossings
 from assembly.dynamics.gyroscopic import gyroscopic_matrix, whirl_frequencies
 from assembly.dynamics.phasing import equally_spaced, excited_class
-from assembly.analysis.modal import solve_modes
 from assembly.scene.schema import load_scene
 from tests.support.campbell_scene import campbell_scene
 

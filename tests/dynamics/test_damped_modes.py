@@ -21,8 +21,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble, solve_modes
 from assembly.dynamics.damped_modes import damped_modes
-from assembly.model.damping import has_damping
-from assembly.model.damping import damping_matrix
+from assembly.model.damping import damping_matrix, has_damping
 from assembly.scene.tables import Damping, GearMesh
 
 INF = math.inf
@@ -178,8 +177,8 @@ DAMPED = {"stages[0].c_mesh_sun": 1.0e3, "stages[0].c_mesh_ring": 2.0e3,
 def test_damping_fields_round_trip_through_toml():
     import tomllib
 
-    from assembly.scene.schema import load_scene, scene_from_dict
     from assembly.scene.save import scene_to_toml
+    from assembly.scene.schema import load_scene, scene_from_dict
     scene = load_scene("nrel5mw.toml").with_values(DAMPED)
     back = scene_from_dict(tomllib.loads(scene_to_toml(scene)))
     assert back == scene

@@ -25,10 +25,10 @@ import numpy as np
 import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble
-from assembly.dynamics.frf import frequency_response
 from assembly.analysis.modal import solve_modes
-from assembly.scene.tables import Damping
+from assembly.dynamics.frf import frequency_response
 from assembly.scene.schema import load_scene
+from assembly.scene.tables import Damping
 
 INF = math.inf
 J1, J2, K, C = 2.0, 3.0, 1.0e4, 30.0         # kg m^2, kg m^2, N m/rad, N m s/rad

@@ -29,13 +29,14 @@ import warnings
 import numpy as np
 import pytest
 import scipy.linalg as sla
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from assembly import Bearing, Body, Scene, SceneError, Shaft, assemble
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.frf_channels import input_channel, output_channels, output_rows
-from assembly.scene.tables import Damping
 from assembly.scene.schema import load_scene
+from assembly.scene.tables import Damping
 from tests.support.fuzz import examples
 
 INF = math.inf
@@ -274,8 +275,8 @@ def test_undamped_modes_named_in_a_planetary_stage_are_those_no_damper_moves():
     # undamped modes and the damping matrix, and no others, wherever the band starts.
     scene = load_scene("lin_parker_n4").with_values({"stages[0].ring.bearing.c_torsion": 50.0})
     model = assemble(scene)
-    from assembly.model.damping import damping_matrix
     from assembly.analysis.modal import solve_modes
+    from assembly.model.damping import damping_matrix
     res = solve_modes(model)
     C = damping_matrix(model).toarray()
     fr = res.frequencies_hz

@@ -20,9 +20,9 @@ import pytest
 
 from assembly import assemble
 from assembly.analysis.classify import classify_modes
+from assembly.analysis.modal import solve_modes
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.phasing import excited_class
-from assembly.analysis.modal import solve_modes
 from assembly.scene.schema import load_scene
 
 N, Z_SUN = 5, 23                        # planets; sun teeth (any Z_s: only h Z_s mod N matters)

@@ -24,8 +24,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
-from assembly.dynamics.frf import frequency_response
 from assembly.analysis.modal import solve_modes
+from assembly.dynamics.frf import frequency_response
 from assembly.scene.tables import Damping
 
 INF = math.inf

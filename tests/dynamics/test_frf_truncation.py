@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from assembly import SceneError, assemble
-from assembly.dynamics.frf import frequency_response
 from assembly.analysis.modal import solve_modes
+from assembly.dynamics.frf import frequency_response
 from assembly.scene.schema import load_scene
 
 FMAX = 50.0                                                             # Hz

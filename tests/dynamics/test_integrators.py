@@ -21,8 +21,7 @@ import pytest
 import scipy.linalg as sla
 
 from assembly import SceneError
-from assembly.dynamics.integrators import (amplification, generalized_alpha, hht, integrate_linear,
-                                           newmark)
+from assembly.dynamics.integrators import amplification, generalized_alpha, hht, integrate_linear, newmark
 
 
 @pytest.mark.parametrize("W", [0.01, 0.1, 0.5, 1.0, 2.0, 5.0])

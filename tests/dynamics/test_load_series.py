@@ -21,8 +21,18 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.load_series import (Series, brake_torque, constant, efficiency_factor, file_history,
-                                           make_series, ramp, range_warning, read_csv, read_openfast_out)
+from assembly.dynamics.load_series import (
+    Series,
+    brake_torque,
+    constant,
+    efficiency_factor,
+    file_history,
+    make_series,
+    ramp,
+    range_warning,
+    read_csv,
+    read_openfast_out,
+)
 from assembly.errors import SceneError
 from tests.support.openfast_files import out_text
 

@@ -18,7 +18,6 @@ from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Diverged, Nonlinear, integrate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
-
 from tests.support.fuzz import examples
 from tests.support.gear_pair_scene import gear_pair
 

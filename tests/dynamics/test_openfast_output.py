@@ -21,8 +21,8 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.openfast_output import parse_unit, read_output
 from assembly.dynamics.load_series import read_openfast_out
+from assembly.dynamics.openfast_output import parse_unit, read_output
 from assembly.errors import SceneError
 from tests.support.openfast_files import DATA, FAST7_HEADER, OPENFAST_HEADER, out_text, outb_bytes, pack_scales
 

@@ -30,13 +30,13 @@ import pytest
 
 from assembly import Bearing, Body, Scene, Shaft, assemble
 from assembly.dynamics.damping import damping_on_q, every_mode, section_share
-from assembly.model.damping import damping_matrix
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.run_model import scheme_of
 from assembly.dynamics.simulate import simulate
+from assembly.model.damping import damping_matrix
+from assembly.scene.schema import load_scene
 from assembly.scene.tables import Damping
 from assembly.scene.time_domain import Simulation, TimeLoad
-from assembly.scene.schema import load_scene
 
 INF = math.inf
 J_R, J_G, K_S = 38_759_236.0, 534.116 * 97 ** 2, 8.67637e8      # kg m^2, kg m^2, N m/rad [Jonkman 2009]

@@ -26,13 +26,13 @@ from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
-from assembly.model.damping import damping_matrix
 from assembly.dynamics.integrators import generalized_alpha, hht, integrate_linear, newmark
 from assembly.dynamics.mesh_contact import Meshes
 from assembly.dynamics.mesh_variation import factor
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Nonlinear, integrate
 from assembly.model.assemble import assemble
+from assembly.model.damping import damping_matrix
 from assembly.scene.schema import scene_from_dict
 from tests.support.gear_pair_scene import gear_pair
 

@@ -14,7 +14,6 @@ import fe_components.meshing as meshing
 from fe_components.errors import MeshCacheError, MeshingError
 from fe_components.meshing import cached_mesh, mesh_content_hash, mesh_path, read_mesh
 from fe_components.reference import CASES, REF_DIR
-
 from tests.support.corruption import CORRUPTIONS, corrupt
 from tests.support.fuzz import examples
 

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from assembly.model.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
+from assembly.model.components import CacheDirs, mass_properties
 from assembly.scene.schema import SCENE_DIR, from_dict
 from assembly.scene.tables import Body, FlexOptions
 from cms.eigen import free_free_shift, lowest_modes

@@ -18,18 +18,31 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assembly import (LoadCase, SceneError, assemble, classify_modes, compare, load_scene, pair_modes, save_scene,
-                      scale_bearings, scene_from_dict, scene_to_toml, solve_modes, track_modes, with_fidelity)
-from assembly.scene.stage_alone import stage_alone
-from assembly.app import run_report
+from assembly import (
+    LoadCase,
+    SceneError,
+    assemble,
+    classify_modes,
+    compare,
+    load_scene,
+    pair_modes,
+    save_scene,
+    scale_bearings,
+    scene_from_dict,
+    scene_to_toml,
+    solve_modes,
+    track_modes,
+    with_fidelity,
+)
+from assembly.analysis.reactions import static_report
+from assembly.analysis.static import solve_static, solve_static_cases
 from assembly.analysis.two_mass import two_mass
+from assembly.app import run_report
 from assembly.dynamics.campbell import campbell
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.simulate import simulate
 from assembly.scene.edit import get_value, with_value, with_values
-from assembly.analysis.reactions import static_report
-from assembly.analysis.static import solve_static, solve_static_cases
-
+from assembly.scene.stage_alone import stage_alone
 from tests.support.gear_pair_scene import gear_pair
 
 NAN = math.nan

@@ -32,7 +32,6 @@ from cms.errors import CacheError
 from fe_components.errors import MeshingError
 from fe_components.meshing import MeshOptions, ensure_mesh, mesh_path
 from fe_components.params import CylinderParams
-
 from tests.support.corruption import corrupt, sweep
 from tests.support.shaft_scene import shaft_scene
 

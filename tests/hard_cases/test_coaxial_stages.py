@@ -24,13 +24,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from assembly.app.cli import main
 from assembly.analysis.compare import compare
+from assembly.app.cli import main
 from assembly.errors import SceneError
 from assembly.scene.save import toml_text
 from assembly.scene.schema import SCENE_DIR, scene_from_dict, to_dict
 from assembly.scene.shafts import AXIS_TOLERANCE
-
 from tests.support.fuzz import examples
 
 #: Steel density (kg/m^3).

@@ -18,9 +18,22 @@ import typing
 import pytest
 
 from assembly.errors import SceneError
-from assembly.scene.tables import (MAX_MODES, MAX_NAME_LENGTH, Bearing, BearingSpec, Body, FlexOptions, GearMesh,
-                            LoadCase, Member, PlanetaryStage, Planets, Scene, Shaft)
 from assembly.scene.schema import SCENE_DIR, component_from_table, scene_from_dict
+from assembly.scene.tables import (
+    MAX_MODES,
+    MAX_NAME_LENGTH,
+    Bearing,
+    BearingSpec,
+    Body,
+    FlexOptions,
+    GearMesh,
+    LoadCase,
+    Member,
+    PlanetaryStage,
+    Planets,
+    Scene,
+    Shaft,
+)
 from fe_components.errors import GeometryError
 from fe_components.material import Material
 from fe_components.params import COMPONENT_KINDS, CarrierParams, GearTeeth, ShaftSegment
@@ -418,8 +431,9 @@ def test_python_api_lists_are_accepted():
 
 
 def test_huge_axis_refused_and_unit_vector_safe():
-    from assembly.mechanics.kinematics import unit
     import numpy as np
+
+    from assembly.mechanics.kinematics import unit
     # 1e200 squared overflows: the norm of the raw vector would be inf
     np.testing.assert_allclose(unit([1e200, 0.0, 1e200]), [2 ** -0.5, 0.0, 2 ** -0.5], rtol=1e-15)
     np.testing.assert_allclose(unit([1e-200, 0.0, 0.0]), [1.0, 0.0, 0.0], rtol=1e-15)

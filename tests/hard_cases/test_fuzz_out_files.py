@@ -27,8 +27,8 @@ from pathlib import Path
 
 import pytest
 
-from assembly.app.export import superelement as export_superelement
 from assembly.app.cli import main
+from assembly.app.export import superelement as export_superelement
 from assembly.app.output import MANIFEST, OutputDirError
 from tests.app.test_simulate_cli import pair_file
 from tests.support.fuzz import examples
@@ -106,8 +106,8 @@ def results(tmp_path_factory):
 
 def _api(command: str, out: Path, results: dict, body) -> None:
     """What the command writes, through the Python API."""
-    from assembly.app.report.campbell import campbell_to_dir
     from assembly.app.export.elastodyn import write_fragment
+    from assembly.app.report.campbell import campbell_to_dir
     from assembly.app.report.frf import frf_to_dir
     from assembly.app.report.simulate import sim_to_dir
 

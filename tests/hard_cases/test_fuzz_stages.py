@@ -18,12 +18,11 @@ import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from assembly.scene.edit import get_value
-from assembly.errors import SceneError
 from assembly.analysis.modal import solve_modes
+from assembly.errors import SceneError
 from assembly.model.assemble import assemble
+from assembly.scene.edit import get_value
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
-
 from tests.support.fuzz import examples
 
 STEEL = 7850.0   # kg/m^3

@@ -16,8 +16,8 @@ from assembly.app.study.engine import run_study
 from assembly.app.study.file import read_study
 from assembly.app.study.out import write_table
 from assembly.app.study.spec import scene_paths
-from assembly.scene.edit import value_kind
 from assembly.errors import SceneError
+from assembly.scene.edit import value_kind
 from assembly.scene.schema import load_scene
 from tests.support.fuzz import at, examples
 

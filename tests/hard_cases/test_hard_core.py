@@ -1,15 +1,26 @@
 """Hard cases for the multibody solver: near-rigid connections, free-free
 assemblies, repeated eigenvalues, extreme scale. Targets are physics limits, not tables."""
 import dataclasses
-from hypothesis import given, settings
-from hypothesis import strategies as st
 import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from assembly import (Bearing, Body, GearMesh, Scene, Shaft, assemble, classify_modes, load_scene,
-                      scale_bearings, solve_modes, with_fidelity)
+from assembly import (
+    Bearing,
+    Body,
+    GearMesh,
+    Scene,
+    Shaft,
+    assemble,
+    classify_modes,
+    load_scene,
+    scale_bearings,
+    solve_modes,
+    with_fidelity,
+)
 
 
 @pytest.mark.parametrize("factor", [1e9, 1e12])

@@ -48,6 +48,7 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     # f_t = sqrt(G/rho) / 2L with G = E / 2(1 + nu), f_a = sqrt(E/rho) / 2L (Love's lateral
     # inertia correction ~ (nu pi r / L)^2 / 2 = 0.3 % here, inside the 1 % target).
     import math
+
     from assembly.model.components import check_locking
     from cms.eigen import free_free_shift, lowest_modes
     from fe_components.fe_model import build_component
@@ -96,8 +97,8 @@ def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path)
     # a 20 kHz cutoff on the test pinion (first fixed-interface mode near 15 kHz, several
     # below 20 kHz), the run ends in a SceneError naming the field that set the cutoff.
     import assembly.model.flexible as fl
-    from assembly.model.components import CacheDirs
     from assembly.errors import SceneError
+    from assembly.model.components import CacheDirs
     monkeypatch.setattr(fl, "MAX_MODES", 3)
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]
@@ -112,8 +113,8 @@ def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path)
 def test_more_modes_than_the_mesh_has_names_the_body(tmp_path):
     # n_modes within MAX_MODES passes validation but may exceed a coarse mesh's interior
     # DOFs, known only after meshing: refused naming the body's table, not a bare n_modes.
-    from assembly.model.components import CacheDirs
     from assembly.errors import SceneError
+    from assembly.model.components import CacheDirs
     from assembly.model.flexible import flexible_body
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]

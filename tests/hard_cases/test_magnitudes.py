@@ -23,14 +23,13 @@ import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
-import assembly.model.constraints as ac
 import assembly.analysis.modal as am
+import assembly.model.constraints as ac
 from assembly import assemble, solve_modes
-from assembly.errors import SceneError
 from assembly.analysis.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
+from assembly.errors import SceneError
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from assembly.scene.tables import DEFAULT_BAND_HZ, DOF_NAMES, derive
-
 from tests.support.fuzz import examples
 
 ROOT = Path(__file__).resolve().parents[2]

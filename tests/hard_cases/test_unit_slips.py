@@ -28,7 +28,6 @@ from assembly.app.cli import main
 from assembly.errors import SceneError
 from assembly.scene.save import toml_text
 from assembly.scene.schema import SCENE_DIR, load_scene, scene_from_dict, shipped_scenes
-
 from tests.support.fuzz import examples
 
 #: Scenes whose part files are read relative to their folder are loaded from it; the

@@ -8,14 +8,14 @@ import tomllib
 import numpy as np
 import pytest
 
-from assembly.mechanics.beam import cowper_kappa, section, timoshenko_element
 from assembly.analysis.energy import element_strain_energy, kinetic_by_element, kinetic_energy_by_body
-from assembly.errors import SceneError
 from assembly.analysis.modal import solve_modes
+from assembly.errors import SceneError
+from assembly.mechanics.beam import cowper_kappa, section, timoshenko_element
 from assembly.model.assemble import assemble
-from assembly.scene.tables import Bearing, Body, Fixed, Scene, Shaft, Station, with_fidelity
 from assembly.scene.save import scene_to_toml
 from assembly.scene.schema import scene_from_dict
+from assembly.scene.tables import Bearing, Body, Fixed, Scene, Shaft, Station, with_fidelity
 from fe_components.material import STEEL, Material
 
 E, NU, RHO = STEEL.E, STEEL.nu, STEEL.rho

@@ -8,8 +8,8 @@ import pytest
 from assembly.mechanics.elements import gear_mesh, line_of_action
 from assembly.mechanics.kinematics import rigid_transfer
 from assembly.model.assemble import assemble
-from assembly.scene.tables import Fixed
 from assembly.scene.schema import load_scene
+from assembly.scene.tables import Fixed
 
 rng = np.random.default_rng(7)
 

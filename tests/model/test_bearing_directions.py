@@ -11,12 +11,12 @@ import tomllib
 
 import pytest
 
-from assembly.errors import SceneError
 from assembly.analysis.modal import solve_modes
+from assembly.errors import SceneError
 from assembly.model.assemble import assemble
-from assembly.scene.tables import Bearing, Body, Scene, scale_bearings
-from assembly.scene.schema import load_scene, scene_from_dict, to_dict
 from assembly.scene.save import scene_to_toml
+from assembly.scene.schema import load_scene, scene_from_dict, to_dict
+from assembly.scene.tables import Bearing, Body, Scene, scale_bearings
 
 PLC_A = dict(k_axial=6.6e4, k_radial_x=1.7e9, k_radial_y=1.1e9, k_tilt_x=5.6e5, k_tilt_y=1.3e5)
 M, JP, JT = 1000.0, 40.0, 25.0       # kg, kg m^2, kg m^2 (a round test body)

@@ -23,16 +23,16 @@ import math
 import numpy as np
 import pytest
 
+from assembly.analysis.modal import solve_modes
+from assembly.analysis.reactions import static_report
+from assembly.analysis.static import solve_static_cases
 from assembly.app.cli import main
 from assembly.app.report.static_tables import static_json, static_text
 from assembly.app.report.tables import modes_json, modes_table
-from assembly.model.body_table import AGREEMENT, body_properties
-from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
-from assembly.analysis.reactions import static_report
+from assembly.model.body_table import AGREEMENT, body_properties
 from assembly.scene.save import toml_text
 from assembly.scene.schema import load_scene, scene_from_dict
-from assembly.analysis.static import solve_static_cases
 
 RHO = 7850.0
 R, L = 0.025, 0.5

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes, with_fidelity
-from assembly.app.cli import main
 from assembly.analysis.compare import compare, variants
+from assembly.app.cli import main
 
 SCENE = Path(__file__).parent.parent / "support" / "data" / "flex_pair.toml"
 

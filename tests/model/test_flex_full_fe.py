@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from assembly import assemble, load_scene, solve_modes
-from assembly.app.bench.flex import with_flex_options, empty_superelement_cache, run
+from assembly.app.bench.flex import empty_superelement_cache, run, with_flex_options
 
 # every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
 pytestmark = pytest.mark.slow

@@ -24,7 +24,6 @@ from assembly.model.components import CacheDirs, build_fe, forget_fe_models, loc
 from assembly.scene.tables import FlexOptions
 from fe_components.meshing import MeshOptions, ensure_mesh
 from fe_components.params import CylinderParams
-
 from tests.support.corruption import sweep
 from tests.support.shaft_scene import shaft_scene
 

@@ -10,17 +10,24 @@ import tomllib
 
 import numpy as np
 import pytest
-from fe_components.gear_pair import pair_geometry
 
 from assembly import assemble, solve_modes
 from assembly.errors import SceneError
-from assembly.scene.tables import Body, Scene
 from assembly.scene.save import scene_to_toml
 from assembly.scene.schema import SCENE_DIR, load_scene, scene_from_dict, to_dict
+from assembly.scene.tables import Body, Scene
 from fe_components.errors import GeometryError
+from fe_components.gear_pair import pair_geometry
 from fe_components.geometry import interface_defs
-from fe_components.params import (CarrierParams, CylinderParams, GearTeeth, PinionParams, ShaftSegment,
-                                  WheelParams, params_digest)
+from fe_components.params import (
+    CarrierParams,
+    CylinderParams,
+    GearTeeth,
+    PinionParams,
+    ShaftSegment,
+    WheelParams,
+    params_digest,
+)
 
 HS_FILE = SCENE_DIR / "hs_parallel_stage.toml"
 HS = load_scene(HS_FILE)

@@ -3,6 +3,7 @@
 Sources: Peeters, Vandepitte, Sas, Wind Energy 9 (2006) (torsional pair; Kahraman's helical
 pair, Table I; Lin & Parker's planetary systems) and Lin & Parker, J. Vib. Acoust. 121 (1999).
 """
+import dataclasses
 import math
 
 import numpy as np
@@ -11,9 +12,8 @@ import pytest
 from assembly.analysis.classify import classify_modes, pair_modes
 from assembly.analysis.modal import solve_modes
 from assembly.model.assemble import assemble
-from assembly.scene.tables import scale_bearings, with_fidelity
 from assembly.scene.schema import load_scene
-import dataclasses
+from assembly.scene.tables import scale_bearings, with_fidelity
 
 
 def freqs(scene):

@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from assembly.scene.edit import get_value, parse_path, with_value, with_values
 from assembly.errors import SceneError
+from assembly.scene.edit import get_value, parse_path, with_value, with_values
 from assembly.scene.schema import given_in_degrees, load_scene
 
 HS = load_scene("hs_parallel_stage.toml")

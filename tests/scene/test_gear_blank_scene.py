@@ -13,8 +13,8 @@ import tomllib
 import pytest
 
 from assembly.errors import SceneError
-from assembly.scene.schema import scene_from_dict
 from assembly.scene.save import scene_to_toml
+from assembly.scene.schema import scene_from_dict
 from fe_components.gear_blank import blank_mass_properties
 
 RHO = 7850.0   # kg/m^3

@@ -7,8 +7,8 @@ import pytest
 
 from assembly.errors import SceneError
 from assembly.scene.gears import iso_stiffnesses
-from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from assembly.scene.save import scene_to_toml
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from fe_components.gear_pair import pair_geometry, tip_alteration, transverse_contact_ratio
 from fe_components.mesh_stiffness import mesh_stiffness
 from fe_components.params import GearTeeth

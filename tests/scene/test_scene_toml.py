@@ -11,11 +11,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from assembly.errors import SceneError
-from assembly.scene.schema import component_from_table, load_scene, scene_from_dict, shipped_scenes, to_dict
 from assembly.scene.save import save_scene, scene_to_toml, toml_text
+from assembly.scene.schema import component_from_table, load_scene, scene_from_dict, shipped_scenes, to_dict
 from fe_components.errors import GeometryError
 from fe_components.reference import CARRIER, PINION_SMOOTH
-
 from tests.support.fuzz import examples, number_paths
 
 

@@ -30,11 +30,11 @@ from pathlib import Path
 import numpy as np
 
 from ...analysis.classify import pair_modes
-from ...model.components import CacheDirs, forget_fe_models
 from ...analysis.modal import solve_modes
 from ...model.assemble import assemble
-from ...scene.tables import with_fidelity
+from ...model.components import CacheDirs, forget_fe_models
 from ...scene.schema import load_scene
+from ...scene.tables import with_fidelity
 
 #: Modes of the unreduced model solved beyond the reduced model's in-band count: the reduced
 #: frequencies bound the full ones from above (Rayleigh-Ritz), so the full model has at

@@ -44,13 +44,13 @@ def _coarse_size(component: str) -> float:
 
 
 def _run_case(component: str, size: float, order: int, n_modes: int, max_modal_dofs: int, queue) -> None:
+    import meshio  # noqa: F401  warm imports, so that the timings below exclude module loading
+    import skfem.io.meshio  # noqa: F401
+
     from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
     from fe_components.fe_model import build_component
     from fe_components.gmsh_session import gmsh_module
     from fe_components.meshing import MeshOptions
-
-    import meshio  # noqa: F401  warm imports, so that the timings below exclude module loading
-    import skfem.io.meshio  # noqa: F401
     gmsh_module()
 
     with tempfile.TemporaryDirectory() as cache:

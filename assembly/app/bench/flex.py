@@ -21,12 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ...model.components import CacheDirs, forget_fe_models
-from ...scene.cutoffs import CB_CUTOFF_FACTOR
 from ...analysis.modal import solve_modes
 from ...model.assemble import assemble, build_body_models
-from ...scene.tables import FlexOptions, scale_bearings
+from ...model.components import CacheDirs, forget_fe_models
+from ...scene.cutoffs import CB_CUTOFF_FACTOR
 from ...scene.schema import load_scene
+from ...scene.tables import FlexOptions, scale_bearings
 
 
 def with_flex_options(scene, **kw):

@@ -71,10 +71,10 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
     """(FRF at ``f``, build s, s per point, DOFs) of the unreduced model by a sparse LU per point."""
     import scipy.sparse.linalg as spla
 
-    from ...model.damping import damping_matrix
     from ...dynamics.frf import FRF
     from ...dynamics.frf_channels import input_channel, output_channels, output_rows
     from ...model.assemble import assemble
+    from ...model.damping import damping_matrix
     t0 = time.perf_counter()
     model = assemble(scene, full_fe=True)
     if scene.damping is not None and (scene.damping.modal or scene.damping.rayleigh_alpha):
@@ -107,8 +107,8 @@ def direct_unreduced(scene, source: str, outputs: list, f: np.ndarray):
 
 
 def main(argv=None, out=None) -> int:
-    from ...dynamics.frf import MODAL_CUTOFF_FACTOR, frequency_response
     from ...analysis.modal import solve_modes
+    from ...dynamics.frf import MODAL_CUTOFF_FACTOR, frequency_response
     from ...model.assemble import assemble
     from ...scene.schema import load_scene
 

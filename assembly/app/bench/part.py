@@ -69,8 +69,8 @@ def load_cases() -> dict[str, Case]:
     """The two carriers as their shipped scenes define them (pins, flex options, cutoff)."""
     from ...scene.cutoffs import cutoff_for
     from ...scene.planetary import carrier_pins
-    from ...scene.tables import FlexOptions
     from ...scene.schema import load_scene
+    from ...scene.tables import FlexOptions
 
     out = {}
     for kind, name in SCENES.items():

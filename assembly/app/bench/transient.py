@@ -63,9 +63,9 @@ def rated_5mw(name: str):
 def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]:
     """(s per solve with the run's constant factorisation, s per solve + products with K, C
     and M, solver kind), built as ``simulate`` builds them."""
-    from ...dynamics.integrators import effective_matrix, Solver
-    from ...dynamics.run_model import model_matrices, scheme_of
     from ...analysis.modal import SMALL_DENSE
+    from ...dynamics.integrators import Solver, effective_matrix
+    from ...dynamics.run_model import model_matrices, scheme_of
     from ...scene.time_domain import Simulation
     n = model.K.shape[0]
     M, K, C, _ = model_matrices(model)
@@ -113,9 +113,9 @@ def step_scene(name: str, dt: float, rho_inf: float = 1.0):
     """The scene with its ``[load]`` torque stepped on over one dt, reacted on its output body
     so that the rigid-body mode is not loaded, integrated by generalized-alpha with
     ``rho_inf``; (scene, input torque, output torque)."""
-    from ...model.probes import spin_row
     from ...analysis.load_cases import single_rigid_mode
     from ...model.assemble import assemble
+    from ...model.probes import spin_row
     from ...scene.schema import load_scene
     scene = load_scene(name)
     ld = scene.load

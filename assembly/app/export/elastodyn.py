@@ -19,8 +19,8 @@ import logging
 import re
 from importlib import metadata
 
-from ...atomic_file import write_text_atomic
 from ...analysis.drivetrain import TwoMass
+from ...atomic_file import write_text_atomic
 
 log = logging.getLogger(__name__)
 

@@ -109,8 +109,8 @@ def run(args) -> int:
     (``args.format``: the tuple :func:`parse_formats` made)."""
     from ...scene.schema import load_scene
     from ..args import scene_file
-    from .elastodyn import flexgear_version
     from ..output import OutputDirError
+    from .elastodyn import flexgear_version
 
     scene = load_scene(scene_file(args))
     body = reduced_body(scene, args.body)

@@ -33,13 +33,21 @@ from ...mechanics.kinematics import rigid_transfer
 from .labels import CHAR_WIDTH, ROW_HEIGHT, pixel_box, place_labels, stage_groups
 from .plotter import kept_plotter, load_pyvista, save_png
 from .shafts import shaft_segments, shaft_tube
-from .shapes import (assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part,
-                     solid_surface)
+from .shapes import assembly_size, body_shapes, index_mark, pitch_radii, rigid_displacement, rigid_part, solid_surface
 from .springs import spring_glyphs, spring_points
 from .surfaces import body_actor, reference_surface
 from .twist import referred_angles, twist_arrows
-from .views import (DEFORMATION_FRACTION, WINDOW_SIZE, View, assembly_view, fit_view, frame_view, place_camera,
-                    view_axes, wants_side_view)
+from .views import (
+    DEFORMATION_FRACTION,
+    WINDOW_SIZE,
+    View,
+    assembly_view,
+    fit_view,
+    frame_view,
+    place_camera,
+    view_axes,
+    wants_side_view,
+)
 
 #: Overview: stage colours, beam shaft colour, label font (points) and margin (fraction of
 #: the assembly size) around the drawing and its labels.

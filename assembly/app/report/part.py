@@ -89,8 +89,8 @@ def check(args):
     from fe_components.errors import GeometryError
     from fe_components.part.file import CAD_SUFFIXES, MESH_SUFFIXES
 
-    from ...errors import SceneError
     from ...analysis.part_check import check_body_part, check_part
+    from ...errors import SceneError
     from ...scene.schema import load_scene
     from ..args import scene_file
     from ..errors import UsageError

@@ -39,23 +39,37 @@ from ...analysis.classify import classify_modes, pair_modes
 from ...analysis.compare import FIDELITIES as ALL_FIDELITIES  # torsional, rigid, flexible
 from ...analysis.compare import compare
 from ...analysis.energy import NEGLIGIBLE_STRAIN_SHARE
-from ...scene.gears import ISO_SOURCE, iso_stiffnesses
 from ...analysis.modal import solve_modes
-from ...model.assemble import assemble
-from ...scene.tables import DISPLAY_BAND_FACTOR, Scene
-from ...scene.schema import load_scene
 from ...analysis.reactions import static_report
 from ...analysis.static import solve_static_cases
+from ...model.assemble import assemble
+from ...scene.gears import ISO_SOURCE, iso_stiffnesses
+from ...scene.schema import load_scene
+from ...scene.tables import DISPLAY_BAND_FACTOR, Scene
 from .. import strict_json
-from .html import render_index
 from ..errors import ModeSelectionError, user_errors
 from ..output import MANIFEST, staged_output, write_manifest, writing
 from ..progress import Progress
+from .html import render_index
 from .run_frf import step_frf
 from .static_tables import case_summary, static_json, static_tables, static_text, write_static_csv
-from .tables import (BODY_TABLE_TITLE, band_note, body_cells, comparison_cells, dominant_text, flexible_lines, in_band,
-                     modes_json, modes_table, ENERGY_SPLIT_HEADER, stage_split_text, write_bodies_csv,
-                     write_comparison_csv, write_energy_csv, write_modes_csv)
+from .tables import (
+    BODY_TABLE_TITLE,
+    ENERGY_SPLIT_HEADER,
+    band_note,
+    body_cells,
+    comparison_cells,
+    dominant_text,
+    flexible_lines,
+    in_band,
+    modes_json,
+    modes_table,
+    stage_split_text,
+    write_bodies_csv,
+    write_comparison_csv,
+    write_energy_csv,
+    write_modes_csv,
+)
 
 log = logging.getLogger(__name__)
 
@@ -273,8 +287,8 @@ def _render_key_modes(ctx: RunContext, rnd, bar) -> None:
     """``images/global_torsional.png`` (twist arrows, whole drivetrain framed) and
     ``images/stage_local.png`` (framed on the stage), picked by :mod:`assembly.app.report.key_modes`;
     a scene without such a mode gets a note instead of the picture."""
-    from .key_modes import global_torsional_mode, stage_local_mode
     from ..render.renderer import mode_title
+    from .key_modes import global_torsional_mode, stage_local_mode
     n_rigid = ctx.result.n_rigid
     picks = [("global_torsional", global_torsional_mode(ctx.infos, n_rigid), "the lowest rotational global mode"),
              ("stage_local", stage_local_mode(ctx.infos, n_rigid, ctx.model.scene), "the lowest stage-local mode")]

@@ -13,9 +13,9 @@ import logging
 import numpy as np
 
 from ...analysis.drivetrain import chain_ends, speed_ratios
-from ...model.damping import has_damping
 from ...dynamics.frf import frequency_response
 from ...errors import MechanismError
+from ...model.damping import has_damping
 from .frf import write_csv
 
 log = logging.getLogger(__name__)

@@ -6,6 +6,7 @@ import csv
 
 from .tables import bodies_json, body_lines
 
+
 def _g(v) -> str:
     return "" if v is None else f"{v:.6g}"
 

@@ -5,14 +5,14 @@ import csv
 
 import numpy as np
 
-from ...model.body_table import body_properties, replaced, replaced_note
 from ...analysis.classify import classify_modes
-from ...dynamics.damped_modes import damped_modes
-from ...model.damping import has_damping
 from ...analysis.energy import kinetic_by_body, strain_by_body, strain_by_element
-from ...model.flexible import FlexibleBodyModel
 from ...analysis.locality import energy_table, group_shares
 from ...analysis.modal import mechanisms
+from ...dynamics.damped_modes import damped_modes
+from ...model.body_table import body_properties, replaced, replaced_note
+from ...model.damping import has_damping
+from ...model.flexible import FlexibleBodyModel
 from ...scene.tables import DISPLAY_BAND_FACTOR
 
 

@@ -48,10 +48,10 @@ def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", ke
     from threadpoolctl import threadpool_limits
 
     from cms.cache import STATS
+    from cms.linsolve import default_backend
     from fe_components.meshing import cache_root
 
     from ..errors import user_errors
-    from cms.linsolve import default_backend
     default_backend()   # loads CHOLMOD's BLAS now, so that the one-thread limit below reaches it
     keep = {"modes": 10, "stats": ["peak", "mean"], **(keep or {})}
     row = {"variant": variant.index, **variant.params, "status": "ok", "error": ""}
@@ -97,9 +97,10 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
             out.update(_frequencies(res, keep["modes"], f"{fid}_"))
         return out
     if analysis == "frf":
+        import numpy as np
+
         from ...dynamics.frf import frequency_response
         from ..report.frf import frequencies
-        import numpy as np
         f = frequencies(settings["fmin"], settings["fmax"], settings["points"], settings["log"])
         r = frequency_response(assemble(scene), settings["input"], settings["outputs"], f,
                                method=settings["method"], modes_hz=settings["modes_hz"])

@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...scene.edit import get_value, value_kind
 from ...errors import SceneError
+from ...scene.edit import get_value, value_kind
 from ...scene.schema import to_dict
 from .keys import DESIGN, PARAMETER, TABLE, TABLES, check_keys
 
