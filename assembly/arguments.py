@@ -175,24 +175,6 @@ def instance(name: str, value, cls, what: str):
     return value
 
 
-def scene(name: str, value):
-    """``value``, a :class:`~assembly.scene.Scene`."""
-    from .scene import Scene
-    return instance(name, value, Scene, "a Scene (load_scene(path) reads one from a file)")
-
-
-def model(name: str, value):
-    """``value``, an :class:`~assembly.model.AssembledModel`."""
-    from .model import AssembledModel
-    return instance(name, value, AssembledModel, "an assembled model (assemble(scene))")
-
-
-def modes(name: str, value):
-    """``value``, a :class:`~assembly.modal.ModalResult`."""
-    from .modal import ModalResult
-    return instance(name, value, ModalResult, "the modes of a model (solve_modes(model))")
-
-
 def optional(check, name: str, value, *args, **kwargs):
     """``check(name, value, ...)`` unless ``value`` is None (then None)."""
     return None if value is None else check(name, value, *args, **kwargs)

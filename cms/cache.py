@@ -28,7 +28,7 @@ from typing import Callable
 
 import numpy as np
 
-from .superelement import VERSION, Superelement, _json_default
+from .superelement import VERSION, Superelement, json_default
 
 log = logging.getLogger(__name__)
 
@@ -57,7 +57,7 @@ def array_hash(*arrays) -> str:
 def cache_key(**inputs) -> str:
     """Hex key for the JSON-serialisable ``inputs`` (order-independent)."""
     payload = json.dumps({"format_version": VERSION, **inputs}, sort_keys=True,
-                         default=_json_default, separators=(",", ":"))
+                         default=json_default, separators=(",", ":"))
     return hashlib.sha256(payload.encode()).hexdigest()
 
 

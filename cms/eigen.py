@@ -276,6 +276,7 @@ def _arpack(K, M, k, F, sigma, tol, threads, t0, solves0, rhs0, deflate=None):
     eigenvectors already found) are projected out of every solve, P = I - D D' M, so the
     next ``k`` modes come without refactorizing or recomputing the first ones."""
     import scipy.sparse.linalg as spla
+
     from .linsolve import thread_limit
     solve = F.solve
     if deflate is not None and deflate.shape[1]:

@@ -129,8 +129,9 @@ def factor(A: sp.spmatrix, backend: str | None = None, threads: int | None = Non
 
 
 def _factor_cholmod(A, ordering):
-    from sksparse.cholmod import CholmodNotPositiveDefiniteError, cholesky
     import warnings
+
+    from sksparse.cholmod import CholmodNotPositiveDefiniteError, cholesky
     A = sp.csc_matrix(A, dtype=float)
     try:
         with warnings.catch_warnings():

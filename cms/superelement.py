@@ -20,10 +20,10 @@ a half-written file and concurrent writers never mix their bytes.
 """
 from __future__ import annotations
 
+import errno
 import hashlib
 import io
 import json
-import errno
 import logging
 import os
 import tempfile
@@ -117,7 +117,7 @@ class Superelement:
                 "boundary_names": list(self.boundary_names),
                 "metadata": self.metadata}
         arrays = {k: np.asarray(getattr(self, k)) for k in _ARRAYS}
-        arrays["metadata_json"] = np.array(json.dumps(meta, default=_json_default))
+        arrays["metadata_json"] = np.array(json.dumps(meta, default=json_default))
         write_sealed_npz(path, arrays)
         log.debug("saved superelement (%d boundary, %d modes) to %s",
                   self.n_boundary, self.n_modes, path)
@@ -201,7 +201,8 @@ def read_sealed_npz(path: str | os.PathLike) -> dict:
         return {k: z[k] for k in z.files}
 
 
-def _json_default(o):
+def json_default(o):
+    """``json.dumps`` default: NumPy scalars and arrays as plain numbers and lists."""
     if isinstance(o, np.generic):
         return o.item()
     if isinstance(o, np.ndarray):

@@ -6,6 +6,7 @@ package does not import gmsh (only meshing a new geometry does).
 from __future__ import annotations
 
 from .lazy import lazy_exports
+
 #: Public name -> submodule, imported on first use (``from fe_components import X`` works), so
 #: importing ``fe_components.params`` does not load scikit-fem or meshio.
 _EXPORTS = {

@@ -22,10 +22,9 @@ from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
-from .part_file import PartFile, PartFileError
-from .part_geometry import part_geometry
-from .params import (CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind,
-                     params_as_flat_dict)
+from .params import CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind, params_as_flat_dict
+from .part.file import PartFile, PartFileError
+from .part.read import part_geometry
 
 log = logging.getLogger(__name__)
 
@@ -72,7 +71,7 @@ class FEModel:
     mesh_sha256: str = ""  # content hash of the mesh file (fe_components.meshing), "" if not from a file
     timings: dict[str, float] = field(default_factory=dict)  # [s]: "mesh", "assembly", "matrices"
     checks: dict[str, float] = field(default_factory=dict)  # self-checks, e.g. FE vs CAD mass (relative)
-    read: Any = None  # a mesh file's ReadSummary (fe_components.part_cells): what was read and dropped
+    read: Any = None  # a mesh file's ReadSummary (fe_components.part.cells): what was read and dropped
     matrices: Callable[[], tuple] | None = field(default=None, repr=False, compare=False)  # -> (K, M)
 
     @functools.cached_property
@@ -191,7 +190,9 @@ def cad_mass_check(model: "FEModel", part: PartFile) -> dict:
     return out
 
 
-def _skfem_mesh(raw: RawMesh):
+def skfem_mesh(raw: RawMesh):
+    """The scikit-fem mesh of a mesh read by :func:`~fe_components.meshing.read_mesh` (P1 or
+    curved P2 tetrahedra, through meshio)."""
     import meshio
     import skfem.io.meshio  # noqa: F401  (registers from_meshio; not auto-imported)
     from skfem.io.meshio import from_meshio
@@ -208,7 +209,7 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     from skfem.models.elasticity import lame_parameters, linear_elasticity
 
     t0 = time.perf_counter()
-    mesh = _skfem_mesh(raw)
+    mesh = skfem_mesh(raw)
     p = 2 if raw.cell_type == "tetra10" else 1
     elem = ElementVector(ElementTetP2() if p == 2 else ElementTetP1())
     k_order = 2 * p - 2 if stiffness_intorder is None else stiffness_intorder

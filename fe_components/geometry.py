@@ -18,7 +18,7 @@ import numpy as np
 
 from .involute import flank_half_angle, flank_radii
 from .params import CarrierParams, CylinderParams, GearTeeth, PartFile, PinionParams, WheelParams
-from .part_geometry import part_geometry
+from .part.read import part_geometry
 
 AXIS = np.array([0.0, 0.0, 1.0])
 

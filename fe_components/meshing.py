@@ -27,15 +27,17 @@ Integrity rules (every mesh file this module writes or reads):
   sees a half-written entry, and concurrent writers of one entry each publish a
   complete, sealed file (gmsh output is deterministic, so they are identical).
 
-gmsh is imported lazily inside :func:`generate_mesh` only.
+gmsh is imported only when :func:`generate_mesh` meshes (through
+:func:`fe_components.gmsh_session.gmsh_model`); the volume mesh itself is
+:func:`fe_components.volume_mesh.mesh_volume`, shared with a user's CAD part.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
 import logging
-import contextlib
 import os
 import tempfile
 import time
@@ -46,13 +48,16 @@ from pathlib import Path
 import numpy as np
 
 from .errors import GeometryError, MeshCacheError, MeshingError
-from .gmsh_session import gmsh_model
 from .geometry import build_solid, characteristic_length, interface_defs
+from .gmsh_session import gmsh_model
 from .params import PartFile, component_kind, params_as_flat_dict, params_digest
+from .part import cad as part_cad
+from .part import mesh as part_mesh
+from .volume_mesh import mesh_volume
 
 log = logging.getLogger(__name__)
 
-#: Bump when the geometry or meshing code changes the produced mesh.
+#: Bump when the geometry or meshing code (this module, :mod:`fe_components.volume_mesh`) changes the produced mesh.
 MESHER_VERSION = "2"  # 2: inverted curved P2 elements repaired by gmsh high-order optimisation
 
 #: Environment variable naming the cache root (meshes in it, reductions in its ``cms`` subfolder).
@@ -188,7 +193,7 @@ def cached_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | Non
         with build_lock(path):  # another process may have meshed it while we waited
             sha = _load_entry(path, mesh_content_hash, heal)
             if sha is None:
-                sha = _generate_entry(params, options, path)
+                sha = generate_entry(params, options, path)
     return MeshEntry(path, sha)
 
 
@@ -202,7 +207,7 @@ def load_mesh(params, options: MeshOptions, cache_dir: str | os.PathLike | None 
         with build_lock(path):
             raw = _load_entry(path, read_mesh, heal)
             if raw is None:
-                _generate_entry(params, options, path)
+                generate_entry(params, options, path)
     if raw is None:
         try:
             raw = read_mesh(path)
@@ -257,7 +262,7 @@ def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: st
     """Rename an unusable cache file to ``<name>.corrupt-<UTC time>-<pid>`` and warn
     ("unusable <what> <path> (<reason>): moved to ...; <then>"). The superelement cache
     (cms.cache) moves bad files aside by the same rule, in its own copy: the two packages
-    import nothing of each other; assembly.mass_cache uses this one."""
+    import nothing of each other; assembly.model.mass_cache uses this one."""
     dest = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{os.getpid()}")
     try:
         os.replace(path, dest)
@@ -269,8 +274,9 @@ def move_aside(path: Path, reason: str, what: str = "mesh cache entry", then: st
     log.warning("unusable %s %s (%s): %s; %s", what, path, reason, where, then)
 
 
-def _generate_entry(params, options: MeshOptions, path: Path) -> str:
-    """Mesh into a unique temporary file next to ``path``, seal it, move it into place."""
+def generate_entry(params, options: MeshOptions, path: Path) -> str:
+    """Mesh ``params`` into a unique temporary file next to ``path``, seal it, move it into
+    place; return its content hash (the cache's build step: callers hold :func:`build_lock`)."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.msh", dir=path.parent)
@@ -343,11 +349,7 @@ def _surface_samples(gmsh, tag: int, n: int = 7) -> np.ndarray:
 def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None:
     """Build the solid, tag interface surfaces as physical groups, mesh and write ``path`` (.msh)."""
     if isinstance(params, PartFile):  # the user's CAD or mesh file
-        if params.is_mesh:
-            from .part_mesh import generate_part_mesh
-        else:
-            from .part_cad import generate_part_mesh
-        return generate_part_mesh(params, options, path)
+        return (part_mesh if params.is_mesh else part_cad).generate_part_mesh(params, options, path)
     kind = component_kind(params)
     report = _report(params, options)
     with gmsh_model(kind) as gmsh:  # lazy: loading a cached mesh must not import gmsh
@@ -394,46 +396,6 @@ def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None
             raise
         except Exception as err:  # gmsh raises plain Exception
             raise MeshingError(kind, report, err) from err
-
-
-def mesh_volume(gmsh, options: MeshOptions, unit: float = 1.0) -> None:
-    """Mesh the current gmsh model's volumes with ``options`` (binary output, curved P2 edges,
-    inverted second-order elements repaired); ``unit``: metres per model unit (the sizes are
-    given in m)."""
-    gmsh.option.setNumber("Mesh.MeshSizeMax", options.size / unit)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", options.min_size / unit)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", options.curvature_elements)
-    gmsh.option.setNumber("Mesh.Algorithm3D", options.algorithm_3d)
-    gmsh.option.setNumber("Mesh.ElementOrder", options.order)
-    gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
-    gmsh.option.setNumber("Mesh.Binary", 1)
-    gmsh.model.mesh.generate(3)
-    types, _, _ = gmsh.model.mesh.getElements(3)
-    if len(types) == 0:
-        raise RuntimeError("gmsh produced no volume elements")
-    if options.order == 2:
-        _repair_inverted(gmsh)
-
-
-def _min_scaled_jacobians(gmsh) -> np.ndarray:
-    _, tags, _ = gmsh.model.mesh.getElements(3)
-    all_tags = np.concatenate([np.asarray(t) for t in tags])
-    return np.asarray(gmsh.model.mesh.getElementQualities(all_tags.tolist(), "minSJ"))
-
-
-def _repair_inverted(gmsh) -> None:
-    """Curving P2 edges onto the CAD can fold coarse elements (minimum scaled Jacobian <= 0):
-    untangle them with gmsh's high-order optimiser; valid meshes are left untouched."""
-    n_bad = int(np.sum(_min_scaled_jacobians(gmsh) <= 0))
-    if not n_bad:
-        return
-    log.info("%d inverted second-order elements: running gmsh high-order optimisation", n_bad)
-    gmsh.option.setNumber("Mesh.HighOrderThresholdMin", 0.1)
-    gmsh.model.mesh.optimize("HighOrder")
-    left = int(np.sum(_min_scaled_jacobians(gmsh) <= 0))
-    if left:
-        raise RuntimeError(f"{left} of {n_bad} inverted second-order elements remain after high-order "
-                           "optimisation: use a smaller mesh size or order=1")
 
 
 def _tooth_refinement(gmsh, params, options: MeshOptions, tooth_tags: list[int]) -> None:

@@ -31,9 +31,17 @@ from .errors import GeometryError
 from .fields import check_fields, quantity
 from .gear_pair import base_radius, transverse_pressure_angle
 from .involute import check_tooth_shape
-from .part_file import PartFile
-from .sizes import (FACE_PER_MODULE, FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER, SHAFT_LENGTH, SLENDERNESS,
-                    unit_hint)
+from .part.file import PartFile
+from .sizes import (
+    FACE_PER_MODULE,
+    FACE_WIDTH,
+    GEAR_RADIUS,
+    MODULE,
+    SHAFT_DIAMETER,
+    SHAFT_LENGTH,
+    SLENDERNESS,
+    unit_hint,
+)
 
 FIDELITIES = ("smooth", "involute")
 #: Most planets a carrier may hold: more than any built stage (3 to 12) by far, and it

@@ -6,7 +6,7 @@ in; one converted to metres twice lies 1000 below. Each range spans what is buil
 gears to the largest wind-turbine, mill and marine gears, with a margin of 2 to 5 on either
 side, so a slip of 1000 falls outside it while no real part does; the message offers the
 unit that brings the number into the range (as a STEP part's size check offers its units,
-:func:`fe_components.part_geometry.check_size`). Declared on a field with
+:func:`fe_components.part.geometry.check_size`). Declared on a field with
 ``quantity(..., plausible=RANGE)`` (:class:`fe_components.fields.Quantity`), so a TOML table,
 a dataclass built in Python and the scene reference all see the same rule. SI metres.
 """

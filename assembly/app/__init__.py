@@ -10,22 +10,22 @@ __all__ = ["run_report"]
 
 
 def run_report(scene, out, *, progress: bool = False, **options):
-    """Run the ``flexgear run`` pipeline on ``scene`` (a :class:`~assembly.scene.Scene`, a
+    """Run the ``flexgear run`` pipeline on ``scene`` (a :class:`~assembly.scene.tables.Scene`, a
     scene file or the name of a shipped example) into the folder ``out`` (replaced as a
     whole when the run succeeds, never half-written) and return the run's context
-    (:class:`~assembly.app.pipeline.RunContext`: ``scene``, ``model``, ``result``,
+    (:class:`~assembly.app.report.pipeline.RunContext`: ``scene``, ``model``, ``result``,
     ``comparison``, ``files``, ``timings``; ``out_dir``).
 
-    ``options`` are those of :class:`~assembly.app.pipeline.RunOptions`: ``n_modes``
+    ``options`` are those of :class:`~assembly.app.report.pipeline.RunOptions`: ``n_modes``
     (elastic modes drawn, default 12), ``compare`` (torsional vs rigid vs flexible table),
     ``images`` (mode-shape PNGs), ``window_size`` (pixels). ``progress``: progress bars on
     stderr."""
     import dataclasses
 
     from .. import arguments
-    from ..scene import Scene
-    from .pipeline import RunOptions, run_pipeline
+    from ..scene.tables import Scene
     from .progress import Progress
+    from .report.pipeline import RunOptions, run_pipeline
 
     if not isinstance(scene, Scene):
         arguments.file_path("scene", scene)

@@ -28,7 +28,7 @@ def _plt():
 
 
 @contextlib.contextmanager
-def _figure(path, figsize):
+def plot_figure(path, figsize):
     """(fig, ax) of a new figure, laid out and written to ``path`` (PNG) when the block
     ends without an error; always closed."""
     plt = _plt()
@@ -55,7 +55,7 @@ def plot_fidelity_frequencies(columns, path, title: str = "", pairs=None, max_hz
     (modes above it are left out and counted in a note); ``band_hz``: the band of interest,
     drawn as a dashed line.
     """
-    with _figure(path, (2.2 + 2.0 * len(columns), 6.0)) as (fig, ax):
+    with plot_figure(path, (2.2 + 2.0 * len(columns), 6.0)) as (fig, ax):
         tops, n_above = [], 0
         for k, (label, f, nr) in enumerate(columns):
             fe = _elastic(f, nr)
@@ -111,7 +111,7 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
     nr = np.zeros(len(x), int) if n_rigid is None else np.asarray(n_rigid, int)
     start = int(nr.max(initial=0))
     stop = F.shape[1] if max_modes is None else min(F.shape[1], start + max_modes)
-    with _figure(path, (8.0, 5.5)) as (fig, ax):
+    with plot_figure(path, (8.0, 5.5)) as (fig, ax):
         for j in range(start, stop):
             ax.plot(x, F[:, j], "-", marker="o", ms=2.5, lw=1.2, color=f"C{(j - start) % 10}")
         if logx:
@@ -140,7 +140,7 @@ def plot_campbell(speeds, F, orders, crossings, path, title: str = "", rated_rpm
     n = np.asarray(speeds, float)
     F = np.asarray(F, float)
     top = max([s * n[-1] for _, s in orders] + [1.0]) * 1.05
-    with _figure(path, (9.0, 6.5)) as (fig, ax):
+    with plot_figure(path, (9.0, 6.5)) as (fig, ax):
         for j in range(F.shape[1]):
             if F[:, j].min() <= top:
                 ax.plot(n, F[:, j], "-", color="0.55", lw=0.7)
@@ -206,7 +206,7 @@ def plot_bode(frequency_hz, H, path, title: str = "", ylabel: str = "", natural_
 
 def plot_time_trace(time_s, y, path, title: str = "", ylabel: str = "") -> Path:
     """One time history ``y`` against ``time_s`` (s)."""
-    with _figure(path, (8.0, 3.4)) as (fig, ax):
+    with plot_figure(path, (8.0, 3.4)) as (fig, ax):
         ax.plot(np.asarray(time_s, float), np.asarray(y, float), lw=0.8)
         ax.set_xlabel("time [s]")
         ax.set_ylabel(ylabel)
@@ -219,7 +219,7 @@ def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = 
     """Amplitude spectrum (log scale) with vertical ``marks``: (Hz, label, kind) where kind
     "mesh" (harmonics, solid) or "sideband" (dotted); marks outside the axis are left out."""
     f, a = np.asarray(frequency_hz, float), np.asarray(amplitude, float)
-    with _figure(path, (8.0, 3.8)) as (fig, ax):
+    with plot_figure(path, (8.0, 3.8)) as (fig, ax):
         ax.plot(f, np.where(a > 0, a, np.nan), lw=0.8)
         ax.set_yscale("log")
         shown = [fm for fm, _, _ in marks if fm > 0]

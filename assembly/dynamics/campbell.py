@@ -2,10 +2,10 @@
 where they cross.
 
 Speeds are those of a reference body (rpm; default the body of role ``"rotor"``), every
-other body turning at its ratio from the kinematic chain (:func:`assembly.drivetrain.speed_ratios`).
+other body turning at its ratio from the kinematic chain (:func:`assembly.analysis.drivetrain.speed_ratios`).
 
 * Natural frequencies: without gyroscopic coupling they do not depend on speed and are
-  solved once (:func:`assembly.modal.solve_modes`); with it they are solved at every speed
+  solved once (:func:`assembly.analysis.modal.solve_modes`); with it they are solved at every speed
   (:mod:`assembly.dynamics.gyroscopic`), line j being the j-th lowest elastic frequency.
 * Orders: mesh harmonics and rotor orders (:mod:`assembly.dynamics.orders`).
 * Crossings: where an order line f = a n meets natural-frequency line j: f_j(n) = a n.
@@ -27,11 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import arguments
-from ..classify import classify_modes
-from ..drivetrain import speed_ratios
+from ..analysis.classify import classify_modes
+from ..analysis.drivetrain import speed_ratios
+from ..analysis.modal import solve_modes
 from ..errors import MechanismError, SceneError
-from ..modal import solve_modes
-from ..model import assemble
+from ..model.assemble import model_of, source_scene
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
@@ -161,7 +161,7 @@ def line_crossings(speeds, f_line, slope: float) -> list[tuple[float, float]]:
 
 
 def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
-    """Whether ``order`` can excite ``mode`` (a :class:`assembly.classify.ModeInfo`) and why."""
+    """Whether ``order`` can excite ``mode`` (a :class:`assembly.analysis.classify.ModeInfo`) and why."""
     if order.kind != "mesh" or order.n_planets is None:
         return True, "every class" if order.kind == "mesh" else "rotor order"
     cls = excited_class(order.harmonic, order.sun_teeth, order.n_planets)
@@ -176,22 +176,21 @@ def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
     return mode.mode_class == cls, rule
 
 
-def campbell(scene, speed_range, reference: str | None = None, points: int = 41, gyroscopic: bool = False,
-             harmonics: int = 3, model=None) -> Campbell:
-    """The Campbell diagram of ``scene`` over ``speed_range`` (rpm of the reference body).
-    ``points``: speeds sampled (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1);
-    ``model``: the assembled scene (assembled here when None). Sizes over the memory budget
-    are refused (:func:`check_size`) before the model is assembled and again once its
+def campbell(model, speed_range, reference: str | None = None, points: int = 41, gyroscopic: bool = False,
+             harmonics: int = 3) -> Campbell:
+    """The Campbell diagram of ``model`` (an :class:`AssembledModel`, or a Scene assembled
+    here) over ``speed_range`` (rpm of the reference body). ``points``: speeds sampled
+    (>= 2); ``harmonics``: mesh harmonics 1..H (>= 1). Sizes over the memory budget are
+    refused (:func:`check_size`) before a scene is assembled and again once the model's
     natural-frequency lines are known."""
-    arguments.scene("scene", scene)
+    scene = source_scene("model", model)
     lo, hi = check_speed_range(speed_range)
     points, harmonics = arguments.integer("points", points, 2), arguments.integer("harmonics", harmonics, 1)
     arguments.flag("gyroscopic", gyroscopic)
-    arguments.optional(arguments.model, "model", model)
     sources = len(scene.stages) + len(scene.meshes)
     check_size(points, harmonics, sources, 0)                  # before assembling: the orders alone
     ref = reference_body(scene, reference)
-    model = assemble(scene) if model is None else model
+    model = model_of("model", model)
     ratios = chain_ratios(model, ref)
     res = solve_modes(model)
     info = classify_modes(res)[res.n_rigid:]

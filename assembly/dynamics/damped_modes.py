@@ -41,7 +41,7 @@ MAX_STATE_MODES = 600
 
 @dataclass(frozen=True)
 class DampedModes:
-    """Damped modes paired with the undamped modes of a :class:`assembly.modal.ModalResult`
+    """Damped modes paired with the undamped modes of a :class:`assembly.analysis.modal.ModalResult`
     (entry i belongs to undamped mode i): ``s`` (complex, 1/s), ``damped_hz``
     (Im(s)/2pi, Hz), ``undamped_hz`` (|s|/2pi, Hz), ``ratios`` (-Re(s)/|s|), ``mac`` of the
     pairing (1 for modal ratios), ``method`` ("modal ratios", "state space" or "state
@@ -53,17 +53,6 @@ class DampedModes:
     ratios: np.ndarray
     mac: np.ndarray
     method: str
-
-
-def has_damping(scene) -> bool:
-    """Whether ``scene`` (as given or expanded) has any damping: element dampers (``c_*``,
-    ``damping``, ``beta``) or a ``[damping]`` table with a non-zero entry."""
-    d = scene.damping
-    if d is not None and (d.rayleigh or (d.modal and (d.modal_ratio or any((d.class_ratios or {}).values())))):
-        return True
-    sc = scene.expanded()
-    return (any(br.dampings() for br in sc.bearings) or any(m.damping for m in sc.meshes)
-            or any(s.beta or s.damping_diagonal().any() for s in sc.shafts))
 
 
 def damped_modes(result) -> DampedModes:
@@ -113,7 +102,7 @@ def _pair(s_all: np.ndarray, Y: np.ndarray):
     """One root per mode: among the roots of Im(s) >= 0 (a complex pair's upper member;
     both real roots of an overdamped mode), the one-to-one choice of largest total MAC
     ``|y_i|^2 / |y|^2``. Returns (s, MAC) per mode."""
-    from scipy.optimize import linear_sum_assignment     # only for a damped scene: startup time
+    from scipy.optimize import linear_sum_assignment  # only for a damped scene: startup time
     cand = np.flatnonzero(s_all.imag >= -1e-12 * np.abs(s_all).max(initial=1.0))
     P = np.abs(Y[:, cand]) ** 2
     P = P / np.maximum(P.sum(axis=0), 1e-300)

@@ -36,21 +36,10 @@ same share: the stress of ``u + G u'``, its flexible body's strain plus its damp
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import SceneError
-from ..model import on_q
+from ..model.damping import damping_matrix
 from .modal_ratios import mode_ratios
-
-
-def damping_matrix(model) -> sp.csr_matrix:
-    """Sparse symmetric damping of every element damper of ``model`` on q (zero when the
-    scene has no ``c_*`` field set)."""
-    C_abs = sp.csr_matrix((model.n_abs, model.n_abs))
-    for el in model.elements:
-        if el.c is not None:
-            C_abs = C_abs + model.element_damping_abs(el)
-    return on_q(model.T, C_abs.tocsr())
 
 
 def needs_modes(model) -> bool:
@@ -61,9 +50,9 @@ def needs_modes(model) -> bool:
 
 
 def every_mode(model):
-    """Every mode of ``model`` (:func:`assembly.modal.solve_modes`); SceneError when the
+    """Every mode of ``model`` (:func:`assembly.analysis.modal.solve_modes`); SceneError when the
     model is too large for a full modal basis."""
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     res = solve_modes(model)
     if res.shapes.shape[1] < model.K.shape[0]:
         raise SceneError("damping", model.scene.damping,

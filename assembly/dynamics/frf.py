@@ -40,12 +40,12 @@ omega c_r)`` to first order in ``(omega^2 - i omega c_r) / lambda_r``):
 (``c_r`` the diagonal of ``C_m``; the damping coupling between kept and truncated modes is
 taken to first order, :func:`_modal`). For an undamped mode at ``omega_r`` the term's
 error is ``x^2 / (1 - x)`` of that mode's static share, ``x = (omega/omega_r)^2``: with
-the default cutoff, :data:`CUTOFF_FACTOR` x the highest frequency asked, below 1.3e-6;
+the default cutoff, :data:`MODAL_CUTOFF_FACTOR` x the highest frequency asked, below 1.3e-6;
 it diverges as ``omega`` reaches ``omega_r``. A cutoff below :data:`MIN_CUTOFF_RATIO` x
 the highest frequency asked (a mode just above it would be off by more than 8 % of its
 static share, or diverge) is refused; one whose lowest left-out mode gives a bound above
 :data:`CUTOFF_WARN` draws a warning with it. ``modes_hz=inf`` keeps every mode
-(exact). Models above :data:`assembly.modal.DENSE_MAX` DOFs have no full modal basis: use
+(exact). Models above :data:`assembly.analysis.modal.DENSE_MAX` DOFs have no full modal basis: use
 ``method="direct"``.
 
 ``method="direct"``: the reference, ``(K - omega^2 M + i omega C) q = f`` solved per
@@ -74,9 +74,10 @@ import numpy as np
 import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
+from ..analysis.modal import SMALL_DENSE, modes_argument
 from ..errors import SceneError, SolverError
-from ..modal import SMALL_DENSE
-from ..nullity import rigid_body_count, rigid_body_modes
+from ..mechanics.nullity import rigid_body_count, rigid_body_modes
+from ..model.assemble import model_argument
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_on_q, needs_modes, section_factors, section_share
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
@@ -89,7 +90,7 @@ METHODS = ("modal", "direct")
 BLOCK = 2048
 #: Default modal cutoff: modes up to this multiple of the highest frequency asked are
 #: superposed, the rest enter by their residual flexibility (module notes).
-CUTOFF_FACTOR = 30.0
+MODAL_CUTOFF_FACTOR = 30.0
 #: The lowest mode left out by the modal cutoff must lie at least this multiple above the
 #: highest frequency asked: at 2x its residual term is off by 8.3 % of its static share
 #: (module notes), and the series diverges as the frequency reaches the mode.
@@ -140,19 +141,19 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
                        modes_hz: float | None = None, residual: bool = True) -> FRF:
     """FRF of ``model`` from ``input`` to each of ``outputs`` (names of
     :mod:`assembly.dynamics.frf_channels`) at ``frequency_hz`` (Hz, >= 0; > 0 when the
-    model has a rigid-body mode). ``result``: the model's :class:`assembly.modal.ModalResult`
+    model has a rigid-body mode). ``result``: the model's :class:`assembly.analysis.modal.ModalResult`
     with every mode, if already solved. ``modes_hz`` (Hz): the modal cutoff of
-    ``method="modal"`` (module notes); default :data:`CUTOFF_FACTOR` x ``max(frequency_hz)``,
+    ``method="modal"`` (module notes); default :data:`MODAL_CUTOFF_FACTOR` x ``max(frequency_hz)``,
     ``inf`` for every mode; ``residual=False`` drops the modes above it altogether (plain
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
-    from .. import arguments as check                # each argument's kind, one SceneError naming it
-    check.model("model", model)
+    from .. import arguments as check  # each argument's kind, one SceneError naming it
+    model_argument("model", model)
     check.text("input", input)
     outputs = check.names("outputs", outputs)
     frequency_hz = check.frequencies("frequency_hz", frequency_hz)
     check.one_of("method", method, METHODS, "method")
-    check.optional(check.modes, "result", result)
+    check.optional(modes_argument, "result", result)
     check.optional(check.number, "modes_hz", modes_hz, "Hz", gt=0.0, infinite="every mode")
     check.flag("residual", residual)
     t0 = time.perf_counter()
@@ -165,7 +166,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         raise SceneError("frequency_hz", float(f.max()), "its angular frequency squared overflows a double: no "
                                                           "response can be computed there")
     if modes_hz is None:
-        modes_hz = CUTOFF_FACTOR * float(f.max()) if f.max() > 0 else np.inf
+        modes_hz = MODAL_CUTOFF_FACTOR * float(f.max()) if f.max() > 0 else np.inf
     if not (modes_hz > 0):
         raise SceneError("modes_hz", modes_hz, "the modal cutoff must be a frequency > 0 Hz")
     if method == "modal" and residual:
@@ -180,7 +181,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
         raise SceneError("frequency_hz", 0.0, "the model has a free rigid-body mode: its response at 0 Hz is "
                                               "unbounded; use frequencies > 0")
     notes = []
-    # one BLAS thread for small models, as the modal solve (assembly.modal.SMALL_DENSE)
+    # one BLAS thread for small models, as the modal solve (assembly.analysis.modal.SMALL_DENSE)
     with threadpool_limits(1 if model.K.shape[0] <= SMALL_DENSE else None):
         if method == "modal":
             result = low_accurate(result if result is not None else _every_mode(model))
@@ -231,13 +232,13 @@ def cutoff_check(modes_hz: float, fmax_hz: float, lowest_left_out_hz: float | No
                          f"below {MIN_CUTOFF_RATIO:g} x the highest frequency asked ({fmax_hz:.6g} Hz): a mode left "
                          f"out just above the cutoff answers with a residual term off by "
                          f"{_residual_bound(fmax_hz / modes_hz):.3g} of its static share there (inf: the series "
-                         f"diverges); use at least {CUTOFF_FACTOR:g} x {fmax_hz:.6g} Hz (the default), or inf")
+                         f"diverges); use at least {MODAL_CUTOFF_FACTOR:g} x {fmax_hz:.6g} Hz (the default), or inf")
     f_t = modes_hz if lowest_left_out_hz is None else lowest_left_out_hz
     bound = _residual_bound(fmax_hz / f_t)
     if bound > CUTOFF_WARN:
         return [f"modal cutoff {modes_hz:.6g} Hz: the modes left out (from {f_t:.6g} Hz) answer with an error up "
                 f"to {bound:.2g} of their static share at {fmax_hz:.6g} Hz (the default cutoff, "
-                f"{CUTOFF_FACTOR:g} x fmax: {_residual_bound(1.0 / CUTOFF_FACTOR):.2g})"]
+                f"{MODAL_CUTOFF_FACTOR:g} x fmax: {_residual_bound(1.0 / MODAL_CUTOFF_FACTOR):.2g})"]
     return []
 
 
@@ -296,7 +297,7 @@ def _check_finite(H: np.ndarray, f: np.ndarray, outs: list, result) -> None:
 def _every_mode(model):
     """Every mode of ``model`` for the modal method (SceneError naming the method when the
     model has too many DOFs for them)."""
-    from ..modal import solve_modes
+    from ..analysis.modal import solve_modes
     res = solve_modes(model)
     if res.shapes.shape[1] < model.K.shape[0]:
         raise SceneError("method", "modal", f"the model has {model.K.shape[0]} DOFs and only "
@@ -308,7 +309,7 @@ def _modes_for_checks(model):
     """The modes a direct solve reports and checks its frequencies against (natural
     frequencies, undamped modes): every mode of a model that has a dense modal solve,
     else None."""
-    from ..modal import DENSE_MAX, solve_modes
+    from ..analysis.modal import DENSE_MAX, solve_modes
     return solve_modes(model) if model.K.shape[0] <= DENSE_MAX else None
 
 
@@ -321,12 +322,12 @@ def low_accurate(result):
     them to ~eps x (lambda + sigma) / sigma: the low modes, which an FRF needs exactly, to a
     few eps; a mode at f to eps (f / f_1)^2 (4e-8 at 2.4e4 Hz beside 1.8 Hz). Rigid-body
     modes keep their count (the structural one of ``result``) and eigenvalue 0. Solved once
-    per result (kept in ``result.info``), as a study calls the FRF many times on one model."""
+    per result (kept in ``result.memo``), as a study calls the FRF many times on one model."""
     model, r = result.model, result.n_rigid
     if len(result.eigenvalues) <= r or result.shapes.shape[1] < model.K.shape[0]:
         return result
-    if result.info.get("_frf_modes") is not None:
-        return result.info["_frf_modes"]
+    if result.memo.get("inverted") is not None:
+        return result.memo["inverted"]
     u = 1.0 / np.sqrt(model.M.diagonal())
     K = u[:, None] * model.K.toarray() * u
     M = u[:, None] * model.M.toarray() * u
@@ -340,8 +341,8 @@ def low_accurate(result):
     Phi = u[:, None] * (V / np.sqrt(mu)[None, :])                     # mass-normalised on q
     f = np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi)
     refined = dataclasses.replace(result, eigenvalues=lam, frequencies_hz=f, shapes=Phi,
-                                  abs_shapes=np.asarray(model.T @ Phi), info=dict(result.info))
-    result.info["_frf_modes"] = refined
+                                  abs_shapes=np.asarray(model.T @ Phi), info=dict(result.info), memo={})
+    result.memo["inverted"] = refined
     return refined
 
 
@@ -504,7 +505,7 @@ def _direct(model, result, src: Channel, outs: list, omega: np.ndarray):
     (:func:`assembly.dynamics.damping.section_share`).
 
     A free model whose rigid-body modes ``Phi_r`` (mass-normalised, from the structure,
-    :func:`assembly.nullity.rigid_body_modes`) no damper acts on is solved deflated, by
+    :func:`assembly.mechanics.nullity.rigid_body_modes`) no damper acts on is solved deflated, by
     inertia relief: ``q = -Phi_r Phi_r' f / w^2 + q_e`` with ``q_e`` from the bordered system
     ``[[K - w^2 M + i w C, M Phi_r], [Phi_r' M, 0]] [q_e; mu] = [f; 0]``, whose condition stays
     that of the static problem as w -> 0 (the plain matrix's grows as 1/w^2). Its first rows

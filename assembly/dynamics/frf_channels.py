@@ -2,7 +2,7 @@
 coordinates ``q`` of an assembled model (``z = T q``).
 
 Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
-:func:`assembly.loads.load_vector` does, ``P`` the body's motion at the load point):
+:func:`assembly.analysis.load_cases.load_vector` does, ``P`` the body's motion at the load point):
 
 * ``torque:BODY[:INTERFACE]``: a couple of 1 N m about the body's own axis;
 * ``force:BODY[:INTERFACE]:x|y|z``: 1 N along a global axis;
@@ -12,7 +12,7 @@ Inputs (a unit load; its load vector ``T' P' w`` by virtual work, as
   ``e``, positive as the mesh force of ``force:MESH``).
 
 The load point is the interface master when one is named, else the body's axis point (a
-flexible body: its position), :func:`assembly.loads.load_point`.
+flexible body: its position), :func:`assembly.analysis.load_cases.load_point`.
 
 Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 
@@ -23,7 +23,7 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
   (m/s^2, rad/s^2);
 * ``torque:SHAFT``: the section torque of a shaft element, ``(k + i omega c) e`` of its
   strain rows, taken about body1's axis (positive when body1 is twisted ahead of body2, as
-  the static report, :mod:`assembly.reactions`); a beam shaft of several elements: its
+  the static report, :mod:`assembly.analysis.reactions`); a beam shaft of several elements: its
   first element (at body1), or name an element ``SHAFT:A-B``;
 * ``force:MESH``: the mesh force along the line of action, ``(k + i omega c) delta``
   (positive: the ``drive_sign`` flank in compression);
@@ -34,7 +34,7 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
 * ``stress:BODY:X,Y,Z``: von Mises stress (Pa) of a flexible body at the FE stress node
   nearest to the global point (X, Y, Z) in m (refused farther than :data:`STRESS_SNAP` of the
   body's size from every node): the six stress components, each linear in q by
-  back-expansion (:meth:`assembly.flexible.FlexibleBodyModel.stress_rows`), are combined
+  back-expansion (:meth:`assembly.model.flexible.FlexibleBodyModel.stress_rows`), are combined
   after the solve into the peak von Mises stress over one cycle
   (:func:`von_mises_peak`); a real amplitude, its phase reported as 0.
 
@@ -54,8 +54,8 @@ import numpy as np
 
 from ..arguments import nearest
 from ..errors import SceneError
-from ..loads import load_point
-from ..scene import DOF_NAMES
+from ..model.probes import body_point, point_vector, strain_rows, unit_wrench
+from ..scene.tables import DOF_NAMES
 
 AXES = ("x", "y", "z")
 MOTIONS = DOF_NAMES + ("spin",)
@@ -84,70 +84,26 @@ class Channel:
     derivative: int = 0
 
 
-def _body_point(model, where: str, arg: str, name: str) -> tuple[str, Optional[str]]:
-    """(body, interface) of ``BODY`` or ``BODY:INTERFACE``."""
-    if where in model.bodies:
-        if model.bodies[where].flexible:
-            raise SceneError(arg, name, f"{where!r} is flexible: name one of its interfaces "
-                                        f"{_interfaces(model, where)} as {where}:INTERFACE")
-        return where, None
-    body, _, iface = where.rpartition(":")
-    if body in model.bodies:
-        have = _interfaces(model, body)
-        if iface in have:
-            return body, iface
-        raise SceneError(arg, name, f"body {body!r} has no interface {iface!r}; it has {have}")
-    raise SceneError(arg, name, f"no body {where!r}; bodies: {sorted(model.bodies)}{nearest(where, model.bodies)}")
-
-
-def _interfaces(model, body: str) -> list:
-    bm = model.bodies[body]
-    if bm.flexible:
-        return sorted(bm.masters)
-    from ..components import global_masters
-    b = next(b for b in model.scene.bodies if b.name == body)
-    return sorted(global_masters(b)) if b.component is not None else []
-
-
-def _point_vector(model, body: str, iface: Optional[str], wrench: np.ndarray) -> np.ndarray:
-    """``T' P' w``: the virtual work of the wrench ``w`` (global, at the load point) on q."""
-    bm = model.bodies[body]
-    P = bm.motion_at(load_point(model, body, iface), iface)
-    F = np.zeros(model.n_abs)
-    F[model.body_slice(body)] = np.asarray(P.T @ wrench).ravel()
-    return np.asarray(model.T.T @ F).ravel()
-
-
-def _unit_wrench(model, body: str, what: str) -> np.ndarray:
-    """Unit wrench (global axes) of a direction ``x..rz`` or ``spin`` (about the axis)."""
-    w = np.zeros(6)
-    if what == "spin":
-        w[3:] = model.bodies[body].axes[:, 2]
-    else:
-        w[DOF_NAMES.index(what)] = 1.0
-    return w
-
-
 def input_channel(model, name: str, arg: str = "input") -> Channel:
     """The unit load vector on q of input ``name`` (module notes)."""
     kind, _, rest = name.partition(":")
     if kind == "torque" and rest:
-        body, iface = _body_point(model, rest, arg, name)
-        return Channel(name, "N m", _point_vector(model, body, iface, _unit_wrench(model, body, "spin")))
+        body, iface = body_point(model, rest, arg, name)
+        return Channel(name, "N m", point_vector(model, body, iface, unit_wrench(model, body, "spin")))
     if kind in ("force", "moment") and rest:
         where, _, axis = rest.rpartition(":")
         if axis not in AXES or not where:
             raise SceneError(arg, name, f"{kind} input: {kind}:BODY[:INTERFACE]:x|y|z (global axes)")
-        body, iface = _body_point(model, where, arg, name)
+        body, iface = body_point(model, where, arg, name)
         what = axis if kind == "force" else "r" + axis
-        return Channel(name, "N" if kind == "force" else "N m", _point_vector(model, body, iface,
-                                                                               _unit_wrench(model, body, what)))
+        return Channel(name, "N" if kind == "force" else "N m", point_vector(model, body, iface,
+                                                                               unit_wrench(model, body, what)))
     if kind == "mesh" and rest:
         el = next((e for e in model.elements if e.kind == "mesh" and e.name == rest), None)
         if el is None:
             raise SceneError(arg, name, f"no mesh {rest!r}; meshes: {_names(model, 'mesh')}"
                                         f"{nearest(rest, _names(model, 'mesh'))}")
-        return Channel(name, "N", _strain_rows(model, el)[0])
+        return Channel(name, "N", strain_rows(model, el)[0])
     raise SceneError(arg, name, "inputs are torque:BODY[:INTERFACE], force:BODY[:INTERFACE]:x|y|z, "
                                 f"moment:BODY[:INTERFACE]:x|y|z, mesh:MESH; bodies: {sorted(model.bodies)}")
 
@@ -160,11 +116,11 @@ def output_channels(model, name: str, arg: str = "outputs") -> list[Channel]:
         where, _, what = rest.rpartition(":")
         if what not in MOTIONS or not where:
             raise SceneError(arg, name, f"{kind} output: {kind}:BODY[:INTERFACE]:{'|'.join(MOTIONS)}")
-        body, iface = _body_point(model, where, arg, name)
+        body, iface = body_point(model, where, arg, name)
         unit = "m" if what in AXES else "rad"
         order = 2 if kind == "acceleration" else 0
         return [Channel(name, unit + ("/s^2" if order else ""),
-                        _point_vector(model, body, iface, _unit_wrench(model, body, what)), derivative=order)]
+                        point_vector(model, body, iface, unit_wrench(model, body, what)), derivative=order)]
     if kind == "stress" and rest:
         return _stress_channels(model, rest, arg, name)
     elements = {el.name: el for el in model.elements}
@@ -260,7 +216,7 @@ def _bearing_channels(model, rest: str, elements: dict, arg: str, name: str) -> 
 
 def bearing_directions(model, el) -> list:
     """Directions (local names) of the rows of a bearing element: those with a spring or a
-    damper, as :func:`assembly.elements.relative_spring` keeps them."""
+    damper, as :func:`assembly.mechanics.elements.relative_spring` keeps them."""
     br = model.scene.bearings[el.item[1]]
     k = br.diagonal()
     keep = ((k > 0) & ~np.isinf(k)) | (br.damping_diagonal() > 0)
@@ -270,16 +226,10 @@ def bearing_directions(model, el) -> list:
 def _element_channel(model, el, weights: np.ndarray, name: str, unit: str) -> Channel:
     """``sum_j weights_j (k_j + i omega c_j) e_j`` with ``e = B A T q`` the element's
     strains (``A`` its attachment operator)."""
-    E = _strain_rows(model, el)
+    E = strain_rows(model, el)
     k_row = (weights * el.k) @ E
     c_row = None if el.c is None else (weights * el.c) @ E
     return Channel(name, unit, k_row, c_row, section=True)
-
-
-def _strain_rows(model, el) -> np.ndarray:
-    """The element's strains on q, ``B A T`` (one row per spring direction; a mesh: its
-    deflection along the line of action)."""
-    return el.B @ (model.attachment_operator(el) @ model.T).toarray()
 
 
 def output_rows(outs: list) -> tuple[np.ndarray, np.ndarray]:

@@ -26,7 +26,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from ..kinematics import skew
+from ..mechanics.kinematics import skew
 
 
 def body_gyroscopic(inertia: np.ndarray, axis, spin: float) -> np.ndarray:

@@ -99,7 +99,7 @@ def check_step(dt: float, t_end: float) -> int:
     return max(1, int(math.ceil(t_end / dt - 1e-9)))
 
 
-class _Solver:
+class Solver:
     """``A^-1`` applied to vectors and blocks: a kept dense inverse, a dense LU, or for a large
     sparse matrix a sparse Cholesky factorisation (:func:`cms.linsolve.factor`: CHOLMOD when
     installed; the effective matrix of a model with symmetric M, C, K is positive definite),
@@ -143,8 +143,8 @@ def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: 
     check_memory("t_end", t_end, 24.0 * (n_steps + 1) * (n + 1), f"the history of {n_steps:.3g} steps (dt = "
                  f"{dt:g} s) of {n} coordinates, velocities and accelerations", "shorten t_end or raise dt")
     C = sp.csr_matrix((n, n)) if C is None else C
-    a = _Solver(M).solve(np.asarray(force(0.0), float) - C @ v - K @ q)
-    lu = _Solver(_effective(M, C, K, dt, s))
+    a = Solver(M).solve(np.asarray(force(0.0), float) - C @ v - K @ q)
+    lu = Solver(effective_matrix(M, C, K, dt, s))
     t = np.arange(n_steps + 1) * dt
     Q, V, Acc = (np.empty((n_steps + 1, n)) for _ in range(3))
     Q[0], V[0], Acc[0] = q, v, a
@@ -158,7 +158,7 @@ def integrate_linear(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: 
     return TimeHistory(t, Q, V, Acc, s)
 
 
-def _effective(M, C, K, dt: float, s: Scheme):
+def effective_matrix(M, C, K, dt: float, s: Scheme):
     """The matrix that takes ``a+`` to the step's balance: ``(1 - alpha_m) M + (1 - alpha_f)
     (gamma dt C + beta dt^2 K)``."""
     return (1 - s.alpha_m) * M + (1 - s.alpha_f) * (s.gamma * dt * C + s.beta * dt * dt * K)
@@ -179,7 +179,7 @@ def amplification(omega: float, dt: float, scheme: Scheme, zeta: float = 0.0) ->
     ``omega`` rad/s, damping ratio ``zeta``) over one step: its eigenvalues give the
     scheme's spectral radius and numerical frequency (``angle / dt``)."""
     M, C, K = np.eye(1), np.array([[2 * zeta * omega]]), np.array([[omega ** 2]])
-    A = _effective(M, C, K, dt, scheme)
+    A = effective_matrix(M, C, K, dt, scheme)
     out = np.empty((3, 3))
     for j, (q, v, a) in enumerate(np.eye(3) / np.array([1.0, dt, dt * dt])[None, :]):
         q1, v1, a1 = _step(M, C, K, np.zeros(1), np.array([q]), np.array([v]), np.array([a]), dt, scheme,

@@ -5,7 +5,7 @@ nonlinear forces (:mod:`assembly.dynamics.transient`) on the independent coordin
 
 * its line of action ``g`` (the compression delta = g q, the mesh row of the linear model);
 * its angle ``r = z (r_gear - r_frame)``, phi = r q - phase, with r_body the row of a body's
-  rotation about its own axis (:func:`assembly.loads.axial_rotation`).
+  rotation about its own axis (:func:`assembly.analysis.load_cases.axial_rotation`).
 
 The linear model already holds the mean spring and damper ``k0 g g'``, ``c g g'``, so the
 forces along the two directions are the corrections (:mod:`assembly.dynamics.mesh_variation`):
@@ -21,10 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..loads import axial_rotation
-from ..scene import HOUSING
-from ..validate import body_origins, element_paths
-from .frf_channels import _strain_rows
+from ..model.probes import spin_row, strain_rows
+from ..scene.paths import body_origins, element_paths, stage_mesh_side
+from ..scene.tables import HOUSING
 from .mesh_variation import DeadZone, Series, check_positive, series
 from .transient import Nonlinear
 
@@ -43,12 +42,6 @@ class MeshInfo:
     frame: str | None
     harmonics: int
     backlash: float
-
-
-def spin_row(model, body: str) -> np.ndarray:
-    """Row on q of ``body``'s rotation (rad) about its own axis (:func:`assembly.loads.axial_rotation`
-    of the columns of ``T``)."""
-    return np.asarray(axial_rotation(model, model.T, body)).ravel()
 
 
 def _frame(scene, gear1: str, gear2: str) -> str | None:
@@ -70,14 +63,14 @@ class Meshes(Nonlinear):
             if m.variation is None and m.backlash is None:
                 continue
             path = paths.get(id(m), f"meshes[{el.item[1]}]")
-            rows_g.append(_strain_rows(model, el)[0])
+            rows_g.append(strain_rows(model, el)[0])
             frame = _frame(scene, m.gear1, m.gear2)
             v = m.variation
             if v is not None:
                 gear = m.gear1 if v.counting_gear == "gear1" else m.gear2
                 a, p = series(v)
-                where = (f"{path}.variation_sun" if "sun-planet" in m.name else f"{path}.variation_ring") \
-                    if path.startswith("stages") else f"{path}.variation"
+                where = (f"{path}.variation_{stage_mesh_side(scene, m)}" if path.startswith("stages")
+                         else f"{path}.variation")
                 check_positive(a, p, where + (".amplitudes" if v.amplitudes is not None else ".step"))
                 r = v.teeth * (spin_row(model, gear) - (spin_row(model, frame) if frame else 0.0))
                 z, ph = v.teeth, v.phase

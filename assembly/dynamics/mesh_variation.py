@@ -1,7 +1,7 @@
 """Mesh stiffness as a Fourier series in the gear angle, and backlash as a dead zone.
 
 Per mesh, ``k(phi) = k0 f(phi)`` with ``f(phi) = 1 + sum_h a_h cos(h phi + phi_h)`` and
-``phi = z (theta - theta_frame) - phase`` (module :mod:`assembly.scene_time`). The
+``phi = z (theta - theta_frame) - phase`` (module :mod:`assembly.scene.time_domain`). The
 rectangular wave of alternating single and double tooth contact, contact ratio c in
 (1, 2), step dk and double contact centred on phi = 0, has the cosine series
 ``a_h = 2 (dk/k0) sin(h pi (c - 1)) / (h pi)`` (a pulse of width 2 pi (c - 1) per mesh
@@ -37,7 +37,7 @@ def rectangular_wave(step: float, contact_ratio: float, harmonics: int, overlap:
 
 
 def series(v) -> tuple[np.ndarray, np.ndarray]:
-    """(amplitudes, phases) of a filled :class:`assembly.scene_time.MeshVariation`."""
+    """(amplitudes, phases) of a filled :class:`assembly.scene.time_domain.MeshVariation`."""
     if v.amplitudes is not None:
         a = np.asarray(v.amplitudes, float)
         return a, np.zeros_like(a) if v.phases is None else np.asarray(v.phases, float)

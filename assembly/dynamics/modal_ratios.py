@@ -1,14 +1,14 @@
 """Modal damping ratios of a scene's ``[damping]`` table, one per mode of a modal result.
 
 ``modal_ratio`` gives every elastic mode its zeta; ``class_ratios`` ({mode class: zeta})
-overrides it for the modes of those classes (:func:`assembly.classify.classify_modes`).
+overrides it for the modes of those classes (:func:`assembly.analysis.classify.classify_modes`).
 Rigid-body (0 Hz) modes get 0: modal damping acts on elastic modes only.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..classify import classify_modes
+from ..analysis.classify import classify_modes
 
 
 def mode_ratios(result) -> np.ndarray:

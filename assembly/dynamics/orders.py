@@ -2,7 +2,7 @@
 
 Every order is a straight line through the origin, f = ``hz_per_rpm`` x n, with n the speed
 of the reference body (rpm) and f in Hz. Body speeds come from the kinematic chain (the
-model's rigid-body mode, :func:`assembly.drivetrain.speed_ratios`: n_i = ratio_i n).
+model's rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`: n_i = ratio_i n).
 
 * A gear mesh of gear teeth z_1 and z_2 whose gears ride in the frame F (the housing, or a
   planet carrier) engages teeth at f = z_1 |n_1 - n_F| / 60 = z_2 |n_2 - n_F| / 60 (Hz,
@@ -20,8 +20,8 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass
 
-from ..gear_data import body_teeth
-from ..scene import HOUSING
+from ..scene.gears import body_teeth
+from ..scene.tables import HOUSING
 from .phasing import equally_spaced
 
 log = logging.getLogger(__name__)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 
-#: Mode classes (:mod:`assembly.classify`) the rule speaks about.
+#: Mode classes (:mod:`assembly.analysis.classify`) the rule speaks about.
 RULE_CLASSES = ("rotational", "translational", "planet")
 #: Angle tolerance (rad) under which planets count as equally spaced.
 SPACING_TOL = 1e-9

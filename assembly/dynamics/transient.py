@@ -33,7 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .budget import check_memory
-from .integrators import DENSE_INVERSE_MAX, Scheme, _effective, _Solver, check_step, newmark
+from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 
 log = logging.getLogger(__name__)
 
@@ -195,14 +195,14 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     observe = observe or (lambda q, v, a, nu: q)
     am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
     t0 = _time.perf_counter()
-    lu = _Solver(_effective(M, C, K, dt, s))
+    lu = Solver(effective_matrix(M, C, K, dt, s))
     W = lu.solve(U) if U.shape[1] else np.zeros((n, 0))
     S = U.T @ W
     x, xd = U.T @ q, U.T @ v
     nu, _, _ = nl.forces(0.0, x, xd)
     nl.commit(0.0, x, xd)
     F = K @ q + C @ v + U @ nu
-    a = _Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
+    a = Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
     check_history(dt, t_end, len(first), n, U.shape[1])

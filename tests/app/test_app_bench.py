@@ -1,5 +1,5 @@
-"""The benchmarks (``flexgear bench fe``, assembly/app/bench_fe.py; ``flexgear bench drivetrain``,
-assembly/app/bench_drivetrain.py) run end to end on small inputs: the tables, not the timings."""
+"""The benchmarks (``flexgear bench fe``, assembly/app/bench/fe.py; ``flexgear bench drivetrain``,
+assembly/app/bench/drivetrain.py) run end to end on small inputs: the tables, not the timings."""
 from __future__ import annotations
 
 import pytest
@@ -9,7 +9,7 @@ pytestmark = pytest.mark.gmsh
 
 @pytest.mark.slow
 def test_bench_fe_main_prints_table(capsys):
-    from assembly.app.bench_fe import main
+    from assembly.app.bench.fe import main
 
     assert main(["--components", "carrier", "--target-dofs", "20000", "--levels", "1", "--modes", "6"]) == 0
     out = capsys.readouterr().out.strip().splitlines()
@@ -38,10 +38,10 @@ def test_bench_drivetrain_prints_sizes_times_and_the_in_band_error(tmp_path):
 
     import numpy as np
 
-    from assembly.app.bench_drivetrain import main
-    from assembly.modal import solve_modes
-    from assembly.model import assemble
-    from assembly.schema import load_scene
+    from assembly.analysis.modal import solve_modes
+    from assembly.app.bench.drivetrain import main
+    from assembly.model.assemble import assemble
+    from assembly.scene.schema import load_scene
     from tests.support.shaft_scene import shaft_scene
 
     flex, rigid = tmp_path / "flex.toml", tmp_path / "rigid.toml"
@@ -91,7 +91,7 @@ def test_bench_frf_prints_the_table_with_errors(tmp_path):
     # reduction's own error, well inside the 3000 Hz band: its first bending mode is far above)
     import io
 
-    from assembly.app.bench_frf import main
+    from assembly.app.bench.frf import main
     from tests.support.shaft_scene import shaft_scene
 
     path = tmp_path / "shaft.toml"
@@ -114,7 +114,7 @@ def test_bench_transient_prints_cost_and_drivetrain_tables():
     # through the gear ratio, Jonkman et al. 2009 / the scene's teeth) to its mesh ripple
     import io
 
-    from assembly.app.bench_transient import main
+    from assembly.app.bench.transient import main
     buf = io.StringIO()
     assert main(["--tables", "1,2", "--no-flexible", "--steps", "50", "--repeat", "50", "--seconds", "0.01"],
                 out=buf) == 0
@@ -128,7 +128,7 @@ def test_bench_transient_prints_cost_and_drivetrain_tables():
 def test_bench_study_prints_the_overhead_table_with_identical_results(capsys):
     # the rigid study alone, 10 variants, in this process and on a 2-worker local cluster:
     # both rows printed, every variant solved, and the two engines' result columns identical
-    from assembly.app.bench_study import main
+    from assembly.app.bench.study import main
 
     assert main(["--no-flexible", "--rigid-variants", "10", "--workers", "2"]) == 0
     lines = capsys.readouterr().out.splitlines()

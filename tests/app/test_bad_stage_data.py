@@ -17,8 +17,7 @@ import math
 import pytest
 
 from assembly.app.cli import main
-from assembly.schema import SCENE_DIR
-
+from assembly.scene.schema import SCENE_DIR
 from tests.support.variants import write_variant
 
 ALPHA_N = math.radians(20.0)   # normal pressure angle of every NREL gear (Nejad et al. 2016, Table V)
@@ -156,7 +155,7 @@ def test_planet_angles_off_the_tooth_pitch(tmp_path, capsys, angles, j):
 
 
 def test_counts_and_angles_that_fit_are_accepted(tmp_path):
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
     # 75 / 5 = 15 and 5 planets clear one another (sin 36 deg > 17/36); 30 + k 4.8 deg
     # for k = 25, 50; 0, 96, 216 deg: k = 20, 45 (unequal spacing that still meshes)
     for changes in ({"stages.stage1.planets.count": 5},

@@ -1,10 +1,10 @@
-"""``flexgear bench part`` (assembly/app/bench_part.py) runs end to end at a coarse element
+"""``flexgear bench part`` (assembly/app/bench/part.py) runs end to end at a coarse element
 size: the table's rows and columns, not the timings."""
 from __future__ import annotations
 
 import pytest
 
-from assembly.app import bench_part
+from assembly.app.bench import part as bench_part
 
 
 def _rows(out: str) -> list[dict]:
@@ -48,7 +48,7 @@ def test_quick_run_prints_both_carriers_cold_and_warm(capsys):
 
 
 def test_size_list_is_checked(capsys):
-    assert bench_part._sizes("0.015, 0.012,0.008") == (0.015, 0.012, 0.008)
+    assert bench_part.size_list("0.015, 0.012,0.008") == (0.015, 0.012, 0.008)
     for bad in ("abc", "0.01,-1", ","):
         with pytest.raises(SystemExit) as exc:
             bench_part.main(["--size", bad])

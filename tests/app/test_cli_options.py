@@ -13,8 +13,7 @@ import sys
 import pytest
 
 from assembly.app.cli import main
-
-from tests.app.test_simulate_cli import pair_file      # a torsional pair: rotor, generator, mesh m
+from tests.app.test_simulate_cli import pair_file  # a torsional pair: rotor, generator, mesh m
 
 NUMBERS = ["nan", "inf", "-inf", "0", "-1", "1e308", "abc", ""]
 NAMES = ["", "nope", "rotr"]
@@ -83,6 +82,7 @@ def scene(tmp_path_factory):
 @pytest.fixture(scope="module")
 def part(tmp_path_factory):
     import meshio
+
     from tests.support.mesh_writers import kuhn_box
     pts, tets = kuhn_box((0.1, 0.02, 0.02), (5, 1, 1))
     path = tmp_path_factory.mktemp("cli-part") / "bar.vtu"

@@ -8,7 +8,7 @@ above 0.8-0.9 count as consistent shapes, low values as different shapes).
 """
 from types import SimpleNamespace
 
-from assembly.app.tables import comparison_cells, comparison_table, text_table
+from assembly.app.report.tables import comparison_cells, comparison_table, text_table
 
 FIDS = ["torsional", "rigid", "flexible"]
 

@@ -1,6 +1,6 @@
 """``flexgear export elastodyn``: the fragment's layout, its numbers read back, atomic write,
 one-line errors. The numbers themselves are checked against closed forms in
-tests/assembly/test_drivetrain.py; here they must read back equal to derive_two_mass's."""
+tests/analysis/test_drivetrain.py; here they must read back equal to two_mass's."""
 from __future__ import annotations
 
 import os
@@ -9,9 +9,9 @@ import re
 import pytest
 
 from assembly import save_scene
+from assembly.analysis.two_mass import two_mass
 from assembly.app.cli import main
-from assembly.drivetrain import derive_two_mass
-from tests.assembly.test_drivetrain import chain
+from tests.analysis.test_drivetrain import chain
 
 # ElastoDyn's value line: value, name, "- description (unit)" (OpenFAST ElastoDyn input files)
 LINE = re.compile(r"^\s*(\S+)\s+(\w+)\s+- (.+) \((.+)\)$")
@@ -40,7 +40,7 @@ def test_export_writes_the_fragment_and_it_reads_back(scene_file, tmp_path, caps
     stdout = capsys.readouterr().out
     assert "GBRatio" in stdout and str(out) in stdout and len(stdout.splitlines()) == 1
     text = out.read_text()
-    tm = derive_two_mass(chain())
+    tm = two_mass(chain())
     want = {"GenIner": (tm.generator_inertia, "kg m^2"), "GBRatio": (tm.gear_ratio, "-"),
             "DTTorSpr": (tm.stiffness, "N-m/rad")}
     got = _read(text)
@@ -111,7 +111,7 @@ USERS = {"the scene itself": None, "an ElastoDyn input": "------- ELASTODYN v1.0
 @pytest.mark.parametrize("api", [False, True], ids=["cli", "api"])
 @pytest.mark.parametrize("user", list(USERS))
 def test_a_file_flexgear_did_not_write_is_never_replaced(scene_file, tmp_path, capsys, user, api):
-    from assembly.app.elastodyn import write_fragment
+    from assembly.app.export.elastodyn import write_fragment
     from assembly.app.output import OutputDirError
 
     out = scene_file if USERS[user] is None else tmp_path / "drivetrain.dat"
@@ -121,7 +121,7 @@ def test_a_file_flexgear_did_not_write_is_never_replaced(scene_file, tmp_path, c
     before = out.read_bytes()
     if api:
         with pytest.raises(OutputDirError, match="flexgear replaces only files it wrote"):
-            write_fragment(out, derive_two_mass(chain()), "chain")
+            write_fragment(out, two_mass(chain()), "chain")
     else:
         assert main(["export", "elastodyn", str(scene_file), "--out", str(out), "-q"]) == 2
         err = capsys.readouterr().err.strip().splitlines()

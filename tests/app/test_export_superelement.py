@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.model import assemble
-from assembly.schema import load_scene
+from assembly.model.assemble import assemble
+from assembly.scene.schema import load_scene
 from cms.export import dof_map, read_dmig, read_dmig_points, read_npz
 
 SCENE = "planetary_flexible_carrier.toml"
@@ -85,7 +85,7 @@ def bar():
 
 
 def _export(bar, out, monkeypatch, api: bool = False):
-    from assembly.app import export_superelement
+    from assembly.app.export import superelement as export_superelement
     if api:
         return export_superelement.write_body(bar, "scene", out)
     monkeypatch.setattr(export_superelement, "reduced_body", lambda scene, name: bar)

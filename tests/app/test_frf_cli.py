@@ -2,7 +2,7 @@
 
 The scene is two inertias J1 = 2, J2 = 3 kg m^2 on a torsional shaft k = 1e4 N m/rad with a
 damper c = 30 N m s/rad, free otherwise; torque on J1. Closed form of the shaft torque per
-unit input torque (see tests/assembly/test_frf.py): with z = k + i w c,
+unit input torque (see tests/dynamics/test_frf.py): with z = k + i w c,
 T_s / T = J2 z / (z (J1 + J2) - w^2 J1 J2).
 """
 from __future__ import annotations

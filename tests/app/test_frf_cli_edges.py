@@ -1,5 +1,5 @@
 """``flexgear frf`` at its edges: never a non-finite number with exit code 0, only valid JSON,
-warnings on stderr and in every output (see tests/assembly/test_frf_edges.py for the physics).
+warnings on stderr and in every output (see tests/dynamics/test_frf_edges.py for the physics).
 
 The scene: two inertias J1 = 2, J2 = 3 kg m^2 on a torsional shaft k = 1e4 N m/rad, free
 otherwise, without a damper (the torsional mode sqrt(k (J1 + J2) / (J1 J2)) / 2 pi = 14.53 Hz
@@ -13,7 +13,7 @@ import math
 import pytest
 
 from assembly.app.cli import main
-from tests.app.test_frf_cli import C, J1, J2, K, SCENE
+from tests.app.test_frf_cli import J1, J2, SCENE, C, K
 
 F_N = math.sqrt(K * (J1 + J2) / (J1 * J2)) / (2 * math.pi)
 

@@ -88,7 +88,7 @@ def test_the_step_carrier_part_is_shipped_and_read(installed):
     python, _, _, elsewhere, purelib = installed
     code = ("import json\n"
             "from assembly import load_scene\n"
-            "from fe_components.part_geometry import part_geometry\n"
+            "from fe_components.part.read import part_geometry\n"
             "c = load_scene('planetary_step_carrier').stages[0].carrier.component\n"
             "print(json.dumps({'path': str(c.path), 'sha': c.content_sha256, 'volume': part_geometry(c).volume}))\n")
     got = json.loads(_run([python, "-c", code], cwd=elsewhere).stdout.strip().splitlines()[-1])

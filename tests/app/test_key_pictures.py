@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.app.key_modes import global_torsional_mode, stage_local_mode
-from assembly.app.pipeline import RunOptions, run_pipeline
-from assembly.app.render import AssemblyRenderer, body_shapes, pitch_radii
-from assembly.app.render_shafts import hermite_centreline
-from assembly.app.render_twist import referred_angles
+from assembly.app.render.renderer import AssemblyRenderer
+from assembly.app.render.shafts import hermite_centreline
+from assembly.app.render.shapes import body_shapes, pitch_radii
+from assembly.app.render.twist import referred_angles
+from assembly.app.report.key_modes import global_torsional_mode, stage_local_mode
+from assembly.app.report.pipeline import RunOptions, run_pipeline
 
 SIZE = (480, 360)
 

@@ -1,4 +1,4 @@
-"""``flexgear part`` and :func:`assembly.part_check.check_part`: one part checked alone, with no
+"""``flexgear part`` and :func:`assembly.analysis.part_check.check_part`: one part checked alone, with no
 bearing or scene around it -- its mass properties (FE, and CAD-exact for a STEP file with
 their relative difference), its free-free modes (six rigid-body modes counted, the first
 elastic ones), the interfaces its rules found, what its file held and the element order.
@@ -19,13 +19,13 @@ import meshio
 import numpy as np
 import pytest
 
+from assembly.analysis.part_check import check_body_part, check_part
 from assembly.app.cli import main
 from assembly.errors import SceneError
-from assembly.part_check import check_body_part, check_part
-from assembly.schema import load_scene
-from assembly.scene import FlexOptions
+from assembly.scene.schema import load_scene
+from assembly.scene.tables import FlexOptions
 from fe_components.gmsh_session import gmsh_model
-from fe_components.part_file import PartFile, PartFileError
+from fe_components.part.file import PartFile, PartFileError
 from tests.support.mesh_writers import kuhn_box
 
 REPO = Path(__file__).resolve().parents[2]
@@ -124,7 +124,7 @@ def test_a_step_file_against_its_cad(files, tmp_path):
 
 
 def _caches(tmp_path):
-    from assembly.components import CacheDirs
+    from assembly.model.components import CacheDirs
     return CacheDirs(tmp_path / "m", tmp_path / "s")
 
 
@@ -235,6 +235,6 @@ def test_scene_commands_say_what_was_left_out(files, tmp_path):
                        env={**os.environ, "FLEXGEAR_CACHE_DIR": str(tmp_path)}, cwd=REPO, timeout=300)
     assert p.returncode == 0, p.stderr
     (line,) = p.stderr.splitlines()
-    assert line.startswith("WARNING fe_components.part_geometry: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
+    assert line.startswith("WARNING fe_components.part.read: bar_shell.vtu: read 30 tetra; dropped 1 triangle "
                            "(surface); lifted to P2"), line
     assert "Left out of the model (only tetrahedra are read): 1 triangle (surface)" in line

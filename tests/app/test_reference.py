@@ -2,7 +2,7 @@
 
 (a) every key the schema accepts -- found here by an independent walk of the scene
 dataclasses with ``dataclasses.fields`` (angle fields also as ``<key>_deg``) -- is a row of
-docs/scene_reference.md and has a description in ``assembly.scene_docs``; (b) the committed
+docs/scene_reference.md and has a description in ``assembly.scene.docs``; (b) the committed
 reference is the generator's output; (c) scene_docs describes no field that does not
 exist; (d) the TOML blocks of the walk-through, in order, are the shipped
 ``two_stage_quill.toml``, the derived numbers its prose quotes are the loaded scene's, and
@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assembly import scene_docs
-from assembly.scene import Scene
+from assembly.scene import docs as scene_docs
+from assembly.scene.tables import Scene
 from fe_components.params import COMPONENT_KINDS
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -96,10 +96,10 @@ def test_every_accepted_key_is_in_the_reference_and_described(cls):
     best = max(sections, key=lambda s: len(keys & s))
     missing = sorted(keys - best)
     assert not missing, f"{cls.__name__}: keys missing from {REFERENCE.name}: {missing} (run `flexgear reference " \
-                        f"--out docs/scene_reference.md` after describing them in assembly/scene_docs.py)"
+                        f"--out docs/scene_reference.md` after describing them in assembly/scene/docs.py)"
     docs = scene_docs.FIELDS.get(cls.__name__, {})
     undescribed = sorted(f.name for f in dataclasses.fields(cls) if f.init and not docs.get(f.name, "").strip())
-    assert not undescribed, f"{cls.__name__}: no description in assembly/scene_docs.py for {undescribed}"
+    assert not undescribed, f"{cls.__name__}: no description in assembly/scene/docs.py for {undescribed}"
 
 
 def test_committed_reference_is_the_generated_one():
@@ -143,18 +143,18 @@ def test_scene_docs_names_only_existing_fields():
     classes = {c.__name__: c for c in accepted_keys()}
     for table in (scene_docs.FIELDS, scene_docs.NOTES, scene_docs.EXTRA_KEYS):
         stale = sorted(set(table) - set(classes))
-        assert not stale, f"assembly/scene_docs.py describes classes that no scene table uses: {stale}"
+        assert not stale, f"assembly/scene/docs.py describes classes that no scene table uses: {stale}"
     for name, fields in scene_docs.FIELDS.items():
         have = {f.name for f in dataclasses.fields(classes[name]) if f.init}
         stale = sorted(set(fields) - have)
-        assert not stale, f"assembly/scene_docs.py describes fields {name} no longer has: {stale}"
+        assert not stale, f"assembly/scene/docs.py describes fields {name} no longer has: {stale}"
     for name, keys in scene_docs.EXTRA_KEYS.items():
         assert not set(keys) & accepted_keys()[classes[name]], "an extra key duplicates a field"
 
 
 def test_extra_carrier_keys_are_accepted():
     # every key EXTRA_KEYS documents is read by the schema: 3 equally spaced planets from 30 deg
-    from assembly.schema import component_from_table
+    from assembly.scene.schema import component_from_table
     table = {"kind": "carrier", "pin_pitch_radius": 0.0978, "pin_bore_diameter": 0.03, "cheek_diameter": 0.27,
              "cheek_thickness": 0.015, "cheek_spacing": 0.05, "post_diameter": 0.03, "seat_a_diameter": 0.08,
              "seat_a_length": 0.03, "seat_b_diameter": 0.09, "seat_b_length": 0.04, "output_bore_diameter": 0.05}
@@ -227,8 +227,8 @@ def test_docs_toml_snippets_load(tmp_path):
     """Every TOML snippet of the docs is read as what it is (a variant, a study, or a
     fragment put into the shipped scene it comes from) and passes the scene checks; a page
     with snippets must say what they are (SNIPPETS), and finding none fails."""
-    from assembly.app.study_file import read_study
-    from assembly.schema import SCENE_DIR, load_scene
+    from assembly.app.study.file import read_study
+    from assembly.scene.schema import SCENE_DIR, load_scene
     found = _doc_snippets()
     assert found, "no ```toml block found in docs/*.md"
     assert {page for page, _, _ in found} == set(SNIPPETS), "say in SNIPPETS what a new page's blocks are"
@@ -269,14 +269,14 @@ def test_walkthrough_blocks_are_the_shipped_scene():
 def quill():
     """(scene, assembled rigid model) of the shipped two-stage example."""
     from assembly import assemble
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
     scene = load_scene(QUILL)
     return scene, assemble(scene)
 
 
 def _quill_numbers(scene, model) -> dict:
     """Regex of a number the walk-through's prose quotes -> the value the loaded scene has."""
-    from assembly.loads import speed_ratio
+    from assembly.analysis.load_cases import speed_ratio
     mesh, stage = scene.meshes[0], scene.stages[0]
     alpha_t = math.atan(math.tan(scene.bodies[0].teeth.pressure_angle) / math.cos(scene.bodies[0].teeth.helix_angle))
     return {
@@ -308,7 +308,7 @@ def test_walkthrough_quotes_the_loaded_scene(quill):
 
 def _mesh_forces(scene) -> dict:
     """Mesh name -> compressive force (N) under the scene's load case."""
-    from assembly.static import solve_static
+    from assembly.analysis.static import solve_static
     st = solve_static(scene, scene.load)
     m = st.model
     return {el.name: float((el.k * (el.B @ (m.attachment_operator(el) @ st.z)))[0])
@@ -317,7 +317,7 @@ def _mesh_forces(scene) -> dict:
 
 def test_walkthrough_scene_loads_every_mesh_on_its_flank(quill):
     from assembly import solve_modes
-    from assembly.schema import scene_from_dict
+    from assembly.scene.schema import scene_from_dict
     scene, model = quill
     assert solve_modes(model).n_rigid == 1   # pinion-wheel-sun-planets-carrier: one free rotation
     forces = _mesh_forces(scene)
@@ -342,7 +342,7 @@ def test_mesh_helix_is_minus_gear1_teeth_helix():
     profile turns by tan(beta) / r_p per unit z) is the line of action of a mesh whose
     helix angle is negative, on either flank (involute helicoid: the normal lies in the
     plane of action at the base helix angle, ISO 21771)."""
-    from assembly.elements import line_of_action
+    from assembly.mechanics.elements import line_of_action
     from fe_components.involute import flank_half_angle
     from fe_components.params import GearTeeth
 

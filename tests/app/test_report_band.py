@@ -11,13 +11,15 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 import numpy as np
 import pytest
 
-from assembly.app.cli import UsageError, main, parse_modes
-from assembly.app.pipeline import ModeSelectionError, RunOptions, run_pipeline
-from assembly.app.tables import in_band, modes_table
-from assembly.modal import solve_modes
-from assembly.model import assemble
-from assembly.scene import DISPLAY_BAND_FACTOR
-from assembly.schema import SCENE_DIR, load_scene
+from assembly.analysis.modal import solve_modes
+from assembly.app.args import parse_modes
+from assembly.app.cli import main
+from assembly.app.errors import UsageError
+from assembly.app.report.pipeline import ModeSelectionError, RunOptions, run_pipeline
+from assembly.app.report.tables import in_band, modes_table
+from assembly.model.assemble import assemble
+from assembly.scene.schema import SCENE_DIR, load_scene
+from assembly.scene.tables import DISPLAY_BAND_FACTOR
 
 SHIPPED = SCENE_DIR / "lin_parker_n4.toml"   # rigid planetary stage: 21 modes, no flexible body
 SIZE = (320, 240)
@@ -95,8 +97,8 @@ def test_no_images_says_what_it_skipped(tmp_path, capsys):
 
 
 def test_colour_bar_maximum_is_the_title_maximum():
+    from assembly.app.render.fe import stress_scale
     from cms.stress import NodalStress, von_mises
-    from assembly.app.render_fe import stress_scale
     # uniaxial stress s e_x e_x: von Mises = |s| (von Mises 1913); the largest at node 2
     s = np.array([10e6, -30e6, 50e6, 20e6])
     sigma = np.zeros((4, 3, 3))
@@ -111,7 +113,7 @@ def test_colour_bar_maximum_is_the_title_maximum():
 
 @pytest.mark.slow
 def test_modal_stress_scaling_and_bodies_without_strain_energy():
-    from assembly.modal_stress import MODAL_PEAK_DISPLACEMENT_M, modal_amplitudes, peak_displacement
+    from assembly.analysis.modal_stress import MODAL_PEAK_DISPLACEMENT_M, modal_amplitudes, peak_displacement
     scene = Path(__file__).parent.parent / "support" / "data" / "shaft_torsion.toml"
     res = solve_modes(assemble(load_scene(scene)))
     m = res.model

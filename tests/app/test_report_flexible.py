@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.html_report import missing_references
+from assembly.app.report.html import missing_references
 
 # every test here needs a module fixture that takes over 5 s (full-FE solve / a flexible run)
 pytestmark = pytest.mark.slow
@@ -69,7 +69,7 @@ def test_report_says_how_the_flexible_body_was_reduced(run_dir):
 
 
 def test_modal_stresses_at_stated_amplitude(run_dir):
-    from assembly.modal_stress import MODAL_STRESS_COLUMN
+    from assembly.analysis.modal_stress import MODAL_STRESS_COLUMN
     rows = list(csv.DictReader(open(run_dir / "modal_stress.csv")))
     assert [r["mode"] for r in rows] == ["2", "3", "4"]
     assert all(float(r["peak_displacement_m"]) == 1e-3 and float(r[MODAL_STRESS_COLUMN]) > 0 for r in rows)

@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from assembly import assemble, classify_modes, load_scene, solve_modes
-from assembly.app.render import (AssemblyRenderer, body_shapes, mode_title, pitch_radii, rigid_displacement,
-                             spring_glyphs)
+from assembly.app.render.renderer import AssemblyRenderer, mode_title
+from assembly.app.render.shapes import body_shapes, pitch_radii, rigid_displacement
+from assembly.app.render.springs import spring_glyphs
 
 SIZE = (480, 360)
 STD_FLOOR = 20.0 / 255
@@ -97,16 +98,16 @@ def test_geometry_rules():
 
 
 def test_width_from_transverse_inertia():
-    from assembly.app.render import _width_from_inertia
-    from assembly.scene import Body
+    from assembly.app.render.shapes import width_from_inertia
+    from assembly.scene.tables import Body
 
     r, L, mass = 0.05, 0.08, 3.0
     jp = mass * r ** 2 / 2
     jt = mass * (3 * r ** 2 + L ** 2) / 12
     b = Body(name="c", mass=mass, polar_inertia=jp, transverse_inertia=jt)
-    assert _width_from_inertia(b, r, 0.35) == pytest.approx(L)
+    assert width_from_inertia(b, r, 0.35) == pytest.approx(L)
     thin = Body(name="d", mass=mass, polar_inertia=jp)  # default J_t = J_p / 2: no length
-    assert _width_from_inertia(thin, r, 0.35) == pytest.approx(0.35 * r)
+    assert width_from_inertia(thin, r, 0.35) == pytest.approx(0.35 * r)
 
 
 def test_rigid_displacement_small_rotation():
@@ -119,7 +120,7 @@ def test_rigid_displacement_small_rotation():
 def test_frame_view_fits_the_focus_box(side):
     """The framed box lies inside the drawing band of the image (below the title, above
     the colour bar) and fills a good part of it, for the oblique and the side view."""
-    from assembly.app.render import FILL_H, FILL_V, frame_view, project
+    from assembly.app.render.views import FILL_H, FILL_V, frame_view, project
 
     W, H = 1200, 900
     lo, hi = np.array([0.30, -0.05, 0.10]), np.array([0.42, 0.07, 0.16])   # a small pinion far off-centre
@@ -147,7 +148,8 @@ def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tm
     assert view.size < rnd.view.size or len(focus) == len(m.bodies)
     scale, dmax = rnd.mode_scale(r, i, view.size)
     # The colour bar's maximum is the largest displacement over every drawn surface point.
-    from assembly.app.render import body_actor, mode_caption
+    from assembly.app.render.renderer import mode_caption
+    from assembly.app.render.surfaces import body_actor
     d = max(float(np.max(body_actor(m, n, r.abs_shapes[m.body_slice(n), i], 0.0).point_data["displacement_m"]))
             for n in m.bodies)
     assert dmax == pytest.approx(d, rel=1e-12)

@@ -11,10 +11,10 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 import pytest
 
-from assembly.app.html_report import local_references, missing_references
 from assembly.app.cli import build_parser
 from assembly.app.output import MANIFEST, OutputDirError
-from assembly.app.pipeline import RunOptions, run_pipeline
+from assembly.app.report.html import local_references, missing_references
+from assembly.app.report.pipeline import RunOptions, run_pipeline
 
 SCENE = "lin_parker_n4.toml"
 N_IMAGES = 3
@@ -179,7 +179,7 @@ def test_bad_scene_leaves_no_output(tmp_path):
 
 
 def test_failure_in_a_late_step_leaves_previous_result(tmp_path):
-    from assembly.app.pipeline import DEFAULT_STEPS, Step
+    from assembly.app.report.pipeline import DEFAULT_STEPS, Step
 
     out = tmp_path / "keep"
     run_pipeline("peeters_parallel_torsional.toml", out, RunOptions(n_modes=1, images=False))

@@ -1,4 +1,4 @@
-"""The run report's frequency response (assembly.app.run_frf) on a small rigid scene:
+"""The run report's frequency response (assembly.app.report.run_frf) on a small rigid scene:
 the Campbell test chain (tests/support/campbell_scene.py) with the pinion driven by a
 generator through a coupling and the planetary carrier driving a rotor drum."""
 import csv
@@ -7,9 +7,10 @@ import tomllib
 import numpy as np
 import pytest
 
+from assembly.analysis.load_cases import single_rigid_mode
 from assembly.app import run_report
-from assembly.loads import axial_rotation, single_rigid_mode
-from assembly.schema import scene_from_dict
+from assembly.model.probes import axial_rotation
+from assembly.scene.schema import scene_from_dict
 from tests.support.campbell_scene import campbell_scene
 
 ENDS = """

@@ -6,7 +6,7 @@ import pytest
 from assembly.app import run_report
 from assembly.app.output import MANIFEST
 from assembly.errors import SceneError
-from assembly.schema import load_scene, scene_from_dict
+from assembly.scene.schema import load_scene, scene_from_dict
 
 
 def test_run_report_on_an_edited_scene_object(tmp_path):

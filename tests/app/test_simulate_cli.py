@@ -168,7 +168,6 @@ PARTIAL_FILES = ["flexgear_run.json", "index.html", "partial_simulation.h5", "sp
 
 def _stop_after_10(monkeypatch, calls=None):
     import assembly.dynamics.simulate as sim_mod
-
     from tests.support.tiny_runs import stop_after
     monkeypatch.setattr(sim_mod, "integrate", stop_after(10, calls))
 
@@ -225,10 +224,10 @@ def test_a_stopped_run_never_writes_into_a_foreign_folder(tmp_path, capsys, monk
 
 def test_the_api_writes_a_partial_result_by_the_same_rules(tmp_path, monkeypatch):
     from assembly.app.output import OutputDirError
-    from assembly.app.simulate import sim_to_dir
+    from assembly.app.report.simulate import sim_to_dir
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
-    from assembly.schema import load_scene
+    from assembly.scene.schema import load_scene
 
     _stop_after_10(monkeypatch)
     with pytest.raises(Diverged) as stopped:

@@ -6,8 +6,8 @@ import math
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
-from tests.assembly.test_core_cli import BASE
+from assembly.app.report.pipeline import DEFAULT_STEPS, RunOptions, run_pipeline
+from tests.app.test_core_cli import BASE
 
 # The Peeters et al. (2006) spur pair (r_b 50 mm, 20 deg) of the CLI tests, two load cases.
 PAIR = BASE + """
@@ -74,11 +74,11 @@ def test_run_writes_static_files_and_section(pair_file, tmp_path):
 
 
 def test_static_point_loads_and_supports_in_json_text_and_csv(tmp_path, capsys):
-    # The two-bearing shaft of tests/assembly/test_static_loads.py (bearings at z = -0.1 and
+    # The two-bearing shaft of tests/analysis/test_static_loads.py (bearings at z = -0.1 and
     # +0.2 m, 1000 N along x at z = 0.05 m, 5 N m about the body's y, the axis held by a
     # support): lever rule plus the couple of the moment, R_A = -1000 (0.2 - 0.05) / 0.3
     # + 5 / 0.3; nothing turns the shaft about its axis, so the support takes no torque.
-    from tests.assembly.test_static_loads import TOML
+    from tests.analysis.test_static_loads import TOML
     p = tmp_path / "shaft.toml"
     p.write_text(TOML)
     assert main(["static", str(p), "--json"]) == 0

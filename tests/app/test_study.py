@@ -12,8 +12,8 @@ import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes
 from assembly.app.cli import main
-from assembly.app.study_engine import run_study
-from assembly.app.study_file import read_study
+from assembly.app.study.engine import run_study
+from assembly.app.study.file import read_study
 from tests.app.test_simulate_cli import pair_file
 
 # The torsional pair of tests/app/test_simulate_cli.py: rotor J1 = 2, generator J2 = 0.5 kg m^2,
@@ -118,7 +118,7 @@ points = 501
 
 
 def test_simulate_rows_are_the_runs_summary(pair):
-    from assembly.app.simulate import summary
+    from assembly.app.report.simulate import summary
     from assembly.dynamics.simulate import simulate
     extra = """[keep]
 stats = ["peak", "mean", "rms"]

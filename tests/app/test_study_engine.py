@@ -1,4 +1,4 @@
-"""Where a study runs does not change its results (assembly/app/study_engine.py): serially, on
+"""Where a study runs does not change its results (assembly/app/study/engine.py): serially, on
 a LocalCluster of 2 workers and on a separately started scheduler the table files are the
 same bytes; a worker killed mid-study loses no row; two studies building the same
 reductions in one cache at once give the numbers of one alone, each reduction built once.
@@ -93,8 +93,8 @@ def test_a_killed_worker_loses_no_row(tmp_path):
     # each variant a 0.6 s time-domain run; the worker that returns the first row is killed
     # (SIGKILL) while it runs its next variant: the scheduler gives that variant to a worker
     # again, and every row is there and equal to the serial run's
-    from assembly.app.study_engine import run_study
-    from assembly.app.study_file import read_study
+    from assembly.app.study.engine import run_study
+    from assembly.app.study.file import read_study
     from tests.app.test_simulate_cli import pair_file
     pair_file(tmp_path)
     study = read_study(_study(tmp_path, """

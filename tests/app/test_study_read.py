@@ -19,17 +19,17 @@ import time
 import tracemalloc
 from pathlib import Path
 
-import pyarrow.parquet as pq
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 
 from assembly.app.cli import main
-from assembly.app.study_engine import CONNECT_TIMEOUT_S, SchedulerUnreachable, run_study
-from assembly.app.study_file import read_study
-from assembly.app.study_spec import MAX_VARIANTS, variants
+from assembly.app.study.engine import CONNECT_TIMEOUT_S, SchedulerUnreachable, run_study
+from assembly.app.study.file import read_study
+from assembly.app.study.spec import MAX_VARIANTS, variants
 from assembly.errors import SceneError
-from assembly.scene_toml import toml_text
-from assembly.schema import load_scene
+from assembly.scene.save import toml_text
+from assembly.scene.schema import load_scene
 from tests.app.test_simulate_cli import pair_file
 from tests.support.fuzz import at
 
@@ -198,7 +198,7 @@ def test_keys_that_would_not_be_read_are_refused(pair):
 
 def test_a_modal_cutoff_below_twice_fmax_is_refused_before_any_variant(pair, capsys):
     # the residual term of a mode just above the cutoff is off by x^2 / (1 - x) of its static
-    # share, x = (fmax / cutoff)^2 (tests/assembly/test_frf_edges.py): 8.3 % at 2 x fmax, and the
+    # share, x = (fmax / cutoff)^2 (tests/dynamics/test_frf_edges.py): 8.3 % at 2 x fmax, and the
     # series diverges below fmax; such a cutoff is refused as flexgear frf --modes-hz refuses it
     data = copy.deepcopy(BASES["frf"])
     for cutoff in (500.0, 1000.0, 1599.0):                         # fmax = 800 Hz
@@ -280,6 +280,7 @@ def test_a_nan_result_is_a_failed_row_and_no_file_holds_a_nan(pair, capsys, monk
     # one, so one is planted: the FRF's response replaced by NaN): such a row fails, whatever
     # computed it, and no file holds a NaN
     import dataclasses
+
     import assembly.dynamics.frf as frf
     real = frf.frequency_response
 
@@ -301,7 +302,7 @@ def test_a_nan_result_is_a_failed_row_and_no_file_holds_a_nan(pair, capsys, monk
 
 
 def test_a_nan_row_says_which_result():
-    from assembly.app.study_run import finite
+    from assembly.app.study.run import finite
     assert finite({"f1_hz": 1.5, "n_rigid": 1}) == {"f1_hz": 1.5, "n_rigid": 1}
     with pytest.raises(SceneError, match=r"^peak\[x\] = inf: the variant's result is not finite \(NaN or inf in 2 of"):
         finite({"peak_hz[x]": 2.0, "peak[x]": math.inf, "peak[y]": math.nan})

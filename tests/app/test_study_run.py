@@ -1,4 +1,4 @@
-"""One study variant to one table row (assembly/app/study_run.py): the row's frequencies are the
+"""One study variant to one table row (assembly/app/study/run.py): the row's frequencies are the
 scene's own modal solve with the variant's values, and a variant the scene refuses is a row
 with its error, not an exception."""
 from __future__ import annotations
@@ -7,11 +7,11 @@ import pickle
 
 import numpy as np
 
-from assembly.app.study_run import run_variant
-from assembly.app.study_spec import variants
-from assembly.modal import solve_modes
-from assembly.model import assemble
-from assembly.schema import load_scene
+from assembly.analysis.modal import solve_modes
+from assembly.app.study.run import run_variant
+from assembly.app.study.spec import variants
+from assembly.model.assemble import assemble
+from assembly.scene.schema import load_scene
 
 
 def test_rows_are_the_variants_own_modal_solves():

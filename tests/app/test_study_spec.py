@@ -1,4 +1,4 @@
-"""A design study's variants (assembly/app/study_spec.py): paths with wildcards checked against
+"""A design study's variants (assembly/app/study/spec.py): paths with wildcards checked against
 the scene, values as lists, ranges and log ranges, grid / Latin hypercube / random designs,
 and bad studies named by their field."""
 from __future__ import annotations
@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from assembly.app.study_spec import variants
+from assembly.app.study.spec import variants
 from assembly.errors import SceneError
-from assembly.schema import load_scene
+from assembly.scene.schema import load_scene
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,6 @@ result must equal one solve of the same number of modes (exact linear algebra, n
 import numpy as np
 
 from cms.craig_bampton import CraigBamptonReductor
-
 from tests.support.fe_models import box
 
 
@@ -24,8 +23,9 @@ def test_cutoff_stops_at_max_modes_plus_one():
     # A cutoff with more modes below it than max_modes: the search computes max_modes + 1
     # modes and stops (ModeLimitError, with the last frequency found) instead of every
     # interior mode; exactly max_modes modes below the cutoff are kept.
-    import cms.craig_bampton as cb
     import pytest
+
+    import cms.craig_bampton as cb
     from cms.errors import ModeLimitError, ReductionError
     m = box(lengths=(1.0, 0.1, 0.1), divisions=(20, 2, 2), order=1)
     end = m.dofs_where(lambda x: x[0] < 1e-9)

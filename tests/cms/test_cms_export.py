@@ -21,14 +21,23 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
 from cms.craig_bampton import CraigBamptonReductor
 from cms.errors import CacheError, ReductionError
-from cms.export import (FORMAT, LINE_WIDTH, dof_map, nastran_real, read_dmig, read_dmig_points, read_npz,
-                        write_dmig, write_npz)
+from cms.export import (
+    FORMAT,
+    LINE_WIDTH,
+    dof_map,
+    nastran_real,
+    read_dmig,
+    read_dmig_points,
+    read_npz,
+    write_dmig,
+    write_npz,
+)
 from fe_components.coupling import couple_nodes
-
 from tests.support.fe_models import box
 
 A, B, C, RHO = 0.5, 0.1, 0.1, 7850.0          # m, m, m, kg/m^3

@@ -7,7 +7,6 @@ import scipy.sparse as sp
 
 from cms import linsolve
 from cms.errors import InteriorMechanismError, ReductionError
-
 from tests.support.fe_models import box
 
 

@@ -13,7 +13,6 @@ from cms.cache import SuperelementCache, array_hash, cache_key
 from cms.craig_bampton import CraigBamptonReductor
 from cms.errors import CacheError
 from cms.superelement import Superelement, read_sealed_npz, write_sealed_npz
-
 from tests.support.corruption import CORRUPTIONS, corrupt
 from tests.support.fe_models import box
 from tests.support.fuzz import examples

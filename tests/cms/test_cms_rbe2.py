@@ -6,7 +6,6 @@ import scipy.linalg as sla
 from cms.craig_bampton import CraigBamptonReductor
 from cms.rigid import rigid_body_basis, solid_dof_layout
 from fe_components.coupling import couple_nodes
-
 from tests.support.fe_models import box
 
 

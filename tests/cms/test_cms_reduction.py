@@ -8,12 +8,12 @@ times the condition of the quantity compared.
 import numpy as np
 import pytest
 import scipy.linalg as sla
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from cms.craig_bampton import CraigBamptonReductor, SolverOptions, guyan
 from cms.errors import InteriorMechanismError, ReductionError
 from cms.linsolve import cholmod_available
-
 from tests.support.fe_models import box
 
 BACKENDS = ["scipy"] + (["cholmod"] if cholmod_available() else [])

@@ -12,7 +12,6 @@ import pytest
 import scipy.linalg as sla
 
 from cms.craig_bampton import CraigBamptonReductor
-
 from tests.support.fe_models import box
 
 RTOL = 1e-10   # dense generalized eigh round-off on this small, well-scaled model

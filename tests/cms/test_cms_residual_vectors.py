@@ -11,7 +11,6 @@ import numpy as np
 import scipy.linalg as sla
 
 from cms.craig_bampton import CraigBamptonReductor
-
 from tests.support.fe_models import box
 
 RTOL = 1e-10   # dense generalized eigh round-off on these small, well-scaled models

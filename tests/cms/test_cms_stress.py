@@ -16,7 +16,6 @@ from skfem.io.meshio import from_meshio
 from cms.craig_bampton import CraigBamptonReductor
 from cms.stress import principal, recover_stress, von_mises
 from fe_components.coupling import couple_nodes
-
 from tests.support.fe_models import assemble, box
 
 E, NU, RHO = 210e9, 0.3, 7850.0   # steel: Pa, -, kg/m^3

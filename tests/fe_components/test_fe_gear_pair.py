@@ -6,8 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from fe_components.gear_pair import (base_radius, gear_diameters, inv_inverse, pair_geometry, pair_mismatch,
-                                     tip_alteration, working_centre_distance)
+from fe_components.gear_pair import (
+    base_radius,
+    gear_diameters,
+    inv_inverse,
+    pair_geometry,
+    pair_mismatch,
+    tip_alteration,
+    working_centre_distance,
+)
 from fe_components.involute import inv
 from fe_components.params import GearTeeth
 

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from cms.eigen import free_free_shift, lowest_modes
 import fe_components.meshing as meshing
+from cms.eigen import free_free_shift, lowest_modes
 from fe_components.errors import MeshingError
 from fe_components.fe_model import build_component
 from fe_components.meshing import MeshOptions, ensure_mesh

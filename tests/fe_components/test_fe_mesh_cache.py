@@ -14,7 +14,6 @@ import fe_components.meshing as meshing
 from fe_components.errors import MeshCacheError, MeshingError
 from fe_components.meshing import cached_mesh, mesh_content_hash, mesh_path, read_mesh
 from fe_components.reference import CASES, REF_DIR
-
 from tests.support.corruption import CORRUPTIONS, corrupt
 from tests.support.fuzz import examples
 
@@ -74,8 +73,8 @@ def test_corrupt_reference_mesh_falls_back_to_the_cache_in_a_scene(tmp_path, mon
     # flexgear's mesh_entry: a corrupt committed mesh is left alone (warning naming it) and the
     # mesh is generated in the cache folder (here by a stand-in for gmsh writing the clean bytes)
     import fe_components.reference as reference
-    from assembly.components import CacheDirs, mesh_entry
-    from assembly.scene import FlexOptions
+    from assembly.model.components import CacheDirs, mesh_entry
+    from assembly.scene.tables import FlexOptions
     ref = tmp_path / "ref"
     ref.mkdir()
     params, options = CASES["annulus"]
@@ -118,7 +117,7 @@ def test_concurrent_writers_of_one_entry_each_publish_a_whole_file(tmp_path, mon
 
     def run():
         start.wait()
-        out.append(meshing._generate_entry(params, options, mesh_path(params, options, tmp_path)))
+        out.append(meshing.generate_entry(params, options, mesh_path(params, options, tmp_path)))
 
     threads = [threading.Thread(target=run) for _ in range(8)]
     for t in threads:

@@ -127,9 +127,9 @@ def _mesh_volume(params, options) -> float:
     """Volume (m^3) of a committed mesh, integrated on its (curved P2) geometry."""
     from skfem import Basis, ElementTetP0, Functional
 
-    from fe_components.fe_model import _skfem_mesh
+    from fe_components.fe_model import skfem_mesh
     from fe_components.meshing import mesh_path, read_mesh
-    mesh = _skfem_mesh(read_mesh(mesh_path(params, options, REF_DIR)))
+    mesh = skfem_mesh(read_mesh(mesh_path(params, options, REF_DIR)))
     return Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(Basis(mesh, ElementTetP0(), intorder=2))
 
 

@@ -4,9 +4,18 @@ import math
 import pytest
 
 from fe_components.gear_pair import pair_geometry
-from fe_components.mesh_stiffness import (C_M_SOLID, N_PER_MM_UM, Q_CONSTANTS, basic_rack_factor, blank_factor,
-                                          mesh_stiffness, mesh_stiffness_per_width, single_stiffness,
-                                          tooth_pair_flexibility, virtual_teeth)
+from fe_components.mesh_stiffness import (
+    C_M_SOLID,
+    N_PER_MM_UM,
+    Q_CONSTANTS,
+    basic_rack_factor,
+    blank_factor,
+    mesh_stiffness,
+    mesh_stiffness_per_width,
+    single_stiffness,
+    tooth_pair_flexibility,
+    virtual_teeth,
+)
 from fe_components.params import GearTeeth
 
 A20 = math.radians(20.0)

@@ -17,8 +17,8 @@ import pytest
 
 from fe_components.fe_model import build_component
 from fe_components.material import STEEL
-from fe_components.part_file import PartFile
-from fe_components.part_geometry import part_geometry
+from fe_components.part.file import PartFile
+from fe_components.part.read import part_geometry
 from tests.support.mesh_writers import kuhn_box, nastran_deck
 
 SIZE, CELLS = (0.1, 0.02, 0.02), (5, 1, 1)   # m, cubes: 30 tetrahedra, 24 nodes
@@ -47,9 +47,9 @@ def box():
 def _summary(tmp_path, caplog, name, points, cells, **mesh_kw):
     path = tmp_path / name
     meshio.write(path, meshio.Mesh(points, cells, **mesh_kw))
-    with caplog.at_level(logging.INFO, logger="fe_components.part_geometry"):
+    with caplog.at_level(logging.INFO, logger="fe_components.part.read"):
         geo = part_geometry(PartFile(str(path), units="m", order=1))
-    records = [r for r in caplog.records if r.name == "fe_components.part_geometry"]
+    records = [r for r in caplog.records if r.name == "fe_components.part.read"]
     assert len(records) == 1
     return geo.read, records[0]
 
@@ -102,11 +102,11 @@ def test_nastran_cards_left_out_are_named(box, tmp_path, caplog):
              "CONM2,105,12,,2.5", "RBE2,106,12,123456,1,2,3", "PSOLID,1,1", "MAT1,1,2.1+11,,0.3,7850."]
     path = tmp_path / "deck.bdf"
     path.write_text(nastran_deck(pts, tets, "free", "small-blank", extra=extra))
-    with caplog.at_level(logging.INFO, logger="fe_components.part_geometry"):
+    with caplog.at_level(logging.INFO, logger="fe_components.part.read"):
         geo = part_geometry(PartFile(str(path), units="m", order=1))
     assert geo.read.text() == ("read 30 tetra; dropped 2 CTRIA3 (shell), 1 CQUAD4 (shell), 1 CBAR (beam), "
                                "1 CONM2 (mass), 1 RBE2 (rigid)")
-    (rec,) = [r for r in caplog.records if r.name == "fe_components.part_geometry"]
+    (rec,) = [r for r in caplog.records if r.name == "fe_components.part.read"]
     assert rec.levelno == logging.WARNING and "Left out of the model" in rec.getMessage()
 
 

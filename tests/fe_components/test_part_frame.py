@@ -18,16 +18,16 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from assembly.components import CacheDirs, mass_properties
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
-from assembly.scene import Body, FlexOptions
+from assembly.model.components import CacheDirs, mass_properties
+from assembly.scene.schema import SCENE_DIR, from_dict
+from assembly.scene.tables import Body, FlexOptions
 from cms.eigen import free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
 from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
-from fe_components.part_file import InterfaceRule, PartFile, PartFileError
-from fe_components.part_geometry import part_geometry
+from fe_components.part.file import InterfaceRule, PartFile, PartFileError
+from fe_components.part.read import part_geometry
 
 OBLIQUE = (1.0, -2.0, 2.5)
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0), "oblique": OBLIQUE,
@@ -134,7 +134,7 @@ def test_same_mass_properties_in_the_scene(axis, models, tmp_path):
 def test_a_part_drawn_in_the_assembly_sits_where_it_was_drawn(models):
     """The convention's point: a body given the part's axis and ``position = origin`` puts
     every file point back where the file has it (global = position + axis_frame(axis) local)."""
-    from assembly.kinematics import axis_frame
+    from assembly.mechanics.kinematics import axis_frame
 
     part, fe, _ = models["oblique"]
     pts_file = _to_file(models["original"][1].nodes, OBLIQUE)   # what the file holds, node for node
@@ -151,8 +151,6 @@ def test_step_box_about_an_oblique_axis(tmp_path):
     read with that axis and origin: OpenCASCADE's exact mass properties in the local frame are
     the box's closed forms, V = abc, centroid (a, b, c)/2, I = V (b^2 + c^2)/12 ... (1e-9),
     and its P2 mesh (plane faces: exact geometry) has the same mass and inertia (1e-9)."""
-    import gmsh
-
     R = frame(OBLIQUE)
     angle = math.acos((np.trace(R) - 1) / 2)
     w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (2 * math.sin(angle))

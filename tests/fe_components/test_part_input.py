@@ -38,11 +38,12 @@ import numpy as np
 import pytest
 
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
+from assembly.scene.schema import SCENE_DIR, from_dict
 from fe_components.fe_model import build_component
-from fe_components.part_cad import step_length_unit
-from fe_components.part_file import SIZE_RANGE, InterfaceRule, PartFile, PartFileError
-from fe_components.part_geometry import part_geometry
+from fe_components.gmsh_session import gmsh_model
+from fe_components.part.cad import step_length_unit
+from fe_components.part.file import SIZE_RANGE, InterfaceRule, PartFile, PartFileError
+from fe_components.part.read import part_geometry
 from tests.support.fuzz import examples
 
 REPO = Path(__file__).resolve().parents[2]
@@ -102,14 +103,7 @@ def bad(tmp_path_factory) -> Path:
 
 
 def _cad_files(d: Path) -> None:
-    import gmsh
-
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-
+    with gmsh_model("cad-files") as gmsh:
         def write(name, build):
             gmsh.model.add(name)
             build(gmsh.model.occ)
@@ -151,9 +145,6 @@ def _cad_files(d: Path) -> None:
         gmsh.model.mesh.generate(3)
         gmsh.write(str(d / "groups.msh"))
         gmsh.model.remove()
-    finally:
-        if own:
-            gmsh.finalize()
 
 
 def _mesh_files(d: Path) -> None:

@@ -23,9 +23,10 @@ from scipy.spatial import cKDTree
 
 from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
 from fe_components.fe_model import CAD_MASS_TOL, build_component
+from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
 from fe_components.meshing import read_mesh
-from fe_components.part_file import InterfaceRule, PartFile
+from fe_components.part.file import InterfaceRule, PartFile
 from tests.support.mesh_writers import med_order, nastran_deck, write_med
 
 R = 0.025            # m: cylinder radius (0.05 m diameter)
@@ -63,15 +64,8 @@ def _same_points(a: np.ndarray, b: np.ndarray, tol: float = POS_TOL) -> bool:
 def files(tmp_path_factory):
     """The cylinder meshed once by gmsh (P2) and written in every format; the groups' nodes
     as gmsh gives them (corner and midside), the mesh's points and tetrahedra."""
-    import gmsh
-
     d = tmp_path_factory.mktemp("p2-cylinder")
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("p2-cylinder")
+    with gmsh_model("p2-cylinder") as gmsh:
         occ = gmsh.model.occ
         vol = occ.addCylinder(AXIS[0], AXIS[1], 0.0, 0.0, 0.0, LENGTH, R)
         occ.synchronize()
@@ -100,10 +94,6 @@ def files(tmp_path_factory):
             group_corners[name] = np.array([gmsh.model.mesh.getNode(int(t))[0] for t in corner_tags])
         msh = d / "cylinder.msh"
         gmsh.write(str(msh))
-        gmsh.model.remove()
-    finally:
-        if own:
-            gmsh.finalize()
     assert msh.read_text().startswith("$MeshFormat\n4.1")
 
     m = meshio.read(msh)

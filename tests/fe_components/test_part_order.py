@@ -19,13 +19,13 @@ import pytest
 from scipy.spatial import cKDTree
 
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, from_dict
+from assembly.scene.schema import SCENE_DIR, from_dict
 from cms.eigen import count_rigid_modes, free_free_shift, lowest_modes
 from fe_components.fe_model import build_component
 from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
-from fe_components.part_file import PartFile, PartFileError
-from fe_components.part_geometry import P1_STIFFER, part_geometry
+from fe_components.part.file import PartFile, PartFileError
+from fe_components.part.read import P1_STIFFER, part_geometry
 from tests.support.mesh_writers import kuhn_box
 
 BEAM = (0.3, 0.01, 0.01)   # m: a steel beam 300 x 10 x 10 mm, L/h = 30
@@ -156,9 +156,9 @@ def p1_file(tmp_path):
 
 
 def _read_log(caplog, part) -> list:
-    with caplog.at_level(logging.INFO, logger="fe_components.part_geometry"):
+    with caplog.at_level(logging.INFO, logger="fe_components.part.read"):
         geo = part_geometry(part)
-    return geo, [r for r in caplog.records if r.name == "fe_components.part_geometry"]
+    return geo, [r for r in caplog.records if r.name == "fe_components.part.read"]
 
 
 def test_linear_mesh_warns_naming_the_file_and_the_error(p1_file, caplog):

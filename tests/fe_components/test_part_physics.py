@@ -14,9 +14,10 @@ from cms.eigen import free_free_shift, lowest_modes
 from fe_components.coupling import couple
 from fe_components.fe_model import build_component
 from fe_components.geometry import build_solid, interface_defs
+from fe_components.gmsh_session import gmsh_model
 from fe_components.material import STEEL
 from fe_components.meshing import MeshOptions, mesh_path
-from fe_components.part_file import InterfaceRule, PartFile
+from fe_components.part.file import InterfaceRule, PartFile
 from fe_components.reference import WHEEL_SMOOTH
 from tests.support.lamb_sphere import sphere_frequencies
 
@@ -39,18 +40,13 @@ def _occ_exact(path: Path):
     """(volume m^3, centre m, inertia per unit density m^5) of a STEP file, straight from
     OpenCASCADE (BRepGProp), independently of flexgear's reader (read in mm, OCC's default
     target unit: another target would stay set for the STEP files written later)."""
-    import gmsh
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("occ-exact") as gmsh:
         gmsh.option.setString("Geometry.OCCTargetUnit", "MM")
         (dim, tag), = [e for e in gmsh.model.occ.importShapes(str(path)) if e[0] == 3]
         gmsh.model.occ.synchronize()
         occ = gmsh.model.occ
         return (occ.getMass(3, tag) * 1e-9, np.array(occ.getCenterOfMass(3, tag)) * 1e-3,
                 np.array(occ.getMatrixOfInertia(3, tag)).reshape(3, 3) * 1e-15)
-    finally:
-        gmsh.finalize()
 
 
 def test_step_carrier_mass_properties_match_the_cad_to_1e_3(tmp_path):
@@ -85,16 +81,11 @@ def test_step_carrier_interfaces_sit_on_their_cylinders(tmp_path):
 def _export_step(params, path: Path) -> None:
     """The built-in solid of ``params`` written as STEP by OpenCASCADE (numbers in metres;
     the file declares mm, the OCC writer's default unit)."""
-    import gmsh
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("export-step") as gmsh:
         gmsh.option.setNumber("Geometry.OCCUnionUnify", 0)
         build_solid(gmsh.model.occ, params)
         gmsh.model.occ.synchronize()
         gmsh.write(str(path))
-    finally:
-        gmsh.finalize()
 
 
 def _wheel_rules() -> tuple[InterfaceRule, ...]:
@@ -141,16 +132,11 @@ def test_free_sphere_from_step_matches_lamb(tmp_path):
     reproduces the exact lowest frequencies of a free elastic sphere (Lamb 1882) to 0.5 %:
     the families torsional n = 2, spheroidal n = 2, spheroidal n = 1, with their 2n + 1
     multiplicities (5, 5, 3), after the 6 rigid-body modes."""
-    import gmsh
     step = tmp_path / "sphere.step"
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_model("sphere") as gmsh:
         gmsh.model.occ.addSphere(0, 0, 0, 50.0)   # mm: the unit the STEP file declares
         gmsh.model.occ.synchronize()
         gmsh.write(str(step))
-    finally:
-        gmsh.finalize()
     part = PartFile(str(step))
     fe = build_component(part, STEEL, mesh_size=0.01, cache_dir=tmp_path)
     assert abs(fe.mass - STEEL.rho * 4 / 3 * math.pi * 0.05 ** 3) / fe.mass < 1e-3
@@ -183,8 +169,8 @@ def test_cache_keys_on_the_file_content_not_its_name(tmp_path):
 def test_step_units_are_the_files_unless_told(units, factor, tmp_path):
     """A STEP file's declared unit (mm here) is converted to metres; units = "m" takes its
     numbers as metres instead (a part 1000 x larger: the size check then refuses it)."""
-    from fe_components.part_file import PartFileError
-    from fe_components.part_geometry import part_geometry
+    from fe_components.part.file import PartFileError
+    from fe_components.part.read import part_geometry
     part = PartFile(str(CARRIER_STEP), carrier_part().interfaces, units=units)
     if factor == 1.0:
         geo = part_geometry(part)

@@ -18,18 +18,31 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assembly import (LoadCase, SceneError, assemble, classify_modes, compare, load_scene, pair_modes, save_scene,
-                      scale_bearings, scene_from_dict, scene_to_toml, solve_modes, stage_alone, track_modes,
-                      with_fidelity)
+from assembly import (
+    LoadCase,
+    SceneError,
+    assemble,
+    classify_modes,
+    compare,
+    load_scene,
+    pair_modes,
+    save_scene,
+    scale_bearings,
+    scene_from_dict,
+    scene_to_toml,
+    solve_modes,
+    track_modes,
+    with_fidelity,
+)
+from assembly.analysis.reactions import static_report
+from assembly.analysis.static import solve_static, solve_static_cases
+from assembly.analysis.two_mass import two_mass
 from assembly.app import run_report
-from assembly.drivetrain import derive_two_mass
 from assembly.dynamics.campbell import campbell
 from assembly.dynamics.frf import frequency_response
 from assembly.dynamics.simulate import simulate
-from assembly.edit import get_value, with_value, with_values
-from assembly.reactions import static_report
-from assembly.static import solve_static, solve_static_cases
-
+from assembly.scene.edit import get_value, with_value, with_values
+from assembly.scene.stage_alone import stage_alone
 from tests.support.gear_pair_scene import gear_pair
 
 NAN = math.nan
@@ -56,13 +69,15 @@ def objects(tmp_path_factory):
     load = LoadCase(input="g1", output="g2", torque=100.0)
     folder = tmp_path_factory.mktemp("api")
     path = save_scene(scene, folder / "pair.toml")
-    return {"scene": scene, "model": model, "result": result, "load": load, "static": solve_static(scene, load),
+    return {"scene": scene, "model": model, "result": result, "load": load, "static": solve_static(model, load),
             "file": str(path), "folder": folder, "planetary": load_scene("lin_parker_n3")}
 
 
 # wrong kinds, by what the argument holds ("S", "M", "R": the scene, model, modes of `objects`)
 SCENE = [None, 5, "pair.toml", "M", "R", {}, OTHER]
 MODEL = [None, 5, "S", "R", OTHER]
+# an analysis of one model takes a model or a scene (assembled as given)
+MODEL_OR_SCENE = [None, 5, "pair.toml", "R", {}, OTHER]
 MODES = [None, 5, "S", "M", OTHER]
 FLAG = ["yes", 1, None, OTHER]
 NAME = [None, 5, "", ["g1"], OTHER]
@@ -120,21 +135,21 @@ TABLE_OF_CALLS = [
      {"model": MODEL, "input": NAME + ["torque:g3"], "outputs": [None, 5, [5], [None], [], [""], OTHER],
       "frequency_hz": FREQUENCIES, "method": [None, 5, "", "exact", OTHER], "result": [5, "M", "S", OTHER],
       "modes_hz": ["1e3", NAN, [1e3], -1.0, 0.0, True, OTHER], "residual": FLAG}),
-    ("simulate", lambda o, **a: simulate(**a), {"scene": "<scene>", "t_end": 1e-3, "dt": 1e-4, "outputs": ["force:m"]},
-     {"scene": SCENE, "t_end": TIME, "dt": TIME, "outputs": [5, [5], [None], [""], ["speed:g3"], OTHER],
-      "model": [5, "S", "R", OTHER], "base_dir": [5, "", OTHER],
+    ("simulate", lambda o, **a: simulate(**a), {"model": "<model>", "t_end": 1e-3, "dt": 1e-4, "outputs": ["force:m"]},
+     {"model": MODEL_OR_SCENE, "t_end": TIME, "dt": TIME, "outputs": [5, [5], [None], [""], ["speed:g3"], OTHER],
+      "simulation": [5, {}, "S", OTHER], "base_dir": [5, "", OTHER],
       "speed": ["1", NAN, math.inf, [1.0], True, 1e308, OTHER], "progress": [5, "x"], "full_fe": FLAG}),
-    ("campbell", lambda o, **a: campbell(**a), {"scene": "<scene>", "speed_range": (0.0, 100.0)},
-     {"scene": SCENE, "speed_range": [None, 5, "0 100", [1.0], [0.0, NAN], [0.0, "1"], [0.0, 1.0, 2.0], [0.0, 1e308],
+    ("campbell", lambda o, **a: campbell(**a), {"model": "<model>", "speed_range": (0.0, 100.0)},
+     {"model": MODEL_OR_SCENE, "speed_range": [None, 5, "0 100", [1.0], [0.0, NAN], [0.0, "1"], [0.0, 1.0, 2.0], [0.0, 1e308],
                                       OTHER],
       "reference": OPTIONAL_NAME + ["g3"], "points": COUNT + [1], "harmonics": COUNT + [0],
-      "gyroscopic": FLAG, "model": [5, "S", "R", OTHER]}),
-    ("derive_two_mass", lambda o, **a: derive_two_mass(**a), {"scene": "<scene>"},
+      "gyroscopic": FLAG}),
+    ("two_mass", lambda o, **a: two_mass(**a), {"scene": "<scene>"},
      {"scene": SCENE, "rotor": OPTIONAL_NAME + ["g3"], "generator": OPTIONAL_NAME + ["g3"]}),
-    ("solve_static", lambda o, **a: solve_static(**a), {"scene": "<scene>", "load": "<load>"},
-     {"scene": SCENE, "load": [None, 5, "x", {}, "S", OTHER], "model": [5, "S", "R", OTHER], "path": [None, 5, ""]}),
-    ("solve_static_cases", lambda o, **a: solve_static_cases(**a), {"scene": "<scene>", "cases": [("load", "<load>")]},
-     {"scene": SCENE, "cases": [5, "x", [5], [("load", None)], ["<load>"], OTHER], "model": [5, "S", OTHER]}),
+    ("solve_static", lambda o, **a: solve_static(**a), {"model": "<model>", "load": "<load>"},
+     {"model": MODEL_OR_SCENE, "load": [None, 5, "x", {}, "S", OTHER], "path": [None, 5, ""]}),
+    ("solve_static_cases", lambda o, **a: solve_static_cases(**a), {"model": "<model>", "cases": [("load", "<load>")]},
+     {"model": MODEL_OR_SCENE, "cases": [5, "x", [5], [("load", None)], ["<load>"], OTHER]}),
     ("static_report", lambda o, **a: static_report(**a), {"st": "<static>"}, {"st": [None, 5, "M", "S", OTHER]}),
     ("run_report", lambda o, **a: run_report(**a), {"scene": "<scene>", "out": "<folder>/never"},
      {"scene": [None, 5, "M", OTHER], "out": [None, 5, "", OTHER], "progress": FLAG,
@@ -166,7 +181,7 @@ def test_the_table_covers_every_function_of_the_python_api_doc():
     doc = (Path(__file__).parents[2] / "docs" / "python_api.md").read_text(encoding="utf-8")
     called = {label.split(".")[-1] for label, *_ in TABLE_OF_CALLS}
     for name in ("load_scene", "assemble", "solve_modes", "with_fidelity", "compare", "save_scene", "scene_to_toml",
-                 "run_report", "track_modes", "derive_two_mass", "frequency_response", "simulate", "with_value",
+                 "run_report", "track_modes", "two_mass", "frequency_response", "simulate", "with_value",
                  "with_values", "get_value"):
         assert f"{name}(" in doc and name in called, name
     assert len(CASES) >= 250, len(CASES)
@@ -207,7 +222,7 @@ def test_valid_arguments_of_other_forms_run(objects):
 
 
 def test_every_export_stays_what_it_names_after_its_submodule_is_imported():
-    # `from assembly import stage_alone` gave the module assembly.stage_alone when that
+    # `from assembly import stage_alone` gave the module assembly.scene.stage_alone when that
     # submodule had been imported first (an import binds the package attribute to the
     # submodule): in a fresh interpreter, each submodule named like an export is imported
     # before the export is looked up

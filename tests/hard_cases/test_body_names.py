@@ -24,10 +24,9 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.errors import SceneError
-from assembly.scene import Scene
-from assembly.scene_toml import toml_text
-from assembly.schema import SCENE_DIR, scene_from_dict
-
+from assembly.scene.save import toml_text
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
+from assembly.scene.tables import Scene
 from tests.support.fuzz import examples
 
 #: Field names that hold the name of a body (or the housing) in any scene table.

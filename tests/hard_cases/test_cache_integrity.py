@@ -1,5 +1,5 @@
 """Caches that are verified and heal themselves (fe_components.meshing, cms.cache,
-assembly.flexible): a damaged cache entry is a miss, never a crash or a silent wrong number.
+assembly.model.flexible): a damaged cache entry is a miss, never a crash or a silent wrong number.
 
 Component: a coarse free steel shaft (cylinder L = 0.2 m, D = 0.04 m, P2 mesh 0.02 m,
 1530 DOFs, 6 fixed-interface modes + residual vectors): meshes in ~0.1 s, reduces in ~0.2 s.
@@ -23,16 +23,15 @@ import numpy as np
 import pytest
 import scipy.linalg as sl
 
-import assembly.flexible as flexible
+import assembly.model.flexible as flexible
 import fe_components.meshing as meshing
-from assembly.components import CacheDirs, forget_fe_models
-from assembly.flexible import flexible_body
-from assembly.scene import Body, FlexOptions
+from assembly.model.components import CacheDirs, forget_fe_models
+from assembly.model.flexible import flexible_body
+from assembly.scene.tables import Body, FlexOptions
 from cms.errors import CacheError
 from fe_components.errors import MeshingError
 from fe_components.meshing import MeshOptions, ensure_mesh, mesh_path
 from fe_components.params import CylinderParams
-
 from tests.support.corruption import corrupt, sweep
 from tests.support.shaft_scene import shaft_scene
 

@@ -11,7 +11,7 @@ and the "elastic" mode it left (k delta^2) was lost in the solve's round-off. A 
 5 mm off axis was accepted and made a 1.2 Hz mode of a drivetrain that turns freely.
 
 The scenes are the shipped two-stage drive with the wheel a plain body (its component's
-teeth, a steel disc's mass; no meshing), compared torsional and rigid (assembly.compare).
+teeth, a steel disc's mass; no meshing), compared torsional and rigid (assembly.analysis.compare).
 """
 from __future__ import annotations
 
@@ -24,13 +24,12 @@ import tomllib
 import numpy as np
 import pytest
 
+from assembly.analysis.compare import compare
 from assembly.app.cli import main
-from assembly.compare import compare
 from assembly.errors import SceneError
-from assembly.scene_toml import toml_text
-from assembly.schema import SCENE_DIR, scene_from_dict, to_dict
-from assembly.shafts import AXIS_TOLERANCE
-
+from assembly.scene.save import toml_text
+from assembly.scene.schema import SCENE_DIR, scene_from_dict, to_dict
+from assembly.scene.shafts import AXIS_TOLERANCE
 from tests.support.fuzz import examples
 
 #: Steel density (kg/m^3).
@@ -137,7 +136,7 @@ def _offset(rng: random.Random, size: str) -> np.ndarray:
 
 SIZES = ("0", "ulp", "1e-12", "1e-9", "1e-6")
 #: A lever arm below this many metres is the coordinates' rounding (1e-10 of the
-#: coordinates' magnitude, 0.4 m: assembly.nullity.DROP_RTOL): harmless, accepted.
+#: coordinates' magnitude, 0.4 m: assembly.mechanics.nullity.DROP_RTOL): harmless, accepted.
 ROUNDING = 1e-10 * 0.4
 
 

@@ -45,7 +45,7 @@ WRAPPER = r"""
 import os, shutil, signal, sys
 from pathlib import Path
 cache = Path(os.environ["FI_CACHE"])
-import assembly.components as components
+import assembly.model.components as components
 import fe_components.meshing as meshing
 components.CacheDirs.__init__.__defaults__ = (cache, cache / "cms")
 meshing.DEFAULT_CACHE_DIR = cache
@@ -62,8 +62,8 @@ elif point == "reduce":
     import cms.craig_bampton
     cms.craig_bampton.CraigBamptonReductor.reduce = die
 elif point == "render":
-    import assembly.app.render
-    assembly.app.render.AssemblyRenderer.render_mode = die  # after the overview image
+    import assembly.app.render.renderer
+    assembly.app.render.renderer.AssemblyRenderer.render_mode = die  # after the overview image
 elif point in ("aside", "between", "placed"):
     rename = os.rename
     def killing_rename(src, dst):
@@ -78,7 +78,7 @@ elif point == "carry":
 elif point == "trash":
     shutil.rmtree = die
 elif point == "hold":  # wait (for a second run to try) before writing index.html
-    import time, assembly.app.pipeline as pipeline
+    import time, assembly.app.report.pipeline as pipeline
     render_index = pipeline.render_index
     def held(report):
         Path(os.environ["FI_READY"]).touch()
@@ -241,14 +241,14 @@ def _fault_result_file(monkeypatch, out, exc):
     def write_modes_csv(infos, path, band=None):  # part of the file, then a full disk reported on flush: no file name
         Path(path).write_text("mode,")
         raise exc
-    monkeypatch.setattr("assembly.app.pipeline.write_modes_csv", write_modes_csv)
+    monkeypatch.setattr("assembly.app.report.pipeline.write_modes_csv", write_modes_csv)
 
 
 def _fault_manifest(monkeypatch, out, exc):
     def write_manifest(folder, manifest):
         (Path(folder) / MANIFEST).write_text("{")
         raise type(exc)(exc.errno, exc.strerror, str(Path(folder) / MANIFEST))
-    monkeypatch.setattr("assembly.app.pipeline.write_manifest", write_manifest)
+    monkeypatch.setattr("assembly.app.report.pipeline.write_manifest", write_manifest)
 
 
 def _fault_rename(which):
@@ -303,7 +303,7 @@ def test_other_errors_pass_unchanged(error, out, monkeypatch):
     # Only OSErrors about the output folder become one-line errors; the run still leaves the
     # earlier result as it was.
     before = _snapshot(out)
-    monkeypatch.setattr("assembly.app.pipeline.write_modes_csv", lambda infos, path, band=None: _raise(error))
+    monkeypatch.setattr("assembly.app.report.pipeline.write_modes_csv", lambda infos, path, band=None: _raise(error))
     with pytest.raises(type(error)):
         main(["run", RIGID, "--out", str(out), *RIGID_ARGS])
     assert _snapshot(out) == before
@@ -313,7 +313,7 @@ def test_other_errors_pass_unchanged(error, out, monkeypatch):
 def test_study_full_disk_is_one_line(out, monkeypatch, capsys):
     before = _snapshot(out)
     full = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))  # reported on flush: no file name
-    monkeypatch.setattr("assembly.app.study_out.write_table", lambda rows, names, folder: _raise(full))
+    monkeypatch.setattr("assembly.app.study.out.write_table", lambda rows, names, folder: _raise(full))
     assert main(["study", "helix_angle", "--serial", "--out", str(out), "-q"]) == 2
     _assert_one_line(capsys.readouterr().err, out, os.strerror(errno.ENOSPC))
     assert _snapshot(out) == before

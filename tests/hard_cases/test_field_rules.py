@@ -18,9 +18,22 @@ import typing
 import pytest
 
 from assembly.errors import SceneError
-from assembly.scene import (MAX_MODES, MAX_NAME_LENGTH, Bearing, BearingSpec, Body, FlexOptions, GearMesh,
-                            LoadCase, Member, PlanetaryStage, Planets, Scene, Shaft)
-from assembly.schema import SCENE_DIR, component_from_table, scene_from_dict
+from assembly.scene.schema import SCENE_DIR, component_from_table, scene_from_dict
+from assembly.scene.tables import (
+    MAX_MODES,
+    MAX_NAME_LENGTH,
+    Bearing,
+    BearingSpec,
+    Body,
+    FlexOptions,
+    GearMesh,
+    LoadCase,
+    Member,
+    PlanetaryStage,
+    Planets,
+    Scene,
+    Shaft,
+)
 from fe_components.errors import GeometryError
 from fe_components.material import Material
 from fe_components.params import COMPONENT_KINDS, CarrierParams, GearTeeth, ShaftSegment
@@ -356,7 +369,7 @@ def test_unbounded_cutoff_refused_naming_the_body(base, keys, who):
         scene_from_dict(_flex_tree(base, keys, cutoff_hz=1e9))
     assert e.value.path == _path(keys) + ".flex.cutoff_hz" and who in str(e.value)
     tree = copy.deepcopy(BASES[base])
-    tree["band_hz"] = 1e9  # the default cutoff is CUTOFF_FACTOR x band
+    tree["band_hz"] = 1e9  # the default cutoff is CB_CUTOFF_FACTOR x band
     with pytest.raises(SceneError) as e:
         scene_from_dict(tree)
     first = "stage.carrier" if "planetary" in base else "pinion"  # the first flexible body
@@ -418,8 +431,9 @@ def test_python_api_lists_are_accepted():
 
 
 def test_huge_axis_refused_and_unit_vector_safe():
-    from assembly.kinematics import unit
     import numpy as np
+
+    from assembly.mechanics.kinematics import unit
     # 1e200 squared overflows: the norm of the raw vector would be inf
     np.testing.assert_allclose(unit([1e200, 0.0, 1e200]), [2 ** -0.5, 0.0, 2 ** -0.5], rtol=1e-15)
     np.testing.assert_allclose(unit([1e-200, 0.0, 0.0]), [1.0, 0.0, 0.0], rtol=1e-15)
@@ -432,7 +446,7 @@ def test_huge_axis_refused_and_unit_vector_safe():
 
 # ---------------------------------------------------------------- API entry points
 def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
-    from assembly.scene import with_fidelity
+    from assembly.scene.tables import with_fidelity
     sc = scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"]))
     for bad in ("bogus", "Rigid", None, 1):
         with pytest.raises(SceneError) as e:
@@ -447,8 +461,8 @@ def test_with_fidelity_refuses_unknown_fidelity_and_bodies():
 
 
 def test_solve_modes_n_modes_checked():
-    from assembly.modal import solve_modes
-    from assembly.model import assemble
+    from assembly.analysis.modal import solve_modes
+    from assembly.model.assemble import assemble
     model = assemble(scene_from_dict(copy.deepcopy(BASES["kahraman_beta0.toml"])))
     n = model.K.shape[0]  # 12: two rigid bodies of six DOFs
     for bad in (0, -1, 1.5, True, "3"):
@@ -462,7 +476,7 @@ def test_solve_modes_n_modes_checked():
 def test_derived_scenes_keep_stage_paths():
     # with_fidelity and scale_bearings keep planetary stages as stages, so an error of the
     # derived scene names the user's table (it used to name bodies[2] of an expanded copy)
-    from assembly.scene import scale_bearings, with_fidelity
+    from assembly.scene.tables import scale_bearings, with_fidelity
     tree = _flex_tree("planetary_flexible_carrier.toml", ("stages", 0, "carrier"), cutoff_hz=1e9)
     tree["stages"][0]["carrier"]["fidelity"] = "rigid"  # (a rigid carrier is not reduced: valid)
     sc = scene_from_dict(tree)

@@ -25,8 +25,8 @@ import pytest
 from assembly.app.cli import main
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
-from assembly.model import assemble
-from assembly.schema import scene_from_dict
+from assembly.model.assemble import assemble
+from assembly.scene.schema import scene_from_dict
 from tests.hard_cases.test_fuzz_time_domain import scene
 from tests.support.fuzz import examples
 from tests.support.openfast_files import FAST7_HEADER, out_text, outb_bytes
@@ -175,7 +175,7 @@ def test_openfast_file_refused_or_run_python_api(tmp_path, model, case):
     (tmp_path / name).write_bytes(raw)
     s = scene_from_dict(scene_dict(name, column))
     try:
-        r = simulate(s, 0.002, 2e-4, ["force:m"], model=model, base_dir=tmp_path)
+        r = simulate(model, 0.002, 2e-4, ["force:m"], simulation=s.simulation, base_dir=tmp_path)
     except SceneError as exc:
         assert refuse is not False, (cid, str(exc))
         _check_refusal(str(exc), cid)

@@ -27,8 +27,8 @@ from pathlib import Path
 
 import pytest
 
-from assembly.app import export_superelement
 from assembly.app.cli import main
+from assembly.app.export import superelement as export_superelement
 from assembly.app.output import MANIFEST, OutputDirError
 from tests.app.test_simulate_cli import pair_file
 from tests.support.fuzz import examples
@@ -83,13 +83,13 @@ def body():
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     """The scene and, for the API, each command's result computed once."""
-    from assembly.drivetrain import derive_two_mass
+    from assembly.analysis.two_mass import two_mass
     from assembly.dynamics.campbell import campbell
     from assembly.dynamics.frf import frequency_response
     from assembly.dynamics.simulate import simulate
     from assembly.dynamics.transient import Diverged
-    from assembly.model import assemble
-    from assembly.schema import load_scene
+    from assembly.model.assemble import assemble
+    from assembly.scene.schema import load_scene
 
     scene_path = pair_file(tmp_path_factory.mktemp("scene"))
     scene = load_scene(scene_path)
@@ -101,15 +101,15 @@ def results(tmp_path_factory):
             simulate(scene, 0.002, 1e-4, ["force:m"])
     frf = frequency_response(assemble(scene), "torque:generator", ["force:m"], [1.0, 10.0, 100.0])
     return {"scene_path": scene_path, "scene": scene, "simulate": sim, "stopped": stopped.value.partial, "frf": frf,
-            "campbell": campbell(scene, (0.0, 100.0)), "elastodyn": derive_two_mass(scene)}
+            "campbell": campbell(scene, (0.0, 100.0)), "elastodyn": two_mass(scene)}
 
 
 def _api(command: str, out: Path, results: dict, body) -> None:
     """What the command writes, through the Python API."""
-    from assembly.app.campbell import campbell_to_dir
-    from assembly.app.elastodyn import write_fragment
-    from assembly.app.frf import frf_to_dir
-    from assembly.app.simulate import sim_to_dir
+    from assembly.app.export.elastodyn import write_fragment
+    from assembly.app.report.campbell import campbell_to_dir
+    from assembly.app.report.frf import frf_to_dir
+    from assembly.app.report.simulate import sim_to_dir
 
     r = results.get(command)
     if command in ("simulate", "stopped"):

@@ -10,9 +10,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from assembly.errors import SceneError
-from assembly.schema import SCENE_DIR, scene_from_dict
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from fe_components.errors import GeometryError
-
 from tests.support.fuzz import examples
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())

@@ -19,11 +19,10 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from assembly.app.cli import user_errors
-from assembly.modal import solve_modes
-from assembly.model import assemble
-from assembly.schema import SCENE_DIR, scene_from_dict
-
+from assembly.analysis.modal import solve_modes
+from assembly.app.errors import user_errors
+from assembly.model.assemble import assemble
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from tests.support.fuzz import examples, number_paths
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())

@@ -2,9 +2,9 @@
 planet counts 1..8, face widths x0.5..2, shaft station positions. Every draw is either
 accepted and solves (frequencies finite and non-negative, eigen residuals at round-off, the
 one rigid-body mode of the drivetrain) or refused -- when the scene is built, or by the
-solve's resolution check (assembly/resolution.py: a single planet leaves a 0.04 Hz mode the
+solve's resolution check (assembly/analysis/resolution.py: a single planet leaves a 0.04 Hz mode the
 solve cannot resolve) -- with one SceneError line naming a field that exists in the scene
-(:func:`assembly.edit.get_value` finds it) and its value.
+(:func:`assembly.scene.edit.get_value` finds it) and its value.
 
 Rigid bodies only: the carriers' component tables (which would mesh a new carrier for every
 planet count) are replaced by two steel cheek discs of the component's own size, lumped at
@@ -18,12 +18,11 @@ import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from assembly.edit import get_value
+from assembly.analysis.modal import solve_modes
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
-from assembly.model import assemble
-from assembly.schema import SCENE_DIR, scene_from_dict
-
+from assembly.model.assemble import assemble
+from assembly.scene.edit import get_value
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from tests.support.fuzz import examples
 
 STEEL = 7850.0   # kg/m^3

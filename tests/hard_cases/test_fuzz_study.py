@@ -12,13 +12,13 @@ import pyarrow.parquet as pq
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from assembly.app.study_engine import run_study
-from assembly.app.study_file import read_study
-from assembly.app.study_out import write_table
-from assembly.app.study_spec import scene_paths
-from assembly.edit import value_kind
+from assembly.app.study.engine import run_study
+from assembly.app.study.file import read_study
+from assembly.app.study.out import write_table
+from assembly.app.study.spec import scene_paths
 from assembly.errors import SceneError
-from assembly.schema import load_scene
+from assembly.scene.edit import value_kind
+from assembly.scene.schema import load_scene
 from tests.support.fuzz import at, examples
 
 SCENE = "kahraman_beta20"     # rigid pair: a variant solves in milliseconds
@@ -115,8 +115,8 @@ import time  # noqa: E402
 
 import pytest  # noqa: E402
 
-from assembly.app.study_spec import MAX_VARIANTS  # noqa: E402
-from assembly.scene_toml import toml_text  # noqa: E402
+from assembly.app.study.spec import MAX_VARIANTS  # noqa: E402
+from assembly.scene.save import toml_text  # noqa: E402
 from tests.app.test_simulate_cli import pair_file  # noqa: E402
 from tests.app.test_study_read import BASES  # noqa: E402
 

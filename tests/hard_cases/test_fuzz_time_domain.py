@@ -20,8 +20,7 @@ from assembly.dynamics.mesh_variation import factor
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Diverged
 from assembly.errors import SceneError
-from assembly.schema import scene_from_dict
-
+from assembly.scene.schema import scene_from_dict
 from tests.support.fuzz import examples
 
 R1, R2 = 0.05, 0.15

@@ -15,7 +15,7 @@ def test_cutoff_below_band_warns(caplog):
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]
     low = dataclasses.replace(b0, flex=dataclasses.replace(b0.flex, n_modes=None, cutoff_hz=0.5 * sc.band_hz))
-    with caplog.at_level(logging.WARNING, logger="assembly.flexible"):
+    with caplog.at_level(logging.WARNING, logger="assembly.model.flexible"):
         assemble(dataclasses.replace(sc, bodies=(low,) + sc.bodies[1:]))
     assert any("below the scene's band" in r.getMessage() for r in caplog.records)
 
@@ -48,12 +48,13 @@ def test_nearly_incompressible_p1_warns_and_p2_stays_accurate(caplog):
     # f_t = sqrt(G/rho) / 2L with G = E / 2(1 + nu), f_a = sqrt(E/rho) / 2L (Love's lateral
     # inertia correction ~ (nu pi r / L)^2 / 2 = 0.3 % here, inside the 1 % target).
     import math
-    from assembly.components import check_locking
+
+    from assembly.model.components import check_locking
     from cms.eigen import free_free_shift, lowest_modes
     from fe_components.fe_model import build_component
     from fe_components.material import Material
     from fe_components.reference import CYLINDER, REF_DIR
-    with caplog.at_level(logging.WARNING, logger="assembly.components"):
+    with caplog.at_level(logging.WARNING, logger="assembly.model.components"):
         assert check_locking(1, 0.499)
         assert not check_locking(2, 0.499) and not check_locking(1, 0.3)
     assert any("lock volumetrically" in r.getMessage() for r in caplog.records)
@@ -95,9 +96,9 @@ def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path)
     # the reduction itself stops after MAX_MODES + 1 modes. With the limit lowered to 3 and
     # a 20 kHz cutoff on the test pinion (first fixed-interface mode near 15 kHz, several
     # below 20 kHz), the run ends in a SceneError naming the field that set the cutoff.
-    import assembly.flexible as fl
-    from assembly.components import CacheDirs
+    import assembly.model.flexible as fl
     from assembly.errors import SceneError
+    from assembly.model.components import CacheDirs
     monkeypatch.setattr(fl, "MAX_MODES", 3)
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]
@@ -112,9 +113,9 @@ def test_cutoff_with_too_many_modes_stops_naming_the_body(monkeypatch, tmp_path)
 def test_more_modes_than_the_mesh_has_names_the_body(tmp_path):
     # n_modes within MAX_MODES passes validation but may exceed a coarse mesh's interior
     # DOFs, known only after meshing: refused naming the body's table, not a bare n_modes.
-    from assembly.components import CacheDirs
     from assembly.errors import SceneError
-    from assembly.flexible import flexible_body
+    from assembly.model.components import CacheDirs
+    from assembly.model.flexible import flexible_body
     sc = load_scene(SCENE)
     b0 = sc.bodies[0]
     opts = dataclasses.replace(b0.flex, n_modes=10**6)  # called directly: no scene validation

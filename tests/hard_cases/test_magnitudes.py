@@ -6,7 +6,7 @@ Class of scenes: the Kahraman pairs (spur and helical, 12 DOFs) and Lin & Parker
 its inertias each scaled over many decades. Every outcome must be either a SceneError
 naming a field that exists in the scene (with its value), or frequencies that match an
 60-digit solve (mpmath) of the same model with every bearing kept elastic, to the
-documented bound. Rules: assembly/resolution.py, assembly/constraints.py, assembly/nullity.py.
+documented bound. Rules: assembly/analysis/resolution.py, assembly/model/constraints.py, assembly/mechanics/nullity.py.
 """
 import copy
 import dataclasses
@@ -23,14 +23,13 @@ import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
-import assembly.constraints as ac
-import assembly.modal as am
+import assembly.analysis.modal as am
+import assembly.model.constraints as ac
 from assembly import assemble, solve_modes
+from assembly.analysis.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
 from assembly.errors import SceneError
-from assembly.resolution import EPS, FREQ_RTOL, ROUNDOFF, WARN_RTOL
-from assembly.schema import SCENE_DIR, scene_from_dict
-from assembly.scene import DEFAULT_BAND_HZ, DOF_NAMES, derive
-
+from assembly.scene.schema import SCENE_DIR, scene_from_dict
+from assembly.scene.tables import DEFAULT_BAND_HZ, DOF_NAMES, derive
 from tests.support.fuzz import examples
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -44,7 +43,7 @@ def exact_eigen(K, M, dps=60, add_diagonal=None) -> tuple:
     computed with ``dps`` decimal digits -- the reference the double solve is judged by --
     and the round-off weight of each mode, ``(lambda_max + |lambda_i|) ||B||_1 ||x_i||^2``
     (x_i: the mode of the problem scaled to unit mass diagonal B, B-normalised; see
-    assembly/resolution.py). ``add_diagonal`` {index: value} is added to K in extended precision."""
+    assembly/analysis/resolution.py). ``add_diagonal`` {index: value} is added to K in extended precision."""
     with mp.workdps(dps):
         Km = mp.matrix(K.tolist())
         for i, v in (add_diagonal or {}).items():
@@ -118,7 +117,7 @@ def field_at(tree, path):
 
 def without_candidates(sc):
     """The expanded scene ``sc`` with every candidate bearing stiffness
-    (:func:`assembly.constraints.candidates`) set to 0: its K is the coupling stiffness
+    (:func:`assembly.model.constraints.candidates`) set to 0: its K is the coupling stiffness
     K' the candidates are judged against."""
     new = list(sc.bearings)
     for i, f in ac.candidates(sc):
@@ -213,7 +212,7 @@ def test_extreme_magnitudes_refused_or_accurate(name, mesh, bearing, body, mass,
 def test_constraint_decision_is_judged_without_candidate_springs(name, bearing):
     # assemble judges the candidates on the diagonal of its own assembly with their bearing
     # elements left out; that must be the diagonal of the scene with the candidate
-    # stiffnesses set to 0 (the definition of K' in assembly.constraints.constraint_shift),
+    # stiffnesses set to 0 (the definition of K' in assembly.model.constraints.constraint_shift),
     # so the same directions become constraints. Bearings x1e6 ... 1e12 turn none, some
     # and most of the candidates into constraints.
     scene = scene_from_dict(scaled_tree(name, 1.0, bearing, 0, 1.0, 1.0))
@@ -230,7 +229,7 @@ def test_soft_mesh_keeps_bearing_modes(caplog):
     # each gear's bearing modes: radial sqrt(k_r/m) twice, axial sqrt(k_a/m), tilt
     # sqrt(k_t/I) twice. The mesh couples them by ~k_mesh/k_bearing = 1e-8 relative.
     tree = scaled_tree("kahraman_beta0.toml", 1.0 / 2e8, 1.0, 0, 1.0, 1.0)
-    with caplog.at_level("WARNING", logger="assembly.resolution"):
+    with caplog.at_level("WARNING", logger="assembly.analysis.resolution"):
         r = solve_modes(assemble(scene_from_dict(tree)))
     # the spread (2.2 kHz / 0.21 Hz)^2 = 1.1e8 costs accuracy: 0.5 ROUNDOFF eps 1.1e8 = 1.2e-7
     # relative on the 0.21 Hz mode, above WARN_RTOL = 1e-8 (within FREQ_RTOL): a warning

@@ -11,12 +11,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from assembly.app.cli import main, user_errors
+from assembly.analysis.modal import solve_modes
+from assembly.app.cli import main
+from assembly.app.errors import user_errors
 from assembly.errors import SceneError
-from assembly.modal import solve_modes
-from assembly.model import assemble
-from assembly.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
-
+from assembly.model.assemble import assemble
+from assembly.scene.schema import SCENE_DIR, load_scene, resolve_scene_path, shipped_scenes
 from tests.support.fuzz import examples
 
 NAMES = [p.name for p in shipped_scenes()]

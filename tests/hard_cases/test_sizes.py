@@ -33,8 +33,8 @@ from assembly.dynamics.integrators import integrate_linear
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import STEP_BYTES, Stack, integrate
 from assembly.errors import SceneError
-from assembly.model import assemble
-from assembly.schema import load_scene
+from assembly.model.assemble import assemble
+from assembly.scene.schema import load_scene
 from tests.app.test_simulate_cli import pair_file
 from tests.support.campbell_scene import campbell_scene
 from tests.support.fuzz import examples
@@ -173,12 +173,12 @@ def test_the_frf_estimate_bounds_what_it_allocates(scenes):
 def test_the_campbell_estimate_bounds_what_it_allocates(scenes):
     scene = load_scene(scenes["chain"])
     model = assemble(scene)
-    campbell(scene, (0.0, 3000.0), model=model)             # modes solved and kept outside the measure
-    lines = len(campbell(scene, (0.0, 3000.0), model=model).modes)
+    campbell(model, (0.0, 3000.0))             # modes solved and kept outside the measure
+    lines = len(campbell(model, (0.0, 3000.0)).modes)
     rng = random.Random(13)
     for _ in range(examples(2)):
         h, points = rng.randint(20, 120), rng.randint(41, 2000)
-        peak = _peak(lambda: campbell(scene, (0.0, 3000.0), points=points, harmonics=h, model=model))
+        peak = _peak(lambda: campbell(model, (0.0, 3000.0), points=points, harmonics=h))
         orders = (len(scene.stages) + len(scene.meshes)) * h + 3     # the pair's mesh, the stage; 3 rotor orders
         estimate = orders * (ORDER_BYTES + CROSSING_BYTES * lines) + 8 * points * (lines + 1)
         assert peak <= estimate, (h, points, peak, estimate)

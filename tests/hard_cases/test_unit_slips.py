@@ -2,8 +2,8 @@
 part of absurd size is ("did you mean mm?").
 
 Before: ``normal_module = 5`` (mm meant) made a 100 m pinion and ``face_width = 60`` a 60 m
-gear, both accepted. The bounds (fe_components/sizes.py, assembly/scene_sizes.py,
-assembly/shafts.py) come from what is built -- ISO 54 modules 1 to 50 mm and fine pitch from
+gear, both accepted. The bounds (fe_components/sizes.py, assembly/scene/sizes.py,
+assembly/scene/shafts.py) come from what is built -- ISO 54 modules 1 to 50 mm and fine pitch from
 0.05 mm, face widths from a watch wheel's 0.1 mm to a marine gear's 1.5 m, face widths of
 0.3 to 300 modules (ISO 6336-1 practice 6 to 60), a base radius near its gear's radius of
 gyration, shafts at most 500 diameters long, positions within 100 x the largest part -- and
@@ -26,9 +26,8 @@ import pytest
 
 from assembly.app.cli import main
 from assembly.errors import SceneError
-from assembly.scene_toml import toml_text
-from assembly.schema import SCENE_DIR, load_scene, scene_from_dict, shipped_scenes
-
+from assembly.scene.save import toml_text
+from assembly.scene.schema import SCENE_DIR, load_scene, scene_from_dict, shipped_scenes
 from tests.support.fuzz import examples
 
 #: Scenes whose part files are read relative to their folder are loaded from it; the

@@ -1,5 +1,5 @@
 """A spur gear pair at torsional fidelity (one rotation per gear, the mesh a spring along the
-line of action), as a scene dict for :func:`assembly.schema.scene_from_dict`: the smallest
+line of action), as a scene dict for :func:`assembly.scene.schema.scene_from_dict`: the smallest
 scene with a nonlinear mesh for time-domain tests.
 
 Gear 1 (``g1``) at the origin, gear 2 (``g2``) at the centre distance (r1 + r2) / cos(alpha)

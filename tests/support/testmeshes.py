@@ -11,11 +11,9 @@ import os
 def make_shaft_mesh(path: str, radius: float = 0.025, length: float = 0.1,
                     size: float = 0.006) -> None:
     """Round shaft along z (m), 10-node curved tetrahedra, gmsh MSH 4.1."""
-    import gmsh
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("shaft")
+    from fe_components.gmsh_session import gmsh_model
+
+    with gmsh_model("shaft") as gmsh:
         v = gmsh.model.occ.addCylinder(0, 0, 0, 0, 0, length, radius)
         gmsh.model.occ.synchronize()
         gmsh.model.addPhysicalGroup(3, [v], 1)
@@ -26,8 +24,6 @@ def make_shaft_mesh(path: str, radius: float = 0.025, length: float = 0.1,
         tmp = path + ".tmp.msh"
         gmsh.write(tmp)
         os.replace(tmp, path)
-    finally:
-        gmsh.finalize()
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@ reduced body with a superelement to export, and an integrator that stops after a
 
 * :func:`tiny_body`: a steel bar 0.2 x 0.05 x 0.05 m (P1 tetrahedra, 2 x 1 x 1 cells) with its
   end faces tied by RBE2 to masters "a" and "b", Craig-Bampton with 2 fixed-interface modes:
-  the object ``assembly.app.export_superelement.write_body`` takes (``name``,
+  the object ``assembly.app.export.superelement.write_body`` takes (``name``,
   ``superelement``, ``origin``, ``axes``), reduced in a fraction of a second.
 * :func:`stop_after`: a replacement for ``assembly.dynamics.simulate.integrate`` that runs the
   first ``steps`` steps and then raises Diverged with them, as when a state stops being finite.

@@ -1,5 +1,5 @@
 """Scene variants for tests: a TOML file that ``extends`` a base scene and changes fields by
-path under ``[set]`` (:mod:`assembly.variant`)."""
+path under ``[set]`` (:mod:`assembly.scene.variant`)."""
 import json
 from pathlib import Path
 

@@ -9,8 +9,8 @@ between the windows forms three webs.  A parametric "two cheeks joined by round
 posts" carrier (``fe_components.params.CarrierParams``) cannot represent it.
 
 Units: the model is built in MILLIMETRES and the STEP file declares mm
-(``SI_UNIT(.MILLI.,.METRE.)``); flexgear imports it in metres (gmsh
-``Geometry.OCCTargetUnit = "M"``).  Rotation axis +z, carrier mid-plane z = 0.
+(``SI_UNIT(.MILLI.,.METRE.)``); flexgear reads it in mm and converts to metres
+(:mod:`fe_components.part.cad`).  Rotation axis +z, carrier mid-plane z = 0.
 
 Geometry (mm):
 
@@ -54,7 +54,7 @@ import re
 import tempfile
 from pathlib import Path
 
-import gmsh
+from fe_components.gmsh_session import gmsh_model
 
 # ---------------------------------------------------------------- dimensions (mm)
 PIN_RADIUS = 97.77438348018569          # stage carrier radius (pin pitch radius)
@@ -78,8 +78,10 @@ def _cyl(occ, x, y, z0, z1, r):
     return (3, occ.addCylinder(x, y, z0, 0.0, 0.0, z1 - z0, r))
 
 
-def build(occ) -> tuple[int, int]:
-    """Create the carrier in the OCC model (mm); return its single volume dimTag."""
+def build(gmsh) -> tuple[int, int]:
+    """Create the carrier in the current gmsh model's OCC kernel (mm); return its single
+    volume dimTag."""
+    occ = gmsh.model.occ
     s, t = CHEEK_SPACING, CHEEK_T
     R = CHEEK_D / 2
     zc = s / 2 + t                      # outer cheek faces at z = +-zc
@@ -130,11 +132,8 @@ def main(argv=None) -> Path:
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / STEP_NAME)
     args = ap.parse_args(argv)
     out = args.out.resolve()
-    gmsh.initialize(["-noenv"], readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("carrier_windows")
-        build(gmsh.model.occ)
+    with gmsh_model("carrier_windows") as gmsh:
+        build(gmsh)
         fd, tmp = tempfile.mkstemp(suffix=".step", dir=out.parent)
         os.close(fd)
         tmp = Path(tmp)
@@ -148,8 +147,6 @@ def main(argv=None) -> Path:
         finally:
             if tmp.exists():
                 tmp.unlink()
-    finally:
-        gmsh.finalize()
     print(f"wrote {out} ({out.stat().st_size} bytes)")
     return out
 

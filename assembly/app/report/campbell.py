@@ -1,0 +1,104 @@
+"""``flexgear campbell SCENE --speed-range MIN MAX``: Campbell diagram output.
+
+Builds the diagram (:func:`assembly.dynamics.campbell.campbell`) and writes it: a crossing
+table on stdout, one JSON object (``--json``), or ``--out DIR`` with ``campbell.png``,
+``crossings.csv`` and ``campbell.json`` (atomically, with the folder rules of ``flexgear run``,
+:mod:`assembly.app.output`). Speeds in rpm of the reference body, frequencies in Hz.
+"""
+from __future__ import annotations
+
+import csv
+import logging
+import sys
+import time
+from pathlib import Path
+
+from ...dynamics.campbell import Campbell
+from .. import strict_json
+
+log = logging.getLogger(__name__)
+
+FILES = ("campbell.png", "crossings.csv", "campbell.json")
+CSV_HEAD = ("order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "energy", "excitable", "rule")
+
+
+def _verdict(ok) -> str:
+    return {True: "yes", False: "no", None: "undecided"}[ok]
+
+
+def _energy_text(energy) -> str:
+    """``"stage1 ke 0.99 se 0.98; rotor ke 0.01 se 0.02"``: kinetic and strain shares per group."""
+    return "; ".join(f"{g} ke {k:.3g} se {s:.3g}" for g, k, s in energy)
+
+
+def campbell_json(c: Campbell, rated_rpm: float | None = None) -> dict:
+    """The diagram as one JSON-ready object (rpm, Hz)."""
+    return {
+        "scene": c.scene, "reference": c.reference, "units": {"speed": "rpm", "frequency": "Hz"},
+        "speed_range_rpm": [float(c.speeds_rpm[0]), float(c.speeds_rpm[-1])], "gyroscopic": c.gyroscopic,
+        "rated_rpm": rated_rpm, "speed_ratios": c.ratios,
+        "orders": [{"name": o.name, "kind": o.kind, "source": o.source, "harmonic": o.harmonic,
+                    "hz_per_rpm": o.hz_per_rpm, "teeth": o.teeth, "stage": o.stage, "sun_teeth": o.sun_teeth,
+                    "n_planets": o.n_planets, "equally_spaced": o.equally_spaced} for o in c.orders],
+        "modes": [{"mode": m.index + 1, "frequency_hz": m.frequency_hz, "class": m.mode_class, "scope": m.scope}
+                  for m in c.modes],
+        "speeds_rpm": c.speeds_rpm.tolist(),
+        "frequencies_hz": c.frequencies_hz.tolist() if c.gyroscopic else [m.frequency_hz for m in c.modes],
+        "crossings": [{"order": x.order, "harmonic": x.harmonic, "speed_rpm": x.speed_rpm,
+                       "frequency_hz": x.frequency_hz, "mode": x.mode, "class": x.mode_class, "scope": x.scope,
+                       "energy": [{"group": g, "kinetic": k, "strain": s} for g, k, s in x.energy],
+                       "excitable": x.excitable, "rule": x.rule} for x in c.crossings],
+        "notes": list(c.notes),
+    }
+
+
+def write_csv(c: Campbell, path) -> Path:
+    """One row per crossing (:data:`CSV_HEAD`)."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(CSV_HEAD)
+        for x in c.crossings:
+            w.writerow([x.order, x.harmonic, f"{x.speed_rpm:.9g}", f"{x.frequency_hz:.9g}", x.mode, x.mode_class,
+                        x.scope or "", _energy_text(x.energy), _verdict(x.excitable), x.rule])
+    return Path(path)
+
+
+def write_plot(c: Campbell, path, rated_rpm: float | None = None) -> Path:
+    from ..plots import plot_campbell
+
+    return plot_campbell(c.speeds_rpm, c.frequencies_hz, [(o.name, o.hz_per_rpm) for o in c.orders],
+                         [(x.speed_rpm, x.frequency_hz, x.excitable is not False) for x in c.crossings], path,
+                         title=f"{c.scene}: Campbell diagram" + (" (gyroscopic)" if c.gyroscopic else ""),
+                         rated_rpm=rated_rpm, speed_label=f"{c.reference} speed [rpm]")
+
+
+def crossings_text(c: Campbell) -> str:
+    """The crossing table as text, with the notes."""
+    lines = [f"{c.scene}: Campbell diagram, {c.reference} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, "
+             f"{len(c.orders)} orders, {len(c.crossings)} crossings",
+             f"{'order':<22} {'h':>2} {'speed rpm':>11} {'freq Hz':>10} {'mode':>5}  {'class':<13} {'scope':<10} "
+             f"{'excites':<9} rule"]
+    for x in c.crossings:
+        lines.append(f"{x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} {x.mode:>5}  "
+                     f"{x.mode_class:<13} {x.scope or '':<10} {_verdict(x.excitable):<9} {x.rule}")
+    lines += [f"note: {n}" for n in c.notes]
+    return "\n".join(lines)
+
+
+def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_source: str = "") -> dict:
+    """Write :data:`FILES` and the run manifest into ``out_dir`` atomically."""
+    from ..output import check_output_dir, staged_output, write_manifest, writing
+
+    out_dir = Path(out_dir).absolute()
+    t0 = time.perf_counter()
+    check_output_dir(out_dir)
+    with staged_output(out_dir) as work:
+        with writing(out_dir, work, "campbell results"):
+            write_plot(c, work / "campbell.png", rated_rpm)
+            write_csv(c, work / "crossings.csv")
+            (work / "campbell.json").write_text(strict_json.dumps(campbell_json(c, rated_rpm), indent=1), encoding="utf-8")
+            info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source), files=list(FILES),
+                        n_crossings=len(c.crossings), time_s=round(time.perf_counter() - t0, 4),
+                        python=sys.version.split()[0])
+            write_manifest(work, info)
+    return info

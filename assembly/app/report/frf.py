@@ -1,0 +1,109 @@
+"""``flexgear frf SCENE --input I --output O``: frequency response output.
+
+Computes the FRF (:func:`assembly.dynamics.frf.frequency_response`, every mode superposed)
+and writes it: one JSON object (``--json``: magnitude and phase per output), or ``--out
+DIR`` with ``frf.csv`` (real and imaginary part, magnitude, phase per output),
+``frf.json``, one Bode plot per output (``bode_NN.png``, natural frequencies marked) and
+``index.html``, atomically with the folder rules of ``flexgear run``
+(:mod:`assembly.app.output`); otherwise a one-line summary per output. Frequencies in Hz,
+responses per unit input (SI units in ``units``).
+"""
+from __future__ import annotations
+
+import csv
+import html
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ...dynamics.frf import FRF
+from .. import strict_json
+from .html import figure
+
+
+def frequencies(fmin: float, fmax: float, points: int, log: bool) -> np.ndarray:
+    """The frequency grid (Hz); ValueError naming the argument on bad values."""
+    if not (np.isfinite(fmin) and fmin >= 0):
+        raise ValueError(f"--fmin = {fmin}: must be a frequency >= 0 Hz")
+    if not (np.isfinite(fmax) and fmax > fmin):
+        raise ValueError(f"--fmax = {fmax}: must be finite and above --fmin = {fmin}")
+    if points < 2:
+        raise ValueError(f"--points = {points}: must be >= 2")
+    if log and fmin <= 0:
+        raise ValueError(f"--fmin = {fmin}: --log needs a frequency > 0 Hz")
+    return np.geomspace(fmin, fmax, points) if log else np.linspace(fmin, fmax, points)
+
+
+def frf_json(r: FRF, scene: str = "") -> dict:
+    """The FRF as one JSON-ready object: magnitude and phase (deg) per output."""
+    return {"scene": scene, "input": r.input, "method": r.method, "frequency_hz": r.frequency_hz.tolist(),
+            "outputs": {k: {"magnitude": np.abs(h).tolist(), "phase_deg": np.degrees(np.angle(h)).tolist()}
+                        for k, h in r.outputs.items()},
+            "units": {"frequency": "Hz", **r.units}, "natural_hz": r.natural_hz.tolist(),
+            "warnings": list(r.warnings)}
+
+
+def write_csv(r: FRF, path) -> Path:
+    """One row per frequency: Hz, then per output real, imaginary, magnitude, phase (deg)."""
+    names = list(r.outputs)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["frequency_hz"] + [f"{n} {part} [{r.units[n]}]" if part != "phase" else f"{n} phase [deg]"
+                                       for n in names for part in ("real", "imag", "magnitude", "phase")])
+        for j, f in enumerate(r.frequency_hz):
+            row = [f"{f:.9g}"]
+            for n in names:
+                h = r.outputs[n][j]
+                row += [f"{h.real:.9g}", f"{h.imag:.9g}", f"{abs(h):.9g}", f"{np.degrees(np.angle(h)):.6g}"]
+            w.writerow(row)
+    return Path(path)
+
+
+def summary_text(r: FRF, scene: str) -> str:
+    """Per output: the largest magnitude and where."""
+    lines = [f"{scene}: FRF from {r.input}, {len(r.frequency_hz)} points "
+             f"{r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz ({r.method}, {r.time_s:.3g} s)"]
+    for k, h in r.outputs.items():
+        j = int(np.argmax(np.abs(h)))
+        lines.append(f"  {k}: max |H| {abs(h[j]):.6g} {r.units[k]} at {r.frequency_hz[j]:.6g} Hz")
+    lines += [f"  warning: {w}" for w in r.warnings]
+    return "\n".join(lines)
+
+
+def _index(r: FRF, scene: str, plots: list) -> str:
+    e = html.escape
+    figs = "\n".join(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots)
+    warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
+    warn = f"<p><b>Warnings</b></p><ul>{warn}</ul>" if warn else ""
+    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: FRF</title></head><body>"
+            f"<h1>{e(scene)}: frequency response from {e(r.input)}</h1>"
+            f"<p>{len(r.frequency_hz)} points, {r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz, {e(r.method)}; "
+            f'dotted lines: undamped natural frequencies. Data: <a href="frf.csv">frf.csv</a>, '
+            f'<a href="frf.json">frf.json</a>.</p>\n{warn}{figs}\n</body></html>\n')
+
+
+def frf_to_dir(r: FRF, out_dir, scene: str, scene_source: str = "", log: bool = False) -> dict:
+    """Write frf.csv, frf.json, the Bode plots and index.html into ``out_dir`` atomically."""
+    from ..output import check_output_dir, staged_output, write_manifest, writing
+    from ..plots import plot_bode
+
+    out_dir = Path(out_dir).absolute()
+    t0 = time.perf_counter()
+    check_output_dir(out_dir)
+    plots = [(n, f"bode_{i + 1:02d}.png") for i, n in enumerate(r.outputs)]
+    files = ["frf.csv", "frf.json", *(p for _, p in plots), "index.html"]
+    with staged_output(out_dir) as work:
+        with writing(out_dir, work, "frf results"):
+            write_csv(r, work / "frf.csv")
+            (work / "frf.json").write_text(strict_json.dumps(frf_json(r, scene), indent=1), encoding="utf-8")
+            for n, p in plots:
+                plot_bode(r.frequency_hz, r.outputs[n], work / p, title=f"{scene}: {r.input} -> {n}",
+                          ylabel=r.units[n], natural_hz=r.natural_hz, logx=log)
+            (work / "index.html").write_text(_index(r, scene, plots), encoding="utf-8")
+            info = dict(tool="flexgear frf", scene=scene, scene_source=str(scene_source), files=files,
+                        input=r.input, outputs=list(r.outputs), time_s=round(time.perf_counter() - t0, 4),
+                        python=sys.version.split()[0])
+            write_manifest(work, info)
+    return info

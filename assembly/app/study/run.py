@@ -1,0 +1,132 @@
+"""One variant of a design study, run to one row of the study's table.
+
+:func:`run_variant` takes only plain, picklable arguments (the scene file, the variant, the
+analysis, its settings and what to keep) and returns a plain dict, so the same function
+runs in-process or in a distributed worker. It runs with one BLAS thread (as a Dask worker
+does), so a variant gives the same bits wherever it runs. A variant that fails (a value the
+scene refuses, a mechanism, a solve that fails its checks, a run that diverges, a result
+that is not finite: NaN or inf in any column) is a row with ``status = "error"`` and the
+one-line message and no results, never an exception: one bad variant does not stop a study.
+
+Results per analysis (:mod:`assembly.app.study.file` gives the settings):
+
+* ``modes``: the first ``keep["modes"]`` elastic natural frequencies ``f1_hz``, ``f2_hz``,
+  ... and the number of rigid-body modes ``n_rigid``;
+* ``compare``: the same for each fidelity, ``torsional_f1_hz``, ``rigid_f1_hz``, ...;
+* ``frf``: per output its largest magnitude ``peak[OUT]`` (output unit per input unit) and
+  where it is, ``peak_hz[OUT]`` (Hz);
+* ``simulate``: per output the ``keep["stats"]`` of its history, ``peak[OUT]``,
+  ``mean[OUT]``, ... (a stress output's history is its von Mises stress, Pa), and
+  ``contact_losses`` over all meshes.
+
+Columns about the run, not the result (:data:`RUN_COLUMNS`): ``time_s``, the superelements
+the variant took from the cache (``reductions_reused``) and built (``reductions_built``),
+and the worker process (``pid``).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from pathlib import Path
+
+from .spec import Variant
+
+log = logging.getLogger(__name__)
+
+RUN_COLUMNS = ("time_s", "reductions_reused", "reductions_built", "pid")
+
+
+def run_variant(scene_source: str, variant: Variant, analysis: str = "modes", keep: dict | None = None,
+                settings: dict | None = None, cache_dir: str | None = None) -> dict:
+    """The row of ``variant`` (module notes): ``variant`` (its index), each parameter's
+    value, ``status`` ("ok" or "error"), ``error`` (the message, "" when ok), the results
+    and the run columns. ``cache_dir``: the cache root to use (default: the process's)."""
+    import contextlib
+
+    from threadpoolctl import threadpool_limits
+
+    from cms.cache import STATS
+    from cms.linsolve import default_backend
+    from fe_components.meshing import cache_root
+
+    from ..errors import user_errors
+    default_backend()   # loads CHOLMOD's BLAS now, so that the one-thread limit below reaches it
+    keep = {"modes": 10, "stats": ["peak", "mean"], **(keep or {})}
+    row = {"variant": variant.index, **variant.params, "status": "ok", "error": ""}
+    t0, before = time.perf_counter(), dict(STATS)
+    try:
+        with threadpool_limits(1), (cache_root(cache_dir) if cache_dir else contextlib.nullcontext()):
+            row.update(finite(_results(scene_source, variant, analysis, keep, settings or {})))
+    except user_errors() as exc:
+        row.update(status="error", error=str(exc).splitlines()[0])
+    except Exception as exc:  # noqa: BLE001 -- a study reports every failure as its variant's row
+        row.update(status="error", error=f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
+        log.exception("variant %d failed", variant.index)
+    if row["status"] == "error":
+        log.info("variant %d: %s", variant.index, row["error"])
+    row.update(time_s=time.perf_counter() - t0, reductions_reused=STATS["hits"] - before["hits"],
+               reductions_built=STATS["misses"] - before["misses"], pid=os.getpid())
+    return row
+
+
+def finite(results: dict) -> dict:
+    """``results``, or SceneError naming the first result that is NaN or infinite: such a
+    row is a failed variant, never an "ok" row with a number that is none."""
+    bad = [k for k, v in results.items() if isinstance(v, float) and not math.isfinite(v)]
+    if bad:
+        from ...errors import SceneError
+        raise SceneError(bad[0], results[bad[0]], f"the variant's result is not finite (NaN or inf in {len(bad)} of its "
+                                                  f"{len(results)} results); none is kept")
+    return results
+
+
+def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, settings: dict) -> dict:
+    from ...errors import SceneError
+    from ...model.assemble import assemble
+    from ...scene.schema import load_scene
+    scene = load_scene(scene_source).with_values(variant.values)
+    if analysis == "modes":
+        from ...analysis.modal import solve_modes
+        return _frequencies(solve_modes(assemble(scene)), keep["modes"])
+    if analysis == "compare":
+        from ...analysis.compare import compare
+        out = {}
+        for fid, res in compare(scene).results.items():
+            out.update(_frequencies(res, keep["modes"], f"{fid}_"))
+        return out
+    if analysis == "frf":
+        import numpy as np
+
+        from ...dynamics.frf import frequency_response
+        from ..report.frf import frequencies
+        f = frequencies(settings["fmin"], settings["fmax"], settings["points"], settings["log"])
+        r = frequency_response(assemble(scene), settings["input"], settings["outputs"], f,
+                               method=settings["method"], modes_hz=settings["modes_hz"])
+        out = {}
+        for name, h in r.outputs.items():
+            k = int(np.argmax(np.abs(h)))
+            out[f"peak[{name}]"] = float(np.abs(h[k]))
+            out[f"peak_hz[{name}]"] = float(r.frequency_hz[k])
+        return out
+    if analysis == "simulate":
+        from ...dynamics.simulate import simulate
+        from ...dynamics.transient import Diverged
+        from ..report.simulate import summary
+        try:
+            r = simulate(scene, settings["t_end"], settings["dt"], settings["outputs"],
+                         base_dir=Path(scene_source).parent, speed=settings["speed"], full_fe=settings["unreduced"])
+        except Diverged as exc:
+            raise SceneError("simulate", settings["t_end"], f"run stopped: {exc}") from None
+        s = summary(r, scene.name)
+        out = {f"{stat}[{name}]": row[stat] for name, row in s["outputs"].items() for stat in keep["stats"]}
+        out["contact_losses"] = int(sum(m["contact_losses"] for m in r.meshes))
+        return out
+    raise SceneError("analysis", analysis, "must be one of modes, compare, frf, simulate")
+
+
+def _frequencies(res, n: int, prefix: str = "") -> dict:
+    """The first ``n`` elastic frequencies (Hz) of a modal result and its rigid-body mode count."""
+    elastic = res.frequencies_hz[res.n_rigid:res.n_rigid + n]
+    return {f"{prefix}n_rigid": int(res.n_rigid), **{f"{prefix}f{i + 1}_hz": float(f) for i, f in enumerate(elastic)}}

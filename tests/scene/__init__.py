@@ -1,0 +1,1 @@
+"""Tests of the scene floor (assembly/scene)."""
