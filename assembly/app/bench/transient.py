@@ -36,29 +36,11 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .drivetrain import machine, peak_rss_mb
+from .rated import BACKLASH, DT_5MW, GENERATOR_TORQUE, RATIO, STEP, rated_5mw
+from .transient_long import long_table
+from .transient_peer import peer_table
 
 log = logging.getLogger(__name__)
-
-RATED_SPEED = 1.2671              # rad/s: 12.1 rpm rated rotor speed [Jonkman 2009]
-GENERATOR_TORQUE = 43093.55       # N m: rated generator torque [Jonkman 2009]
-RATIO = 96.354                    # the scenes' overall ratio from the teeth (nrel5mw.toml header)
-STEP, BACKLASH = 0.3, 4.0e-4      # dk/k0 of every mesh; normal backlash m [Nejad et al. 2016]
-DT_5MW = 1e-4                     # s
-
-
-def rated_5mw(name: str):
-    """The NREL 5 MW scene ``name`` at rated operation, every mesh angle-driven with backlash."""
-    from ...scene.schema import load_scene
-    scene = load_scene(name)
-    ch = {"simulation": {"speed": RATED_SPEED, "generator": {"torque": GENERATOR_TORQUE},
-                         "loads": [{"body": "rotor", "value": GENERATOR_TORQUE * RATIO}]}}
-    for i, _ in enumerate(scene.stages):
-        ch.update({f"stages[{i}].variation_sun": {"step": STEP}, f"stages[{i}].variation_ring": {"step": STEP},
-                   f"stages[{i}].backlash": BACKLASH})
-    for i, _ in enumerate(scene.meshes):
-        ch.update({f"meshes[{i}].variation": {"step": STEP}, f"meshes[{i}].backlash": BACKLASH})
-    return scene.with_values(ch)
-
 
 def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]:
     """(s per solve with the run's constant factorisation, s per solve + products with K, C
@@ -147,7 +129,12 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--cutoff-factor", type=float, default=3.0,
                    help="table 3: the reduced bodies keep their fixed-interface modes up to this x the band "
                         "(default 3; the scene's default is 1.5)")
-    p.add_argument("--tables", default="1,2,3", help="which tables to print (default 1,2,3)")
+    p.add_argument("--peer-seconds", type=float, default=1.0, help="table 4: simulated time beside Exudyn (s)")
+    p.add_argument("--long-seconds", type=float, default=600.0,
+                   help="table 5: the long run (s; default 600, one IEC 61400-1 load case)")
+    p.add_argument("--short-seconds", type=float, default=10.0, help="table 5: the short run it is compared with (s)")
+    p.add_argument("--tables", default="1,2,3,4", help="which tables to print (default 1,2,3,4; 5 runs 600 s "
+                                                        "cases and takes tens of minutes)")
     a = p.parse_args(argv)
     tables = {int(x) for x in a.tables.split(",") if x.strip()}
     names = (["nrel5mw"] + ([] if a.no_flexible else ["nrel5mw_flexible"])) if tables & {1, 2} else []
@@ -163,6 +150,11 @@ def main(argv=None, out=None) -> int:
         _drivetrain(cases, a, out)
     if 3 in tables:
         _reduced_vs_unreduced(a, out)
+    flex = [] if a.no_flexible else ["nrel5mw_flexible"]
+    if 4 in tables:
+        peer_table(["nrel5mw", *flex], DT_5MW, a.peer_seconds, out)
+    if 5 in tables:
+        long_table(["nrel5mw", *flex], a.long_seconds, a.short_seconds, DT_5MW, out)
     return 0
 
 

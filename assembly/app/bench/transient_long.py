@@ -2,7 +2,7 @@
 600 s a case) through the command line, with its files.
 
 Each row runs ``flexgear simulate SCENE --t-end T --dt 1e-4 --out DIR`` in a child process on
-the rated NREL 5 MW scene of :func:`assembly.app.bench.transient.rated_5mw` (every mesh
+the rated NREL 5 MW scene of :func:`assembly.app.bench.rated.rated_5mw` (every mesh
 angle-driven with backlash; written to a temporary TOML file), one BLAS thread, recording the
 main-shaft torque, the generator speed and every nonlinear mesh force (the run's default
 outputs plus two). It prints the child's wall time, its peak resident memory (``ru_maxrss``
@@ -20,6 +20,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from .rated import rated_5mw
 
 #: The issue's goals for 600 s at dt = 1e-4 s: wall minutes (rigid, flexible), peak memory GB,
 #: the long run's peak memory over the short run's, and the seconds writing may take.
@@ -49,7 +51,6 @@ def run_cli(scene_file: Path, t_end: float, dt: float, out_dir: Path) -> dict:
 def long_table(names, seconds: float, short: float, dt: float, out) -> None:
     """Print table 5 for the scenes ``names``: ``short`` s and ``seconds`` s of each."""
     from ...scene.save import save_scene
-    from .transient import rated_5mw
     print(f"`flexgear bench transient` 5: `flexgear simulate --out` over {short:g} s and {seconds:g} s at dt = "
           f"{dt:g} s, one thread\n", file=out)
     print("| scene | simulated [s] | exit | wall [s] | goal wall [s] | peak RSS [MB] | / short run | goal | "

@@ -21,6 +21,8 @@ import time
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from .rated import DT_5MW, rated_5mw
+
 #: The issue's goal: flexgear at least this many times faster than the peer, at both sizes.
 PEER_GOAL = 5.0
 
@@ -38,7 +40,6 @@ def linear_problem(name: str):
     from ...dynamics.run_start import start_velocity
     from ...model.assemble import assemble
     from ...scene.time_domain import Simulation
-    from .transient import DT_5MW, rated_5mw
     scene = rated_5mw(name)
     model = assemble(scene)
     M, K, C, _ = model_matrices(model)
