@@ -94,14 +94,32 @@ def solve(J, r):
 
 
 @njit
-def run_stretch(count, t, scheme, Ainv, M, C, K, W, S, UT, LV, LH, direct,
+def predictor(Z, q, v, a, AinvL, h):
+    """``x0`` of a step but its ``alpha_f F`` term: ``Z [q; v; a] - A0^-1 L h``, ``Z`` the
+    predictor's map (:func:`assembly.dynamics.stretches.predictor_map`), ``L h`` the load at
+    the step (``AinvL = A0^-1 L``). The Python step of a dense model calls this too."""
+    n = q.shape[0]
+    sv = np.empty(3 * n)
+    sv[:n] = q
+    sv[n:2 * n] = v
+    sv[2 * n:] = a
+    x0 = Z @ sv
+    if h.shape[0]:
+        x0 -= AinvL @ h
+    return x0
+
+
+@njit
+def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
                 mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, p, ps, table, brake, has_torques,
                 Ok, Oc, Os, Oa, Sv, swap_i, swap_j,
                 q, v, a, Ma, F, xi, xi_prev, contact, losses, last_force, Y, its):
     """``count`` steps from ``t[0]`` (``t``: the count + 1 step times); ``scheme``: (alpha_m,
-    alpha_f, beta, gamma, dt). Loads at ``t[k] + (1 - alpha_f) dt``: ``LV @ LH[k]`` (or
-    ``LH[k]`` itself if ``direct``); ``table``, ``brake`` (count,): the generator's recorded
-    torque and the brake torque at ``t[k + 1]``. Rows into ``Y[k]`` and Newton counts into
+    alpha_f, beta, gamma, dt); ``Z`` the predictor's map (:func:`predictor`). Loads at ``t[k] +
+    (1 - alpha_f) dt``: ``LV @ LH[k]`` (or ``LH[k]`` itself if ``direct``), ``AinvL = A0^-1 LV``
+    (or ``A0^-1``); ``M a`` and the averaged force ``F`` are kept only when alpha_f != 0;
+    ``table``, ``brake`` (count,): the generator's recorded torque and the brake torque at
+    ``t[k + 1]``. Rows into ``Y[k]`` and Newton counts into
     ``its[k]``. Returns (steps done, :data:`DONE` / :data:`NOT_CONVERGED` / :data:`NOT_FINITE`,
     the residual or the coordinate that is not finite)."""
     am, af, b, g, dt = scheme[0], scheme[1], scheme[2], scheme[3], scheme[4]
@@ -116,11 +134,18 @@ def run_stretch(count, t, scheme, Ainv, M, C, K, W, S, UT, LV, LH, direct,
     x, xd = np.zeros(mm), np.zeros(mm)
     ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
     n_k, n_a, n_s = Ok.shape[0], Oa.shape[0], Sv.shape[0]
+    f_a = np.zeros(q.shape[0])
     for k in range(count):
-        f_a = LH[k].copy() if direct else LV @ LH[k]
+        h = LH[k]
+        x0 = predictor(Z, q, v, a, AinvL, h)
+        if af != 0.0:
+            if direct:
+                f_a[:] = h
+            elif h.shape[0]:
+                f_a[:] = LV @ h
+            x0 += af * (Ainv @ F)
         qp = q + dt * v + (dt * dt * (0.5 - b)) * a
         vp = v + (dt * (1 - g)) * a
-        x0 = Ainv @ (am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
         y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
         best = np.inf
         converged = False
@@ -172,10 +197,11 @@ def run_stretch(count, t, scheme, Ainv, M, C, K, W, S, UT, LV, LH, direct,
         for i in range(q.shape[0]):
             if not np.isfinite(q[i]):
                 return k, NOT_FINITE, float(i)
-        Ma_new = M @ a_new
-        F[:] = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+        if af != 0.0:
+            Ma_new = M @ a_new
+            F[:] = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+            Ma[:] = Ma_new
         a[:] = a_new
-        Ma[:] = Ma_new
         if m:
             mesh_commit(contact, losses, slope)
             last_force[:] = force

@@ -36,6 +36,7 @@ from . import jit
 from .budget import check_memory
 from .history import MemoryHistory
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
+from .jit import pick
 from .step_kernel import (
     DONE,
     EPS,
@@ -45,9 +46,10 @@ from .step_kernel import (
     NOT_FINITE,
     ROUNDOFF,
     newton_matrix,
+    predictor,
     solve,
 )
-from .stretches import CompiledSteps, compiled_parts, plan
+from .stretches import PREDICTOR_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
 log = logging.getLogger(__name__)
 
@@ -184,10 +186,12 @@ class PythonSteps:
     """Runs steps in Python, one at a time (module notes): the reference of the compiled step
     (:mod:`assembly.dynamics.step_kernel`), and the step of every other run (a sparse model,
     forces or rows the compiled step does not know, or numba absent). The state ``(q, v, a,
-    Ma, F, xi, xi_prev)``."""
+    Ma, F, xi, xi_prev)``; a dense model's predictor map ``Z`` and ``AinvL`` (the inverse times
+    the load vectors): its ``x0`` as the compiled step forms it
+    (:func:`assembly.dynamics.step_kernel.predictor`), else from M, C, K."""
 
-    def __init__(self, M, C, K, lu, W, S, U, scheme, dt, nl, observe, force, state):
-        self.M, self.C, self.K, self.lu, self.W, self.S = M, C, K, lu, W, S
+    def __init__(self, M, C, K, lu, W, S, U, scheme, dt, nl, observe, force, state, Z=None, AinvL=None):
+        self.M, self.C, self.K, self.lu, self.W, self.S, self.Z, self.AinvL = M, C, K, lu, W, S, Z, AinvL
         self.UT = np.ascontiguousarray(U.T)
         self.s, self.dt, self.nl, self.observe, self.force = scheme, dt, nl, observe, force
         self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev = state
@@ -201,11 +205,23 @@ class PythonSteps:
         q, v, a, Ma, F, xi, xi_prev, dxi = self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi
         eye, ck, cc = np.eye(S.shape[0]), (1 - af) * b * dt * dt, (1 - af) * g * dt
         newton_solve = solve if jit.COMPILED else np.linalg.solve
+        Z, predict = self.Z, pick(predictor)
         for k in range(len(t) - 1):
-            f_a = np.asarray(self.force(t[k] + (1 - af) * dt), float)
-            qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-            vp = v + (dt * (1 - g)) * a
-            x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
+            t_a = t[k] + (1 - af) * dt
+            if Z is None:
+                f_a = np.asarray(self.force(t_a), float)
+                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+                vp = v + (dt * (1 - g)) * a
+                x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
+            else:                                             # the compiled step's arithmetic
+                LV, LH, direct = load_block(self.force, np.array([t_a]))
+                h = LH[0]
+                x0 = predict(Z, q, v, a, self.AinvL, h)
+                if af != 0.0:
+                    f_a = h.copy() if direct else (LV @ h if len(h) else np.zeros(len(q)))
+                    x0 = x0 + af * lu.solve(F)
+                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+                vp = v + (dt * (1 - g)) * a
             y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
             best = np.inf
             for it in range(1, MAX_ITERATIONS + 1):
@@ -249,9 +265,11 @@ class PythonSteps:
             v = vp + (g * dt) * a_new
             if not np.all(np.isfinite(q)):
                 return k, NOT_FINITE, float(np.argmax(~np.isfinite(q)))
-            Ma_new = M @ a_new
-            F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
-            a, Ma = a_new, Ma_new
+            if Z is None or af != 0.0:
+                Ma_new = M @ a_new
+                F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+                Ma = Ma_new
+            a = a_new
             nl.commit(t[k + 1], x, xd)
             Y[k] = self.observe(q, v, a, nu)
             self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi = q, v, a, Ma, F, xi, xi_prev, dxi
@@ -302,9 +320,14 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     history.append(np.zeros(1), np.asarray(first, float)[None, :], np.zeros(1, np.int32))
     report = max(1, n_steps // 200)
     state = (q, v, a, M @ a, F, np.zeros(U.shape[1]), np.zeros(U.shape[1]))
-    parts = compiled_parts(nl, observe, lu.kind)
-    steps = (CompiledSteps(parts, M, C, K, lu.inverse, W, S, U, s, dt, observe, force, state) if parts is not None
-             else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state))
+    Z = AinvL = None
+    if lu.kind == "dense inverse" and n <= PREDICTOR_MAX:
+        Z = predictor_map(lu.inverse, M, C, K, dt, s)
+        LV, _, direct = load_block(force, np.zeros(1))
+        AinvL = lu.inverse if direct else lu.inverse @ LV
+    parts = compiled_parts(nl, observe, Z)
+    steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
+             if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
     stretches = plan(n_steps, report)
     Y = np.empty((max(c for _, c in stretches), len(first)))
     its = np.zeros(len(Y), np.int32)

@@ -14,7 +14,7 @@ import pytest
 from assembly.dynamics import jit
 from assembly.dynamics.history import MemoryHistory
 from assembly.dynamics.simulate import simulate
-from assembly.dynamics.transient import Diverged
+from assembly.dynamics.transient import NEWTON_RTOL, Diverged
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene, scene_from_dict
 from tests.support.gear_pair_scene import gear_pair
@@ -86,9 +86,11 @@ def test_compiled_step_is_the_python_step_on_the_flexible_5mw_drivetrain(monkeyp
     _agree(runs)
 
 
-def test_without_numba_the_python_step_gives_the_same_numbers(transient_model, monkeypatch):
-    # numba absent: the Python step, the laws on numpy arrays (every mesh at once) and numpy's
-    # solve; on this run the same numbers as the compiled step, static start included
+def test_without_numba_the_python_step_gives_the_same_results(transient_model, monkeypatch):
+    # numba absent: the Python step, the laws on numpy arrays (every mesh at once), numpy's
+    # Newton matrix and LAPACK's solve. Those round Newton's matrix differently (1e-21 of xi at
+    # the first step that differs), so each step's Newton iterations stop at another point
+    # within their tolerance: the two runs agree to NEWTON_RTOL (1e-10 on xi), not to the bit
     monkeypatch.setattr(jit, "ENABLED", False)
     monkeypatch.setattr(jit, "COMPILED", False)
     r = simulate(transient_model, 300 * DT, DT)
@@ -96,7 +98,10 @@ def test_without_numba_the_python_step_gives_the_same_numbers(transient_model, m
     if jit.numba is not None:
         monkeypatch.setattr(jit, "ENABLED", True)
         monkeypatch.setattr(jit, "COMPILED", True)
-        _agree({"compiled": simulate(transient_model, 300 * DT, DT), "python": r})
+        c = simulate(transient_model, 300 * DT, DT)
+        assert c.info["mean_iterations"] == r.info["mean_iterations"]
+        for name, ref in r.outputs.items():
+            assert np.max(np.abs(c.outputs[name] - ref)) <= NEWTON_RTOL * np.max(np.abs(ref)), name
 
 
 @pytest.mark.usefixtures("step_path")
