@@ -20,10 +20,18 @@ class MemoryHistory:
         self.rows = 0
         self.complete, self.info = None, {}
 
+    def reserve(self, k: int):
+        """(times, rows, Newton counts): views of the next ``k`` rows, for a run to write its
+        steps into before it appends them (no second copy of a block)."""
+        a, b = self.rows, self.rows + k
+        return self.t[a:b], self.y[a:b], self.iterations[a:b]
+
     def append(self, t_block: np.ndarray, y_block: np.ndarray, iterations_block: np.ndarray) -> None:
         """A block of consecutive steps: times (k,), rows (k, width), Newton counts (k,)."""
         a, b = self.rows, self.rows + len(t_block)
-        self.t[a:b], self.y[a:b], self.iterations[a:b] = t_block, y_block, iterations_block
+        if np.asarray(y_block).ctypes.data != self.y[a:b].ctypes.data:   # not the reserved rows
+            self.y[a:b] = y_block
+        self.t[a:b], self.iterations[a:b] = t_block, iterations_block
         self.rows = b
 
     def close(self, complete: bool, info: dict):

@@ -62,9 +62,12 @@ def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces:
     fit the memory budget (:func:`assembly.dynamics.budget.check_memory`; SceneError at
     ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
     :data:`STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)`` bytes (``W`` and the
-    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces)."""
+    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces),
+    plus ``24 n_dofs^2`` for the predictor's map of a dense model
+    (:func:`assembly.dynamics.stretches.predictor_map`, up to PREDICTOR_MAX coordinates)."""
     n_steps = check_step(dt, t_end)
-    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + 8.0 * n_dofs * (n_forces + 12),
+    state = 8.0 * n_dofs * (n_forces + 12) + (24.0 * n_dofs * n_dofs if n_dofs <= PREDICTOR_MAX else 0.0)
+    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + state,
                  f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
                  "shorten t_end, raise dt or record fewer outputs")
     return n_steps
@@ -329,11 +332,15 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
     stretches = plan(n_steps, report)
-    Y = np.empty((max(c for _, c in stretches), len(first)))
-    its = np.zeros(len(Y), np.int32)
+    reserve = getattr(history, "reserve", None)                   # rows written in place
+    if reserve is None:
+        Y = np.empty((max(c for _, c in stretches), len(first)))
+        its = np.zeros(len(Y), np.int32)
     for i0, count in stretches:
         t = np.arange(i0, i0 + count + 1, dtype=float)
         t *= dt                                                    # the steps' times, i dt
+        if reserve is not None:
+            _, Y, its = reserve(count)
         done, why, value = steps.run(t, Y[:count], its[:count])
         if done:
             history.append(t[1:done + 1], Y[:done], its[:done])

@@ -220,9 +220,9 @@ def _per_step(cases, a, out) -> None:
             n = model.K.shape[0]
             if jit.COMPILED:
                 step_time(model, 10, True)                      # compiles (or loads numba's cache)
-                compiled, info = step_time(model, a.steps, True)
+                compiled = step_time(model, a.steps, True)[0]
             else:
-                compiled, info = math.nan, {}
+                compiled = math.nan
             python, pinfo = step_time(model, a.steps, False)
             solve, _, kind = bare_solve(model, scene, DT_5MW, a.repeat)
             rows.append((name, n, pinfo["rank"], pinfo["mean_iterations"], kind, compiled, python, solve))
