@@ -12,7 +12,7 @@ from assembly.dynamics import jit
 def step_path(request, monkeypatch):
     """The step the test's runs take: "compiled" or "python" (the switch
     :data:`assembly.dynamics.jit.ENABLED`; the Python step on the same laws)."""
-    if request.param == "compiled" and jit.numba is None:
-        pytest.skip("numba is not installed (the speed extra)")
+    if request.param == "compiled" and not jit.COMPILED:
+        pytest.skip("numba is not installed (the speed extra) or switched off (FLEXGEAR_NO_NUMBA)")
     monkeypatch.setattr(jit, "ENABLED", request.param == "compiled")
     return request.param
