@@ -27,6 +27,7 @@ def predictor_map(Ainv, M, C, K, dt: float, scheme) -> np.ndarray:
     return np.hstack([(1 - af) * (Ainv @ K), (1 - af) * (Ainv @ (dt * K + C)),
                       Ainv @ (am * M + (1 - af) * (c1 * K + c2 * C))])
 
+
 #: Steps of a stretch: the fewest (the cost of a call from Python spread over them) and the most
 #: (the loads evaluated ahead, and the rows of a block).
 STRETCH_MIN, STRETCH_MAX = 64, 1024
@@ -39,7 +40,7 @@ def plan(n_steps: int, report: int):
 
 
 def compiled_parts(nl, observe, Z):
-    """(meshes, torques) of a run the compiled step can take, or None: a dense inverse, rows
+    """(meshes, torques) of a run the compiled step can take, or None: a dense model, rows
     to record (:class:`assembly.dynamics.observe_rows.Rows`), and nonlinear parts that are the
     meshes (first, exact tangents) and the shaft torques (module notes); ``Z``: the
     predictor's map of a dense model (:func:`predictor_map`) or None."""

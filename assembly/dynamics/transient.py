@@ -328,6 +328,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         Z = predictor_map(lu.inverse, M, C, K, dt, s)
         LV, _, direct = load_block(force, np.zeros(1))
         AinvL = lu.inverse if direct else lu.inverse @ LV
+        t_factor = _time.perf_counter() - t0                       # and the predictor's map
     parts = compiled_parts(nl, observe, Z)
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
