@@ -116,7 +116,7 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     try:
         # one BLAS thread for small models: threads cost more than products of this size
         with threadpool_limits(1 if n <= SMALL_DENSE else None):
-            run = integrate(M, C, K, loads.force, q0, v0, dt, t_end, scheme_of(sim), nl, rec.observe(meshes),
+            run = integrate(M, C, K, loads, q0, v0, dt, t_end, scheme_of(sim), nl, rec.observe(meshes),
                             progress, model.dof_names)
         stopped = None
     except Diverged as exc:

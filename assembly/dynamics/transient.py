@@ -32,15 +32,27 @@ from typing import Callable, Optional
 import numpy as np
 import scipy.sparse as sp
 
+from . import jit
 from .budget import check_memory
+from .history import MemoryHistory
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
+from .jit import pick
+from .step_kernel import (
+    DONE,
+    EPS,
+    MAX_ITERATIONS,
+    NEWTON_RTOL,
+    NOT_CONVERGED,
+    NOT_FINITE,
+    ROUNDOFF,
+    newton_matrix,
+    predictor,
+    solve,
+)
+from .stretches import PREDICTOR_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
 log = logging.getLogger(__name__)
 
-#: Newton iterations (and halved steps) of one step before it is declared not converging.
-MAX_ITERATIONS = 60
-#: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
-NEWTON_RTOL = 1e-10
 #: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
 STEP_BYTES = 12
 
@@ -50,19 +62,15 @@ def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces:
     fit the memory budget (:func:`assembly.dynamics.budget.check_memory`; SceneError at
     ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
     :data:`STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)`` bytes (``W`` and the
-    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces)."""
+    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces),
+    plus ``24 n_dofs^2`` for the predictor's map of a dense model
+    (:func:`assembly.dynamics.stretches.predictor_map`, up to PREDICTOR_MAX coordinates)."""
     n_steps = check_step(dt, t_end)
-    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + 8.0 * n_dofs * (n_forces + 12),
+    state = 8.0 * n_dofs * (n_forces + 12) + (24.0 * n_dofs * n_dofs if n_dofs <= PREDICTOR_MAX else 0.0)
+    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + state,
                  f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
                  "shorten t_end, raise dt or record fewer outputs")
     return n_steps
-#: Absolute floor of a step's residual, in units of eps x the size of the forces it is summed
-#: from (:meth:`Nonlinear.force_scale`, plus xi): a column of a mesh's nu sums four rounded
-#: terms (k e + c s delta' - k0 delta - c delta'), so it is known to about 4 eps x their size;
-#: a residual below that is round-off, and no Newton step can lower it further.
-ROUNDOFF = 4
-EPS = float(np.finfo(float).eps)
-
 
 class Nonlinear:
     """Forces along the columns of ``U`` (n x m): :meth:`forces` gives ``nu`` (m,) and its
@@ -71,6 +79,8 @@ class Nonlinear:
     event counts)."""
 
     U: np.ndarray
+    #: the laws the compiled step knows these forces by (None: Python's step only)
+    compiled = None
 
     def forces(self, t: float, x: np.ndarray, xd: np.ndarray):
         raise NotImplementedError
@@ -169,22 +179,126 @@ class Diverged(FloatingPointError):
 
 def _matrix(A, n: int):
     if A is None:
-        return sp.csr_matrix((n, n))
+        return sp.csr_matrix((n, n)) if n > DENSE_INVERSE_MAX else np.zeros((n, n))
     if sp.issparse(A):
         return A.tocsr() if n > DENSE_INVERSE_MAX else A.toarray()
     return np.asarray(A, float)
 
 
+class PythonSteps:
+    """Runs steps in Python, one at a time (module notes): the reference of the compiled step
+    (:mod:`assembly.dynamics.step_kernel`), and the step of every other run (a sparse model,
+    forces or rows the compiled step does not know, or numba absent). The state ``(q, v, a,
+    Ma, F, xi, xi_prev)``; a dense model's predictor map ``Z`` and ``AinvL`` (the inverse times
+    the load vectors): its ``x0`` as the compiled step forms it
+    (:func:`assembly.dynamics.step_kernel.predictor`), else from M, C, K."""
+
+    def __init__(self, M, C, K, lu, W, S, U, scheme, dt, nl, observe, force, state, Z=None, AinvL=None):
+        self.M, self.C, self.K, self.lu, self.W, self.S, self.Z, self.AinvL = M, C, K, lu, W, S, Z, AinvL
+        self.UT = np.ascontiguousarray(U.T)
+        self.s, self.dt, self.nl, self.observe, self.force = scheme, dt, nl, observe, force
+        self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev = state
+        self.dxi = np.zeros(U.shape[1])
+
+    def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
+        """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):
+        (steps done, why it stopped or DONE, the residual or the coordinate)."""
+        M, C, K, lu, W, S, UT, nl = self.M, self.C, self.K, self.lu, self.W, self.S, self.UT, self.nl
+        am, af, b, g, dt = self.s.alpha_m, self.s.alpha_f, self.s.beta, self.s.gamma, self.dt
+        q, v, a, Ma, F, xi, xi_prev, dxi = self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi
+        eye, ck, cc = np.eye(S.shape[0]), (1 - af) * b * dt * dt, (1 - af) * g * dt
+        newton_solve = solve if jit.COMPILED else np.linalg.solve
+        Z, predict = self.Z, pick(predictor)
+        for k in range(len(t) - 1):
+            t_a = t[k] + (1 - af) * dt
+            if Z is None:
+                f_a = np.asarray(self.force(t_a), float)
+                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+                vp = v + (dt * (1 - g)) * a
+                x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
+            else:                                             # the compiled step's arithmetic
+                LV, LH, direct = load_block(self.force, np.array([t_a]))
+                h = LH[0]
+                x0 = predict(Z, q, v, a, self.AinvL, h)
+                if af != 0.0:
+                    f_a = h.copy() if direct else (LV @ h if len(h) else np.zeros(len(q)))
+                    x0 = x0 + af * lu.solve(F)
+                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+                vp = v + (dt * (1 - g)) * a
+            y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
+            best = np.inf
+            for it in range(1, MAX_ITERATIONS + 1):
+                ua = S @ xi - y0                              # U' a+
+                x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
+                nu, dk, dc = nl.forces(t[k + 1], x, xd)
+                r = xi + (1 - af) * nu
+                if not len(r):
+                    break
+                res = _norm(r)
+                # converged at round-off: nu is a difference of forces (a mesh's contact force less
+                # the linear model's k0 delta + c delta'), known only to eps x their size, so no
+                # iteration lowers the residual below that floor; a damped mesh resting in contact
+                # has xi and U' a+ themselves at round-off, where the relative tests below can
+                # never pass
+                if res <= ROUNDOFF * EPS * (_norm(xi) + (1 - af) * _norm(nl.force_scale(nu))):
+                    break
+                if res >= best and res > 1e-13 * (_norm(xi) + (1 - af) * _norm(nu)):
+                    # the full step did not lower the residual (a kink of a piecewise law, e.g.
+                    # the brake saturating on both sides of its stick band): halve it, from the
+                    # last point
+                    dxi = 0.5 * dxi
+                    xi = xi + dxi
+                    continue
+                best = res
+                Tw = _weighted(dk, dc, ck, cc)
+                J = newton_matrix(Tw, S) if jit.COMPILED else eye + Tw @ S
+                dxi = newton_solve(J, r)
+                xi = xi - dxi
+                # converged: xi (forces along U) or what it changes, U' a+, settled to
+                # NEWTON_RTOL (x, nu: the last iterate's, that close)
+                step = _norm(dxi)
+                if step <= NEWTON_RTOL * _norm(xi) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
+                    break
+            else:
+                return k, NOT_CONVERGED, float(np.linalg.norm(r))
+            its[k] = it
+            xi, xi_prev = 2 * xi - xi_prev, xi               # next guess: linear extrapolation
+            a_new = W @ xi_prev - x0
+            q = qp + (b * dt * dt) * a_new
+            v = vp + (g * dt) * a_new
+            if not np.all(np.isfinite(q)):
+                return k, NOT_FINITE, float(np.argmax(~np.isfinite(q)))
+            if Z is None or af != 0.0:
+                Ma_new = M @ a_new
+                F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+                Ma = Ma_new
+            a = a_new
+            nl.commit(t[k + 1], x, xd)
+            Y[k] = self.observe(q, v, a, nu)
+            self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi = q, v, a, Ma, F, xi, xi_prev, dxi
+        return len(t) - 1, DONE, 0.0
+
+
 def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, t_end: float,
               scheme: Optional[Scheme] = None, nonlinear: Optional[Nonlinear] = None,
               observe: Optional[Callable] = None, progress: Optional[Callable] = None,
-              dof_names: Optional[list] = None) -> Transient:
+              dof_names: Optional[list] = None, history=None) -> Transient:
     """Integrate the model of the module notes from ``q0``, ``v0`` at t = 0 to ``t_end`` (s)
-    with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,).
-    ``observe(q, v, a, nu)`` -> 1-D array recorded at every step (default ``q``);
-    ``progress(step, n_steps, t)`` is called about 200 times a run. :class:`Diverged` (with
-    the partial result) when a state is not finite or a step's Newton iterations do not
-    converge; its message names the time and the coordinate (``dof_names``)."""
+    with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,) (a force with
+    load ``vectors`` and ``histories``, :class:`assembly.dynamics.run_loads.RunLoads`, is
+    evaluated a stretch at a time). ``observe(q, v, a, nu)`` -> 1-D array recorded at every
+    step (default ``q``); ``progress(step, n_steps, t)`` is called about 200 times a run.
+    ``history``: where the rows go (:mod:`assembly.dynamics.history`: ``append`` a block,
+    ``close``; default :class:`~assembly.dynamics.history.MemoryHistory`).
+
+    The steps run in stretches (:mod:`assembly.dynamics.stretches`): compiled
+    (:mod:`assembly.dynamics.step_kernel`) when numba is installed and switched on
+    (:data:`assembly.dynamics.jit.ENABLED`), the model dense (the kept inverse), the nonlinear
+    forces the meshes and shaft torques and ``observe`` rows
+    (:class:`assembly.dynamics.observe_rows.Rows`); else by :class:`PythonSteps`, the same
+    numbers to round-off. :class:`Diverged` (with the partial result) when a state is not
+    finite or a step's Newton iterations do not converge; its message names the time and the
+    coordinate (``dof_names``)."""
     s = scheme or newmark()
     q, v = np.array(q0, float), np.array(v0, float)
     n = len(q)
@@ -193,7 +307,6 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     n_steps = check_history(dt, t_end, 0, n, U.shape[1])       # before any factorisation
     M, C, K = (_matrix(X, n) for X in (M, C, K))
     observe = observe or (lambda q, v, a, nu: q)
-    am, af, b, g = s.alpha_m, s.alpha_f, s.beta, s.gamma
     t0 = _time.perf_counter()
     lu = Solver(effective_matrix(M, C, K, dt, s))
     W = lu.solve(U) if U.shape[1] else np.zeros((n, 0))
@@ -206,81 +319,56 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
     check_history(dt, t_end, len(first), n, U.shape[1])
-    Y = np.empty((n_steps + 1, len(first)))
-    Y[0] = first
-    its = np.zeros(n_steps + 1, dtype=np.int32)
-    t = np.arange(n_steps + 1, dtype=float)
-    t *= dt                                                        # in place: no second array of n_steps
+    history = history if history is not None else MemoryHistory(n_steps + 1, len(first))
+    history.append(np.zeros(1), np.asarray(first, float)[None, :], np.zeros(1, np.int32))
     report = max(1, n_steps // 200)
-
-    def stop(i: int, why: str):
-        partial = Transient(t[:i + 1], Y[:i + 1], its[:i + 1], s, {"stopped": why}, complete=False)
-        raise Diverged(why, partial)
-
-    Ma = M @ a
-    xi = xi_prev = dxi = np.zeros(U.shape[1])
-    eye, ck, cc = np.eye(U.shape[1]), (1 - af) * b * dt * dt, (1 - af) * g * dt
-    UT = np.ascontiguousarray(U.T)
-    for i in range(n_steps):
-        t_a = t[i] + (1 - af) * dt
-        f_a = np.asarray(force(t_a), float)
-        qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-        vp = v + (dt * (1 - g)) * a
-        x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
-        y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
-        best = np.inf
-        for it in range(1, MAX_ITERATIONS + 1):
-            ua = S @ xi - y0                              # U' a+
-            x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
-            nu, dk, dc = nl.forces(t[i + 1], x, xd)
-            r = xi + (1 - af) * nu
-            if not len(r):
-                break
-            res = _norm(r)
-            # converged at round-off: nu is a difference of forces (a mesh's contact force less the
-            # linear model's k0 delta + c delta'), known only to eps x their size, so no iteration
-            # lowers the residual below that floor; a damped mesh resting in contact has xi and
-            # U' a+ themselves at round-off, where the relative tests below can never pass
-            if res <= ROUNDOFF * EPS * (_norm(xi) + (1 - af) * _norm(nl.force_scale(nu))):
-                break
-            if res >= best and res > 1e-13 * (_norm(xi) + (1 - af) * _norm(nu)):
-                # the full step did not lower the residual (a kink of a piecewise law, e.g. the
-                # brake saturating on both sides of its stick band): halve it, from the last point
-                dxi = 0.5 * dxi
-                xi = xi + dxi
-                continue
-            best = res
-            J = eye + _weighted(dk, dc, ck, cc) @ S
-            dxi = np.linalg.solve(J, r)
-            xi = xi - dxi
-            # converged: xi (forces along U) or what it changes, U' a+, settled to NEWTON_RTOL
-            # (x, nu: the last iterate's, that close)
-            step = _norm(dxi)
-            if step <= NEWTON_RTOL * _norm(xi) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
-                break
-        else:
-            stop(i, f"step to t = {t[i + 1]:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "
-                    f"(residual {np.linalg.norm(r):.3g}); try a smaller dt")
-        its[i + 1] = it
-        xi, xi_prev = 2 * xi - xi_prev, xi               # next guess: linear extrapolation
-        a_new = W @ xi_prev - x0
-        q = qp + (b * dt * dt) * a_new
-        v = vp + (g * dt) * a_new
-        if not np.all(np.isfinite(q)):
-            bad = int(np.argmax(~np.isfinite(q)))
+    state = (q, v, a, M @ a, F, np.zeros(U.shape[1]), np.zeros(U.shape[1]))
+    Z = AinvL = None
+    if lu.kind == "dense inverse" and n <= PREDICTOR_MAX:
+        Z = predictor_map(lu.inverse, M, C, K, dt, s)
+        LV, _, direct = load_block(force, np.zeros(1))
+        AinvL = lu.inverse if direct else lu.inverse @ LV
+        t_factor = _time.perf_counter() - t0                       # and the predictor's map
+    parts = compiled_parts(nl, observe, Z)
+    steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
+             if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
+    stretches = plan(n_steps, report)
+    reserve = getattr(history, "reserve", None)                   # rows written in place
+    if reserve is None:
+        Y = np.empty((max(c for _, c in stretches), len(first)))
+        its = np.zeros(len(Y), np.int32)
+    for i0, count in stretches:
+        t = np.arange(i0, i0 + count + 1, dtype=float)
+        t *= dt                                                    # the steps' times, i dt
+        if reserve is not None:
+            _, Y, its = reserve(count)
+        done, why, value = steps.run(t, Y[:count], its[:count])
+        if done:
+            history.append(t[1:done + 1], Y[:done], its[:done])
+        if progress is not None:
+            for j in range(i0 + 1, i0 + done + 1):
+                if j % report == 0 or j == n_steps:
+                    progress(j, n_steps, t[j - i0])
+        if why == NOT_CONVERGED:
+            _stop(history, s, f"step to t = {t[done + 1]:.6g} s: Newton's iterations did not converge in "
+                              f"{MAX_ITERATIONS} (residual {value:.3g}); try a smaller dt", parts is not None)
+        if why != DONE:
+            bad = int(value)
             name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
-            stop(i, f"the run diverged at t = {t[i + 1]:.6g} s ({name} is not finite)")
-        Ma_new = M @ a_new
-        F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
-        a, Ma = a_new, Ma_new
-        nl.commit(t[i + 1], x, xd)
-        Y[i + 1] = observe(q, v, a, nu)
-        if progress is not None and ((i + 1) % report == 0 or i + 1 == n_steps):
-            progress(i + 1, n_steps, t[i + 1])
+            _stop(history, s, f"the run diverged at t = {t[done + 1]:.6g} s ({name} is not finite)", parts is not None)
     wall = _time.perf_counter() - t0
     info = {"steps": n_steps, "dofs": n, "rank": U.shape[1], "solver": lu.kind, "factor_s": t_factor,
             "wall_s": wall, "steps_per_s": n_steps / max(wall - t_factor, 1e-12),
-            "mean_iterations": float(its[1:].mean()) if n_steps else 0.0}
-    log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step", s.name, n_steps,
-             dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"])
-    return Transient(t, Y, its, s, info)
+            "compiled": parts is not None}
+    time_s, y, iterations = history.close(True, info)
+    info["mean_iterations"] = float(iterations[1:].mean()) if len(iterations) > 1 else 0.0
+    log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step%s", s.name, n_steps,
+             dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"], " (compiled)" if parts else "")
+    return Transient(time_s, y, iterations, s, info)
+
+
+def _stop(history, scheme: Scheme, why: str, compiled: bool):
+    """Close the history as incomplete and raise :class:`Diverged` with what it holds."""
+    info = {"stopped": why, "compiled": compiled}
+    time_s, y, iterations = history.close(False, info)
+    raise Diverged(why, Transient(time_s, y, iterations, scheme, info, complete=False))

@@ -1,0 +1,215 @@
+"""The steps of :func:`assembly.dynamics.transient.integrate` on a dense reduced model, as one
+function on arrays that numba compiles (:mod:`assembly.dynamics.jit`): a stretch of steps
+between two visits of Python, whose loads, generator torque table and brake torque Python
+evaluated before (module notes of :mod:`assembly.dynamics.transient` derive the step; this is
+the same step: predictor, the constant inverse ``A0^-1``, Newton on the m-rank Woodbury
+system with its convergence, round-off floor and step-halving tests, the corrector, the
+meshes' and shaft torques' laws of :mod:`assembly.dynamics.mesh_laws` and
+:mod:`assembly.dynamics.torque_laws`, the contact-loss counts, and the recorded rows).
+
+The state (q, v, a, M a, the averaged force F, Newton's xi and its last value, the meshes'
+contact flags, loss counts and last contact forces, the torques' state array) is updated in
+place, so a stretch continues where the last one stopped.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .jit import njit
+from .mesh_laws import mesh_commit, mesh_forces
+from .torque_laws import shaft_commit, shaft_forces
+
+#: Newton iterations (and halved steps) of one step before it is declared not converging.
+MAX_ITERATIONS = 60
+#: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
+NEWTON_RTOL = 1e-10
+#: Absolute floor of a step's residual, in units of eps x the size of the forces it is summed
+#: from (``force_scale`` of :class:`assembly.dynamics.transient.Nonlinear`, plus xi): a column
+#: of a mesh's nu sums four rounded terms (k e + c s delta' - k0 delta - c delta'), so it is
+#: known to about 4 eps x their size; a residual below that is round-off, and no Newton step
+#: can lower it further.
+ROUNDOFF = 4
+EPS = float(np.finfo(float).eps)
+#: What a stretch ends with: every step done, Newton did not converge, a state not finite.
+DONE, NOT_CONVERGED, NOT_FINITE = 0, 1, 2
+
+
+@njit
+def norm(v):
+    """Euclidean norm of a short vector."""
+    return math.sqrt(np.dot(v, v))
+
+
+@njit
+def newton_matrix(T, S):
+    """``I + T S``, the zero entries of ``T`` (most: a mesh couples its own two columns)
+    skipped, each sum in column order (the Python step calls this too, for the same rounding)."""
+    mm = S.shape[0]
+    J = np.eye(mm)
+    for i in range(mm):
+        for j in range(mm):
+            t = T[i, j]
+            if t != 0.0:
+                for r in range(mm):
+                    J[i, r] += t * S[j, r]
+    return J
+
+
+@njit
+def solve(J, r):
+    """Newton's step ``J^-1 r``: Gaussian elimination with partial pivoting (LAPACK's getrf
+    order, in place on copies; a call to LAPACK costs more than the arithmetic at m = 26).
+    The Python step calls this too, so that both steps take the same rounding."""
+    A = J.copy()
+    x = r.copy()
+    mm = A.shape[0]
+    for c in range(mm):
+        p = c
+        big = abs(A[c, c])
+        for i in range(c + 1, mm):
+            if abs(A[i, c]) > big:
+                p, big = i, abs(A[i, c])
+        if big == 0.0:
+            raise ZeroDivisionError("singular Newton matrix")
+        if p != c:
+            for j in range(mm):
+                A[c, j], A[p, j] = A[p, j], A[c, j]
+            x[c], x[p] = x[p], x[c]
+        inv = 1.0 / A[c, c]
+        for i in range(c + 1, mm):
+            f = A[i, c] * inv
+            if f != 0.0:
+                A[i, c] = f
+                for j in range(c + 1, mm):
+                    A[i, j] -= f * A[c, j]
+                x[i] -= f * x[c]
+    for i in range(mm - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, mm):
+            s -= A[i, j] * x[j]
+        x[i] = s / A[i, i]
+    return x
+
+
+@njit
+def predictor(Z, q, v, a, AinvL, h):
+    """``x0`` of a step but its ``alpha_f F`` term: ``Z [q; v; a] - A0^-1 L h``, ``Z`` the
+    predictor's map (:func:`assembly.dynamics.stretches.predictor_map`), ``L h`` the load at
+    the step (``AinvL = A0^-1 L``). The Python step of a dense model calls this too."""
+    n = q.shape[0]
+    sv = np.empty(3 * n)
+    sv[:n] = q
+    sv[n:2 * n] = v
+    sv[2 * n:] = a
+    x0 = Z @ sv
+    if h.shape[0]:
+        x0 -= AinvL @ h
+    return x0
+
+
+@njit
+def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
+                mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, p, ps, table, brake, has_torques,
+                Ok, Oc, Os, Oa, Sv, swap_i, swap_j,
+                q, v, a, Ma, F, xi, xi_prev, contact, losses, last_force, Y, its):
+    """``count`` steps from ``t[0]`` (``t``: the count + 1 step times); ``scheme``: (alpha_m,
+    alpha_f, beta, gamma, dt); ``Z`` the predictor's map (:func:`predictor`). Loads at ``t[k] +
+    (1 - alpha_f) dt``: ``LV @ LH[k]`` (or ``LH[k]`` itself if ``direct``), ``AinvL = A0^-1 LV``
+    (or ``A0^-1``); ``M a`` and the averaged force ``F`` are kept only when alpha_f != 0;
+    ``table``, ``brake`` (count,): the generator's recorded torque and the brake torque at
+    ``t[k + 1]``. Rows into ``Y[k]`` and Newton counts into
+    ``its[k]``. Returns (steps done, :data:`DONE` / :data:`NOT_CONVERGED` / :data:`NOT_FINITE`,
+    the residual or the coordinate that is not finite)."""
+    am, af, b, g, dt = scheme[0], scheme[1], scheme[2], scheme[3], scheme[4]
+    mm = UT.shape[0]
+    m = mk0.shape[0]
+    off = 2 * m
+    nu, dc, scale = np.zeros(mm), np.zeros(mm), np.zeros(mm)
+    Kt = np.zeros((mm, mm))
+    Tw = np.zeros((mm, mm))
+    force, slope = np.zeros(m), np.ones(m)
+    dxi = np.zeros(mm)
+    x, xd = np.zeros(mm), np.zeros(mm)
+    ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
+    n_k, n_a, n_s = Ok.shape[0], Oa.shape[0], Sv.shape[0]
+    f_a = np.zeros(q.shape[0])
+    for k in range(count):
+        h = LH[k]
+        x0 = predictor(Z, q, v, a, AinvL, h)
+        if af != 0.0:
+            if direct:
+                f_a[:] = h
+            elif h.shape[0]:
+                f_a[:] = LV @ h
+            x0 += af * (Ainv @ F)
+        qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+        vp = v + (dt * (1 - g)) * a
+        y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
+        best = np.inf
+        converged = False
+        res = 0.0
+        it = 0
+        for it in range(1, MAX_ITERATIONS + 1):
+            ua = S @ xi - y0                              # U' a+
+            x = xp + (b * dt * dt) * ua
+            xd = xdp + (g * dt) * ua
+            if m:
+                mesh_forces(x, xd, mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, 0.0, nu, Kt, dc, scale,
+                            force, slope)
+            if has_torques:
+                shaft_forces(p, ps, table[k], brake[k], xd[off:], nu[off:], dc[off:])
+                scale[off:] = np.abs(nu[off:])
+            r = xi + (1 - af) * nu
+            if mm == 0:
+                converged = True
+                break
+            res = norm(r)
+            if res <= ROUNDOFF * EPS * (norm(xi) + (1 - af) * norm(scale)):
+                converged = True
+                break
+            if res >= best and res > 1e-13 * (norm(xi) + (1 - af) * norm(nu)):
+                dxi = 0.5 * dxi                           # the full step did not lower the residual
+                xi += dxi                                 # (in place: xi is the caller's state)
+                continue
+            best = res
+            for i in range(mm):
+                for j in range(mm):
+                    Tw[i, j] = ck * Kt[i, j]
+                Tw[i, i] += cc * dc[i]
+            J = newton_matrix(Tw, S)
+            dxi = solve(J, r)
+            xi -= dxi
+            step = norm(dxi)
+            if step <= NEWTON_RTOL * norm(xi) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua):
+                converged = True
+                break
+        if not converged:
+            return k, NOT_CONVERGED, norm(r)
+        its[k] = it
+        xi_next = 2 * xi - xi_prev                        # next guess: linear extrapolation
+        xi_prev[:] = xi
+        xi[:] = xi_next
+        a_new = W @ xi_prev - x0
+        q[:] = qp + (b * dt * dt) * a_new
+        v[:] = vp + (g * dt) * a_new
+        for i in range(q.shape[0]):
+            if not np.isfinite(q[i]):
+                return k, NOT_FINITE, float(i)
+        if af != 0.0:
+            Ma_new = M @ a_new
+            F[:] = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+            Ma[:] = Ma_new
+        a[:] = a_new
+        if m:
+            mesh_commit(contact, losses, slope)
+            last_force[:] = force
+        if has_torques:
+            shaft_commit(p, ps, table[k], brake[k], x[off:], xd[off:])
+        Y[k, :n_k] = Ok @ q + Oc @ v
+        for s in range(swap_i.shape[0]):
+            Y[k, swap_i[s]] = last_force[swap_j[s]] + np.dot(Os[swap_i[s]], v)
+        Y[k, n_k:n_k + n_a] = Oa @ a
+        Y[k, n_k + n_a:n_k + n_a + n_s] = Sv @ v
+    return count, DONE, 0.0

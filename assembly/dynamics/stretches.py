@@ -1,0 +1,115 @@
+"""The steps of a run in stretches: the plan of where Python takes over between them (its
+loads, the progress calls, the history), and the compiled step's arrays gathered from the run's
+parts (:mod:`assembly.dynamics.step_kernel`).
+
+A stretch ends at a multiple of the progress period, and spans at least :data:`STRETCH_MIN`
+and at most :data:`STRETCH_MAX` steps: Python evaluates what depends on time alone for the
+whole stretch at once (the external loads at the steps' ``t_i + (1 - alpha_f) dt``, the
+generator's recorded torque and the brake torque at ``t_{i+1}``), then one call runs it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import jit
+from .step_kernel import run_stretch
+
+#: Dense models up to this size keep the predictor's map Z (n x 3n) and run compiled.
+PREDICTOR_MAX = 1500
+
+
+def predictor_map(Ainv, M, C, K, dt: float, scheme) -> np.ndarray:
+    """``Z`` (n x 3n) with ``Z [q; v; a] = A0^-1 (alpha_m M a + (1 - alpha_f) (K qp + C vp))``,
+    ``qp = q + dt v + dt^2 (1/2 - beta) a``, ``vp = v + dt (1 - gamma) a`` (the step's
+    predictors): the part of the step's ``x0`` known from the last state, in one product."""
+    am, af, b, g = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
+    c1, c2 = dt * dt * (0.5 - b), dt * (1 - g)
+    return np.hstack([(1 - af) * (Ainv @ K), (1 - af) * (Ainv @ (dt * K + C)),
+                      Ainv @ (am * M + (1 - af) * (c1 * K + c2 * C))])
+
+
+#: Steps of a stretch: the fewest (the cost of a call from Python spread over them) and the most
+#: (the loads evaluated ahead, and the rows of a block).
+STRETCH_MIN, STRETCH_MAX = 64, 1024
+
+
+def plan(n_steps: int, report: int):
+    """[(first step, steps)] of the run's stretches (module notes)."""
+    size = max(1, min(STRETCH_MAX, report * -(-STRETCH_MIN // report)))
+    return [(i, min(size, n_steps - i)) for i in range(0, n_steps, size)]
+
+
+def compiled_parts(nl, observe, Z):
+    """(meshes, torques) of a run the compiled step can take, or None: a dense model, rows
+    to record (:class:`assembly.dynamics.observe_rows.Rows`), and nonlinear parts that are the
+    meshes (first, exact tangents) and the shaft torques (module notes); ``Z``: the
+    predictor's map of a dense model (:func:`predictor_map`) or None."""
+    if not (jit.ENABLED and jit.COMPILED) or Z is None:
+        return None
+    if not all(hasattr(observe, k) for k in ("Ok", "Oc", "Oa", "Sv", "swap")):
+        return None
+    parts = list(getattr(nl, "parts", [nl]))
+    kinds = [getattr(p, "compiled", None) for p in parts]
+    if kinds not in ([], ["meshes"], ["torques"], ["meshes", "torques"]):
+        return None
+    meshes = parts[0] if kinds[:1] == ["meshes"] else None
+    torques = parts[-1] if kinds[-1:] == ["torques"] else None
+    if meshes is not None and meshes.gap_slope != 0.0:
+        return None
+    return meshes, torques
+
+
+def load_block(force, t_a: np.ndarray):
+    """(LV, LH, direct): the loads at the times ``t_a`` as ``LV @ LH[k]`` (a force with load
+    ``vectors`` and time ``histories``, e.g. :class:`assembly.dynamics.run_loads.RunLoads`), or
+    ``LH[k]`` itself (``direct``: any callable, one call a step)."""
+    vecs, hist = getattr(force, "vectors", None), getattr(force, "histories", None)
+    if vecs is not None and hist is not None:
+        if not len(hist):
+            return np.zeros((np.shape(vecs)[0], 0)), np.zeros((len(t_a), 0)), False
+        return np.asarray(vecs, float), np.column_stack([np.asarray(h(t_a), float) for h in hist]), False
+    return np.zeros((0, 0)), np.array([np.asarray(force(t), float) for t in t_a]), True
+
+
+class CompiledSteps:
+    """Runs stretches of steps by :func:`assembly.dynamics.step_kernel.run_stretch` on the
+    run's arrays: the model (``Ainv`` the kept inverse of the effective matrix, ``Z`` the
+    predictor's map, ``AinvL`` the inverse times the load vectors), the parts' laws, the rows,
+    and the state ``(q, v, a, Ma, F, xi, xi_prev)`` (updated in place)."""
+
+    def __init__(self, parts, M, Ainv, Z, AinvL, W, S, U, scheme, dt, observe, force, state):
+        meshes, torques = parts
+        self.dt, self.force, self.torques = dt, force, torques
+        self.scheme = np.array([scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma, dt])
+        self.model = (Ainv, M, Z, W, S, np.ascontiguousarray(U.T))
+        self.AinvL = AinvL
+        if meshes is not None and meshes.m:
+            self.mesh = (*meshes.laws(), float(meshes.consistent))
+            self.mesh_state = (meshes.contact, meshes.losses, meshes.last_force)
+        else:
+            z = np.zeros(0)
+            self.mesh = (z, z, np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0)), z, z, z, 0.0)
+            self.mesh_state = (np.zeros(0, bool), np.zeros(0, np.int64), z)
+        self.torque = (torques.p, torques.s) if torques is not None else (np.zeros(0), np.zeros(0))
+        o = observe
+        swap = np.array(o.swap, np.int64).reshape(-1, 2)
+        Os = o.Os if o.Os is not None else np.zeros_like(o.Ok)
+        self.rows = (o.Ok, o.Oc, Os, o.Oa, o.Sv, swap[:, 0].copy(), swap[:, 1].copy())
+        self.state = state
+
+    def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
+        """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):
+        (steps done, why it stopped or DONE, the residual or the coordinate)."""
+        count = len(t) - 1
+        af = self.scheme[1]
+        LV, LH, direct = load_block(self.force, t[:-1] + (1 - af) * self.dt)
+        if self.torques is not None:
+            table = np.asarray(self.torques.table(t[1:]), float)
+            brake = np.asarray(self.torques.brake_torque(t[1:]), float)
+        else:
+            table = brake = np.zeros(count)
+        done, why, value = run_stretch(count, t, self.scheme, *self.model, LV, self.AinvL, LH, direct, *self.mesh,
+                                       *self.torque, table, brake, self.torques is not None, *self.rows,
+                                       *self.state, *self.mesh_state, Y, its)
+        return done, why, value
+
