@@ -33,6 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .budget import check_memory
+from .history import STEP_BYTES, MemoryHistory, chunk_steps
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 
 log = logging.getLogger(__name__)
@@ -41,19 +42,22 @@ log = logging.getLogger(__name__)
 MAX_ITERATIONS = 60
 #: Relative tolerance of a step's Newton iterations (on xi, the forces along U).
 NEWTON_RTOL = 1e-10
-#: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
-STEP_BYTES = 12
 
 
-def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces: int = 0) -> int:
+def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces: int = 0,
+                  streaming: bool = False) -> int:
     """The number of steps of ``dt`` to ``t_end`` (:func:`check_step`), once the run is known to
     fit the memory budget (:func:`assembly.dynamics.budget.check_memory`; SceneError at
     ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
     :data:`STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)`` bytes (``W`` and the
-    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces)."""
+    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces).
+    ``streaming``: the history goes elsewhere (a file, statistics) as the run goes, and only the
+    integrator's row buffer (:func:`assembly.dynamics.history.chunk_steps` steps) is counted."""
     n_steps = check_step(dt, t_end)
-    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + 8.0 * n_dofs * (n_forces + 12),
-                 f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
+    kept = min(n_steps + 1, chunk_steps(rows)) if streaming else n_steps + 1
+    what = (f"the buffer of {kept} steps" if streaming else f"the history of {n_steps:.3g} steps (dt = {dt:g} s)")
+    check_memory("t_end", t_end, kept * (8.0 * rows + STEP_BYTES) + 8.0 * n_dofs * (n_forces + 12),
+                 f"{what} of {rows} recorded values and the time",
                  "shorten t_end, raise dt or record fewer outputs")
     return n_steps
 #: Absolute floor of a step's residual, in units of eps x the size of the forces it is summed
@@ -148,14 +152,17 @@ def _weighted(dk: np.ndarray, dc: np.ndarray, ck: float, cc: float) -> np.ndarra
 class Transient:
     """A run: ``time_s`` (n_t,), the observed rows ``y`` (n_t, n_obs), Newton iterations
     per step ``iterations`` and run statistics ``info`` (solve times, steps per second).
-    ``complete``: False for the partial result of a run that stopped (``info['stopped']``)."""
+    ``complete``: False for the partial result of a run that stopped (``info['stopped']``;
+    ``info['steps']``: the steps done). ``history``: where the rows went (:func:`integrate`;
+    ``time_s``, ``y`` and ``iterations`` None when it is not in memory)."""
 
-    time_s: np.ndarray
-    y: np.ndarray
-    iterations: np.ndarray
+    time_s: Optional[np.ndarray]
+    y: Optional[np.ndarray]
+    iterations: Optional[np.ndarray]
     scheme: Scheme
     info: dict = field(default_factory=dict)
     complete: bool = True
+    history: object = None
 
 
 class Diverged(FloatingPointError):
@@ -178,13 +185,20 @@ def _matrix(A, n: int):
 def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, t_end: float,
               scheme: Optional[Scheme] = None, nonlinear: Optional[Nonlinear] = None,
               observe: Optional[Callable] = None, progress: Optional[Callable] = None,
-              dof_names: Optional[list] = None) -> Transient:
+              dof_names: Optional[list] = None, history=None) -> Transient:
     """Integrate the model of the module notes from ``q0``, ``v0`` at t = 0 to ``t_end`` (s)
     with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,).
     ``observe(q, v, a, nu)`` -> 1-D array recorded at every step (default ``q``);
     ``progress(step, n_steps, t)`` is called about 200 times a run. :class:`Diverged` (with
     the partial result) when a state is not finite or a step's Newton iterations do not
-    converge; its message names the time and the coordinate (``dof_names``)."""
+    converge; its message names the time and the coordinate (``dof_names``).
+
+    ``history``: where the recorded rows go (:mod:`assembly.dynamics.history`: ``append`` of
+    blocks of consecutive steps from a buffer of
+    :func:`~assembly.dynamics.history.chunk_steps` steps, then ``close``, also when the run
+    stops); default a :class:`~assembly.dynamics.history.MemoryHistory` whose arrays the
+    result holds. With another history the result's ``time_s``, ``y`` and ``iterations`` are
+    None and ``history`` is it; memory is then flat in ``t_end``."""
     s = scheme or newmark()
     q, v = np.array(q0, float), np.array(v0, float)
     n = len(q)
@@ -205,24 +219,38 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     a = Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
-    check_history(dt, t_end, len(first), n, U.shape[1])
-    Y = np.empty((n_steps + 1, len(first)))
+    check_history(dt, t_end, len(first), n, U.shape[1], streaming=history is not None)
+    hist = history if history is not None else MemoryHistory(n_steps + 1)
+    # the rows of the steps not yet handed to the history: steps start .. start + filled - 1
+    Y = np.empty((min(n_steps + 1, chunk_steps(len(first))), len(first)))
+    its = np.zeros(len(Y), dtype=np.int32)
     Y[0] = first
-    its = np.zeros(n_steps + 1, dtype=np.int32)
-    t = np.arange(n_steps + 1, dtype=float)
-    t *= dt                                                        # in place: no second array of n_steps
+    filled, start, its_sum = 1, 0, 0
     report = max(1, n_steps // 200)
 
+    def flush():
+        nonlocal filled, start
+        if filled:      # the times as np.arange(n_steps + 1) * dt gives them, step by step
+            hist.append(np.arange(start, start + filled, dtype=float) * dt, Y[:filled], its[:filled])
+            start, filled = start + filled, 0
+
+    def result(info: dict, complete: bool) -> Transient:
+        flush()
+        hist.close(complete, info)
+        if isinstance(hist, MemoryHistory):
+            return Transient(hist.time_s, hist.y, hist.iterations, s, info, complete, hist)
+        return Transient(None, None, None, s, info, complete, hist)
+
     def stop(i: int, why: str):
-        partial = Transient(t[:i + 1], Y[:i + 1], its[:i + 1], s, {"stopped": why}, complete=False)
-        raise Diverged(why, partial)
+        raise Diverged(why, result({"stopped": why, "steps": i}, False))
 
     Ma = M @ a
     xi = xi_prev = dxi = np.zeros(U.shape[1])
     eye, ck, cc = np.eye(U.shape[1]), (1 - af) * b * dt * dt, (1 - af) * g * dt
     UT = np.ascontiguousarray(U.T)
     for i in range(n_steps):
-        t_a = t[i] + (1 - af) * dt
+        t_i1 = (i + 1) * dt                               # bit for bit np.arange(n_steps + 1) * dt
+        t_a = i * dt + (1 - af) * dt
         f_a = np.asarray(force(t_a), float)
         qp = q + dt * v + (dt * dt * (0.5 - b)) * a
         vp = v + (dt * (1 - g)) * a
@@ -232,7 +260,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         for it in range(1, MAX_ITERATIONS + 1):
             ua = S @ xi - y0                              # U' a+
             x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
-            nu, dk, dc = nl.forces(t[i + 1], x, xd)
+            nu, dk, dc = nl.forces(t_i1, x, xd)
             r = xi + (1 - af) * nu
             if not len(r):
                 break
@@ -259,9 +287,8 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
             if step <= NEWTON_RTOL * _norm(xi) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
                 break
         else:
-            stop(i, f"step to t = {t[i + 1]:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "
+            stop(i, f"step to t = {t_i1:.6g} s: Newton's iterations did not converge in {MAX_ITERATIONS} "
                     f"(residual {np.linalg.norm(r):.3g}); try a smaller dt")
-        its[i + 1] = it
         xi, xi_prev = 2 * xi - xi_prev, xi               # next guess: linear extrapolation
         a_new = W @ xi_prev - x0
         q = qp + (b * dt * dt) * a_new
@@ -269,18 +296,23 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         if not np.all(np.isfinite(q)):
             bad = int(np.argmax(~np.isfinite(q)))
             name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
-            stop(i, f"the run diverged at t = {t[i + 1]:.6g} s ({name} is not finite)")
+            stop(i, f"the run diverged at t = {t_i1:.6g} s ({name} is not finite)")
         Ma_new = M @ a_new
         F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
         a, Ma = a_new, Ma_new
-        nl.commit(t[i + 1], x, xd)
-        Y[i + 1] = observe(q, v, a, nu)
+        nl.commit(t_i1, x, xd)
+        if filled == len(Y):
+            flush()
+        Y[filled] = observe(q, v, a, nu)
+        its[filled] = it
+        filled += 1
+        its_sum += it
         if progress is not None and ((i + 1) % report == 0 or i + 1 == n_steps):
-            progress(i + 1, n_steps, t[i + 1])
+            progress(i + 1, n_steps, t_i1)
     wall = _time.perf_counter() - t0
     info = {"steps": n_steps, "dofs": n, "rank": U.shape[1], "solver": lu.kind, "factor_s": t_factor,
             "wall_s": wall, "steps_per_s": n_steps / max(wall - t_factor, 1e-12),
-            "mean_iterations": float(its[1:].mean()) if n_steps else 0.0}
+            "mean_iterations": its_sum / n_steps if n_steps else 0.0}
     log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step", s.name, n_steps,
              dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"])
-    return Transient(t, Y, its, s, info)
+    return result(info, True)
