@@ -40,7 +40,7 @@ log = logging.getLogger("flexgear")
 BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "flex": "assembly.app.bench.flex",
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
-              "part": "assembly.app.bench.part"}
+              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream"}
 
 
 def _raise_terminated(signum, frame):

@@ -51,18 +51,32 @@ class MemoryHistory:
         self._blocks = []
         self.complete, self.info = False, {}
 
+    def buffers(self, rows: int) -> tuple[np.ndarray, np.ndarray]:
+        """The arrays of the rows (capacity, ``rows``) and of the iterations (capacity,) this
+        history will hold, for the integrator to fill in place: blocks appended from them are
+        not copied, so a run kept in memory holds its rows once."""
+        self._allocate(rows)
+        return self._y, self._its
+
+    def _allocate(self, rows: int) -> None:
+        if self._y is None:
+            self._t = np.empty(self.capacity)
+            self._y = np.empty((self.capacity, rows))
+            self._its = np.zeros(self.capacity, np.int32)
+
     def append(self, t: np.ndarray, y: np.ndarray, iterations: np.ndarray) -> None:
         k = len(t)
         if self.capacity is None:
             self._blocks.append((np.array(t, float), np.array(y, float), np.array(iterations, np.int32)))
         else:
-            if self._y is None:
-                self._t = np.empty(self.capacity)
-                self._y = np.empty((self.capacity, y.shape[1]))
-                self._its = np.zeros(self.capacity, np.int32)
+            self._allocate(y.shape[1])
             if self.n + k > self.capacity:
                 raise ValueError(f"{self.n + k} steps appended to a history of capacity {self.capacity}")
-            self._t[self.n:self.n + k], self._y[self.n:self.n + k], self._its[self.n:self.n + k] = t, y, iterations
+            self._t[self.n:self.n + k] = t
+            if not np.may_share_memory(y, self._y):          # else: filled in place (buffers)
+                self._y[self.n:self.n + k] = y
+            if not np.may_share_memory(iterations, self._its):
+                self._its[self.n:self.n + k] = iterations
         self.n += k
 
     def close(self, complete: bool, info: dict) -> None:
@@ -135,8 +149,11 @@ class Statistics:
         self.complete, self.info = bool(complete), dict(info)
 
     def result(self) -> dict:
-        """{name: {"unit", "mean", "rms", "min", "max", "peak", "peak_time_s"}} so far."""
+        """{name: {"unit", "mean", "rms", "min", "max", "peak", "peak_time_s"}} so far ({}
+        before the first block)."""
         out = {}
+        if not self.n:
+            return out
         for name, a in self._acc.items():
             out[name] = {"unit": self.units.get(name, ""), "mean": sum(a["sum"]) / self.n,
                          "rms": math.sqrt(sum(a["sq"]) / self.n), "min": a["min"], "max": a["max"],
@@ -156,7 +173,8 @@ class H5History:
         import h5py
         self.path = Path(path)
         self.split, self.chunk = split, max(1, int(chunk))
-        self._f = h5py.File(self.path, "w-")           # never over a file that is there
+        # never over a file that is there; no chunk cache: every block is written whole, once
+        self._f = h5py.File(self.path, "w-", rdcc_nbytes=0)
         self._f.attrs["complete"] = False
         self._f.attrs["stopped"] = RUNNING
         self._f.attrs["steps"] = -1

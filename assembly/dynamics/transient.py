@@ -220,10 +220,15 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
     check_history(dt, t_end, len(first), n, U.shape[1], streaming=history is not None)
-    hist = history if history is not None else MemoryHistory(n_steps + 1)
-    # the rows of the steps not yet handed to the history: steps start .. start + filled - 1
-    Y = np.empty((min(n_steps + 1, chunk_steps(len(first))), len(first)))
-    its = np.zeros(len(Y), dtype=np.int32)
+    # the rows of the steps not yet handed to the history: steps start .. start + filled - 1 (in
+    # memory, the history's own arrays, handed over once at the end: the rows are held once)
+    if history is None:
+        hist = MemoryHistory(n_steps + 1)
+        Y, its = hist.buffers(len(first))
+    else:
+        hist = history
+        Y = np.empty((min(n_steps + 1, chunk_steps(len(first))), len(first)))
+        its = np.zeros(len(Y), dtype=np.int32)
     Y[0] = first
     filled, start, its_sum = 1, 0, 0
     report = max(1, n_steps // 200)
