@@ -31,6 +31,10 @@ BUFFER_BYTES = 16 * 2 ** 20
 #: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
 STEP_BYTES = 12
 #: The file attribute a streamed history carries until it is closed.
+#: HDF5 file format of a streamed history: the earliest, whose file a run killed mid-run leaves
+#: readable by any HDF5 reader ("latest" marks the file open for writing until it is closed, and
+#: such a file opens only after ``h5clear``); it keeps some 360 B of memory per chunk written.
+LIBVER = "earliest"
 RUNNING = "the run did not finish: it was killed, or is still running"
 
 
@@ -173,8 +177,9 @@ class H5History:
         import h5py
         self.path = Path(path)
         self.split, self.chunk = split, max(1, int(chunk))
-        # never over a file that is there; no chunk cache: every block is written whole, once
-        self._f = h5py.File(self.path, "w-", rdcc_nbytes=0)
+        # never over a file that is there; no chunk cache (it kept up to 1 MB of written chunks per
+        # dataset): every block is written whole, once
+        self._f = h5py.File(self.path, "w-", rdcc_nbytes=0, libver=LIBVER)
         self._f.attrs["complete"] = False
         self._f.attrs["stopped"] = RUNNING
         self._f.attrs["steps"] = -1
