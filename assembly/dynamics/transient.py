@@ -34,7 +34,7 @@ import scipy.sparse as sp
 
 from . import jit
 from .budget import check_memory
-from .history import MemoryHistory
+from .history import STEP_BYTES, MemoryHistory
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 from .jit import pick
 from .step_kernel import (
@@ -49,26 +49,30 @@ from .step_kernel import (
     predictor,
     solve,
 )
-from .stretches import PREDICTOR_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
+from .stretches import PREDICTOR_MAX, STRETCH_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
 log = logging.getLogger(__name__)
 
-#: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
-STEP_BYTES = 12
 
 
-def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces: int = 0) -> int:
+def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces: int = 0,
+                  streaming: bool = False) -> int:
     """The number of steps of ``dt`` to ``t_end`` (:func:`check_step`), once the run is known to
     fit the memory budget (:func:`assembly.dynamics.budget.check_memory`; SceneError at
     ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
-    :data:`STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)`` bytes (``W`` and the
-    step's vectors of a model of ``n_dofs`` coordinates with ``n_forces`` nonlinear forces),
-    plus ``24 n_dofs^2`` for the predictor's map of a dense model
-    (:func:`assembly.dynamics.stretches.predictor_map`, up to PREDICTOR_MAX coordinates)."""
+    :data:`~assembly.dynamics.history.STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)``
+    bytes (``W`` and the step's vectors of a model of ``n_dofs`` coordinates with ``n_forces``
+    nonlinear forces), plus ``24 n_dofs^2`` for the predictor's map of a dense model
+    (:func:`assembly.dynamics.stretches.predictor_map`, up to PREDICTOR_MAX coordinates).
+    ``streaming``: the history goes elsewhere (a file, statistics) as the run goes, and only the
+    integrator's row buffer (the longest stretch, :func:`assembly.dynamics.stretches.plan`) is
+    counted."""
     n_steps = check_step(dt, t_end)
+    kept = min(n_steps + 1, STRETCH_MAX + 1) if streaming else n_steps + 1
+    what = f"the buffer of {kept} steps" if streaming else f"the history of {n_steps:.3g} steps (dt = {dt:g} s)"
     state = 8.0 * n_dofs * (n_forces + 12) + (24.0 * n_dofs * n_dofs if n_dofs <= PREDICTOR_MAX else 0.0)
-    check_memory("t_end", t_end, (n_steps + 1) * (8.0 * rows + STEP_BYTES) + state,
-                 f"the history of {n_steps:.3g} steps (dt = {dt:g} s) of {rows} recorded values and the time",
+    check_memory("t_end", t_end, kept * (8.0 * rows + STEP_BYTES) + state,
+                 f"{what} of {rows} recorded values and the time",
                  "shorten t_end, raise dt or record fewer outputs")
     return n_steps
 
@@ -158,14 +162,17 @@ def _weighted(dk: np.ndarray, dc: np.ndarray, ck: float, cc: float) -> np.ndarra
 class Transient:
     """A run: ``time_s`` (n_t,), the observed rows ``y`` (n_t, n_obs), Newton iterations
     per step ``iterations`` and run statistics ``info`` (solve times, steps per second).
-    ``complete``: False for the partial result of a run that stopped (``info['stopped']``)."""
+    ``complete``: False for the partial result of a run that stopped (``info['stopped']``;
+    ``info['steps']``: the steps done). ``history``: where the rows went (:func:`integrate`;
+    ``time_s``, ``y`` and ``iterations`` None when it is not in memory)."""
 
-    time_s: np.ndarray
-    y: np.ndarray
-    iterations: np.ndarray
+    time_s: Optional[np.ndarray]
+    y: Optional[np.ndarray]
+    iterations: Optional[np.ndarray]
     scheme: Scheme
     info: dict = field(default_factory=dict)
     complete: bool = True
+    history: object = None
 
 
 class Diverged(FloatingPointError):
@@ -318,8 +325,8 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     a = Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
-    check_history(dt, t_end, len(first), n, U.shape[1])
-    history = history if history is not None else MemoryHistory(n_steps + 1, len(first))
+    check_history(dt, t_end, len(first), n, U.shape[1], streaming=history is not None)
+    history = history if history is not None else MemoryHistory(n_steps + 1)
     history.append(np.zeros(1), np.asarray(first, float)[None, :], np.zeros(1, np.int32))
     report = max(1, n_steps // 200)
     state = (q, v, a, M @ a, F, np.zeros(U.shape[1]), np.zeros(U.shape[1]))
@@ -333,7 +340,9 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
     stretches = plan(n_steps, report)
-    reserve = getattr(history, "reserve", None)                   # rows written in place
+    # a history in memory lends its own rows for the steps to be written into (held once)
+    reserve = history.reserve if isinstance(history, MemoryHistory) and history.capacity else None
+    its_sum = 0
     if reserve is None:
         Y = np.empty((max(c for _, c in stretches), len(first)))
         its = np.zeros(len(Y), np.int32)
@@ -345,30 +354,41 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         done, why, value = steps.run(t, Y[:count], its[:count])
         if done:
             history.append(t[1:done + 1], Y[:done], its[:done])
+            its_sum += int(its[:done].sum())
         if progress is not None:
             for j in range(i0 + 1, i0 + done + 1):
                 if j % report == 0 or j == n_steps:
                     progress(j, n_steps, t[j - i0])
         if why == NOT_CONVERGED:
             _stop(history, s, f"step to t = {t[done + 1]:.6g} s: Newton's iterations did not converge in "
-                              f"{MAX_ITERATIONS} (residual {value:.3g}); try a smaller dt", parts is not None)
+                              f"{MAX_ITERATIONS} (residual {value:.3g}); try a smaller dt", parts is not None,
+                  i0 + done)
         if why != DONE:
             bad = int(value)
             name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
-            _stop(history, s, f"the run diverged at t = {t[done + 1]:.6g} s ({name} is not finite)", parts is not None)
+            _stop(history, s, f"the run diverged at t = {t[done + 1]:.6g} s ({name} is not finite)", parts is not None,
+                  i0 + done)
     wall = _time.perf_counter() - t0
     info = {"steps": n_steps, "dofs": n, "rank": U.shape[1], "solver": lu.kind, "factor_s": t_factor,
             "wall_s": wall, "steps_per_s": n_steps / max(wall - t_factor, 1e-12),
-            "compiled": parts is not None}
-    time_s, y, iterations = history.close(True, info)
-    info["mean_iterations"] = float(iterations[1:].mean()) if len(iterations) > 1 else 0.0
+            "compiled": parts is not None, "mean_iterations": its_sum / n_steps if n_steps else 0.0}
+    history.close(True, info)
     log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step%s", s.name, n_steps,
              dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"], " (compiled)" if parts else "")
-    return Transient(time_s, y, iterations, s, info)
+    return _result(history, s, info, True)
 
 
-def _stop(history, scheme: Scheme, why: str, compiled: bool):
-    """Close the history as incomplete and raise :class:`Diverged` with what it holds."""
-    info = {"stopped": why, "compiled": compiled}
-    time_s, y, iterations = history.close(False, info)
-    raise Diverged(why, Transient(time_s, y, iterations, scheme, info, complete=False))
+def _result(history, scheme: Scheme, info: dict, complete: bool) -> Transient:
+    """The run's :class:`Transient`: the arrays of a history in memory, else None (the rows
+    went where ``history`` put them)."""
+    if isinstance(history, MemoryHistory):
+        return Transient(history.time_s, history.y, history.iterations, scheme, info, complete, history)
+    return Transient(None, None, None, scheme, info, complete, history)
+
+
+def _stop(history, scheme: Scheme, why: str, compiled: bool, steps: int):
+    """Close the history as incomplete (``steps`` done) and raise :class:`Diverged` with what it
+    holds."""
+    info = {"stopped": why, "steps": steps, "compiled": compiled}
+    history.close(False, info)
+    raise Diverged(why, _result(history, scheme, info, False))

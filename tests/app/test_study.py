@@ -121,7 +121,7 @@ def test_simulate_rows_are_the_runs_summary(pair):
     from assembly.app.report.simulate import summary
     from assembly.dynamics.simulate import simulate
     extra = """[keep]
-stats = ["peak", "mean", "rms"]
+stats = ["peak", "mean", "rms", "min", "max", "peak_time_s"]
 [simulate]
 t_end = 0.01
 dt = 1.0e-4
@@ -131,7 +131,9 @@ outputs = ["force:m"]
     for r in rows:
         scene = load_scene(str(pair / "pair.toml")).with_values({"meshes[0].stiffness": r["meshes[0].stiffness"]})
         s = summary(simulate(scene, 0.01, 1e-4, ["force:m"], base_dir=pair), "pair")["outputs"]["force:m"]
-        assert (r["peak[force:m]"], r["mean[force:m]"], r["rms[force:m]"]) == (s["peak"], s["mean"], s["rms"])
+        # the study keeps no history (statistics on the fly): the numbers of the run kept whole
+        for stat in ("peak", "mean", "rms", "min", "max", "peak_time_s"):
+            assert r[f"{stat}[force:m]"] == s[stat], stat
         assert r["contact_losses"] == 0
 
 

@@ -8,7 +8,7 @@
 
     [keep]
     modes = 12                          # modes, compare: the first N elastic frequencies (Hz)
-    stats = ["peak", "mean"]            # simulate: per output, of mean rms min max peak
+    stats = ["peak", "mean"]            # simulate: per output, of mean rms min max peak peak_time_s
 
     [frf]                               # analysis = "frf": as `flexgear frf`
     input = "torque:rotor"
@@ -54,7 +54,7 @@ from .spec import Variant, variants
 
 STUDY_DIR = Path(__file__).resolve().parents[2] / "studies"
 ANALYSES = ("modes", "compare", "frf", "simulate")
-STATS = ("mean", "rms", "min", "max", "peak")
+STATS = ("mean", "rms", "min", "max", "peak", "peak_time_s")
 #: Most time steps (t_end / dt) of one variant's run. A step costs at least Python's fixed
 #: ~200 us (about 5000 steps/s at best on the reduced 5 MW drivetrain, docs/benchmarks.md), so
 #: 1e8 steps are some 6 hours per variant; more is a typo (t_end = 1e6 for 1e0) or a run no
