@@ -120,7 +120,7 @@ def test_progress_and_history_blocks_are_the_steps(transient_model, monkeypatch)
     real = sim_module.integrate
 
     def integrate(*a, **kw):
-        return real(*a, history=Spy(451, 13), **kw)
+        return real(*a, **{**kw, "history": Spy(451)})
 
     monkeypatch.setattr(sim_module, "integrate", integrate)
     r = simulate(transient_model, 450 * DT, DT, progress=lambda i, n, t: calls.append((i, n, t)))
