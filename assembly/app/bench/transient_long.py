@@ -63,15 +63,17 @@ def long_table(names, seconds: float, short: float, dt: float, out) -> None:
             peak_short = None
             for t_end in (short, seconds):
                 r = run_cli(scene_file, t_end, dt, Path(tmp) / f"{name}_{t_end:g}")
+                # the goals are the long run's (a short run's time is mostly start-up: imports, assembly)
                 goal_wall = GOAL_MINUTES.get(name, float("nan")) * 60 * t_end / 600.0   # scaled from 600 s
                 ratio = r["peak_mb"] / peak_short if peak_short else None
                 peak_short = peak_short or r["peak_mb"]
                 shown = "" if ratio is None else f"{ratio:.2f}"
                 goal = f"<= {GOAL_PEAK_GB * 1024:.0f} MB" + ("" if ratio is None else f", <= {GOAL_MEMORY_RATIO:.2f}")
                 write = "" if r["write_s"] is None else f"{r['write_s']:.1f}"
-                print(f"| {name} | {t_end:g} | {r['code']} | {r['wall_s']:.1f} | <= {goal_wall:.3g} | "
+                wall_goal = f"<= {goal_wall:.3g}" if t_end == seconds else ""
+                print(f"| {name} | {t_end:g} | {r['code']} | {r['wall_s']:.1f} | {wall_goal} | "
                       f"{r['peak_mb']:.0f} | {shown} | {goal} | {write} | <= {GOAL_WRITE_S:g} |", file=out)
                 if r["code"]:
                     print(f"\n{name} {t_end:g} s: exit {r['code']}: {r['error']}\n", file=out)
-    print(f"\nGoals scaled to the run's length from 600 s (wall), peak RSS of the child (ru_maxrss). "
+    print(f"\nThe wall goal is the long run's, scaled to its length from 600 s; peak RSS of the child (ru_maxrss). "
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB in this process.\n", file=out)
