@@ -10,8 +10,8 @@ script that uses them all; docs/architecture.md the floors behind them.
   :func:`load_scene`, :func:`save_scene` and the scene edits;
 - a model: :func:`assemble` (scene -> :class:`AssembledModel`);
 - analyses of one model take the model first: :func:`solve_modes`, :func:`solve_static`,
-  :func:`frequency_response`, :func:`campbell`, :func:`simulate` (each also takes a scene,
-  assembled as given); :func:`classify_modes` and :func:`track_modes` take modal results;
+  :func:`frequency_response`, :func:`campbell`, :func:`simulate` (the last three also take a
+  scene, assembled as given); :func:`classify_modes` and :func:`track_modes` take modal results;
 - analyses that build variants of a scene take the scene: :func:`compare`, :func:`two_mass`,
   :func:`stage_alone`;
 - :func:`run_report` writes what ``flexgear run`` writes (the application floor, loaded only

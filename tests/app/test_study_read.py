@@ -1,4 +1,4 @@
-"""A study reads what is written (issue 26, section 3): every key of every table is known and
+"""A study reads what is written: every key of every table is known and
 of its TOML type, a top-level key written below a table header is named as such, the [frf] and
 [simulate] names are looked up once on the base scene, sizes are counted before anything is
 expanded, a non-finite result is a failed row, and a scheduler that accepts and never answers

@@ -12,7 +12,7 @@ the file, nothing new in the cache folder). A fuzz test feeds random interface-r
 for the committed carrier_windows.step through the scene schema: each is refused naming a
 field, or read, or refused by the part reader; never any other exception.
 
-Mesh files as other tools write them (classes of issue 26): MED files in VTK's order, Nastran
+Mesh files as other tools write them: MED files in VTK's order, Nastran
 decks breaking the format's rules (a GRID in another coordinate system, INCLUDE, a missing
 GRID, a CTETRA of 7 nodes, an over-long free-field line, a GRID twice, a bad number), other
 volume cells beside the tetrahedra, order = 1 on a quadratic file: refused as above. Fuzzed

@@ -101,7 +101,7 @@ def test_random_studies_are_refused_by_field_or_give_a_row_per_variant(tmp_path,
     assert len(list(csv.DictReader(open(out / "study.csv")))) == len(rows) == pq.read_table(out / "study.parquet").num_rows
 
 
-# ---- malformed study files (issue 26, section 3): every table level, every key, every size ----
+# ---- malformed study files: every table level, every key, every size ----
 # A valid study per analysis (tests/app/test_study_read.py's BASES, on its torsional pair), then
 # one to three of: an unknown key in any table (random or one letter off a known key), a value
 # of any TOML type for any known key, a top-level key written below a table header, a huge
