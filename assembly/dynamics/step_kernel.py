@@ -94,15 +94,18 @@ def solve(J, r):
 
 
 @njit
-def predictor(Z, q, v, a, AinvL, h):
-    """``x0`` of a step but its ``alpha_f F`` term: ``Z [q; v; a] - A0^-1 L h``, ``Z`` the
-    predictor's map (:func:`assembly.dynamics.stretches.predictor_map`), ``L h`` the load at
-    the step (``AinvL = A0^-1 L``). The Python step of a dense model calls this too."""
-    n = q.shape[0]
-    sv = np.empty(3 * n)
-    sv[:n] = q
-    sv[n:2 * n] = v
-    sv[2 * n:] = a
+def predictor(Z, qp, vp, a, AinvL, h):
+    """``x0`` of a step but its ``alpha_f F`` term: ``Z [qp; vp] - A0^-1 L h`` (``Z [qp; vp;
+    a]`` when alpha_m != 0), ``Z`` the predictor's map
+    (:func:`assembly.dynamics.stretches.predictor_map`), ``qp``, ``vp`` the step's predictors,
+    ``L h`` the load at the step (``AinvL = A0^-1 L``). The Python step of a dense model calls
+    this too."""
+    n = qp.shape[0]
+    sv = np.empty(Z.shape[1])
+    sv[:n] = qp
+    sv[n:2 * n] = vp
+    if Z.shape[1] > 2 * n:
+        sv[2 * n:] = a
     x0 = Z @ sv
     if h.shape[0]:
         x0 -= AinvL @ h
@@ -137,15 +140,15 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
     f_a = np.zeros(q.shape[0])
     for k in range(count):
         h = LH[k]
-        x0 = predictor(Z, q, v, a, AinvL, h)
+        qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+        vp = v + (dt * (1 - g)) * a
+        x0 = predictor(Z, qp, vp, a, AinvL, h)
         if af != 0.0:
             if direct:
                 f_a[:] = h
             elif h.shape[0]:
                 f_a[:] = LV @ h
             x0 += af * (Ainv @ F)
-        qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-        vp = v + (dt * (1 - g)) * a
         y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
         best = np.inf
         converged = False

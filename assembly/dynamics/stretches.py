@@ -14,18 +14,21 @@ import numpy as np
 from . import jit
 from .step_kernel import run_stretch
 
-#: Dense models up to this size keep the predictor's map Z (n x 3n) and run compiled.
+#: Dense models up to this size keep the predictor's map Z (n x 2n, 3n with alpha_m) and run compiled.
 PREDICTOR_MAX = 1500
 
 
 def predictor_map(Ainv, M, C, K, dt: float, scheme) -> np.ndarray:
-    """``Z`` (n x 3n) with ``Z [q; v; a] = A0^-1 (alpha_m M a + (1 - alpha_f) (K qp + C vp))``,
-    ``qp = q + dt v + dt^2 (1/2 - beta) a``, ``vp = v + dt (1 - gamma) a`` (the step's
-    predictors): the part of the step's ``x0`` known from the last state, in one product."""
-    am, af, b, g = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-    c1, c2 = dt * dt * (0.5 - b), dt * (1 - g)
-    return np.hstack([(1 - af) * (Ainv @ K), (1 - af) * (Ainv @ (dt * K + C)),
-                      Ainv @ (am * M + (1 - af) * (c1 * K + c2 * C))])
+    """``Z`` with ``Z [qp; vp] = (1 - alpha_f) A0^-1 (K qp + C vp)`` (n x 2n), and ``Z [qp; vp;
+    a]`` adding ``alpha_m A0^-1 M a`` (n x 3n) when alpha_m != 0: the part of the step's ``x0``
+    known from the step's predictors ``qp = q + dt v + dt^2 (1/2 - beta) a``, ``vp = v + dt (1 -
+    gamma) a``, in one product. (A map of ``[q; v; a]`` would read 3n columns a step for the
+    same numbers; the dense step is bound by reading this map from memory.)"""
+    am, af = scheme.alpha_m, scheme.alpha_f
+    blocks = [(1 - af) * (Ainv @ K), (1 - af) * (Ainv @ C)]
+    if am != 0.0:
+        blocks.append(am * (Ainv @ M))
+    return np.hstack(blocks)
 
 
 #: Steps of a stretch: the fewest (the cost of a call from Python spread over them) and the most

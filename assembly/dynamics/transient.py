@@ -62,7 +62,7 @@ def check_history(dt: float, t_end: float, rows: int, n_dofs: int = 0, n_forces:
     ``t_end`` otherwise): its history, ``rows`` recorded values a step (8 bytes each) plus
     :data:`~assembly.dynamics.history.STEP_BYTES`, and its state, ``8 n_dofs (n_forces + 12)``
     bytes (``W`` and the step's vectors of a model of ``n_dofs`` coordinates with ``n_forces``
-    nonlinear forces), plus ``24 n_dofs^2`` for the predictor's map of a dense model
+    nonlinear forces), plus up to ``24 n_dofs^2`` for the predictor's map of a dense model
     (:func:`assembly.dynamics.stretches.predictor_map`, up to PREDICTOR_MAX coordinates).
     ``streaming``: the history goes elsewhere (a file, statistics) as the run goes, and only the
     integrator's row buffer (the longest stretch, :func:`assembly.dynamics.stretches.plan`) is
@@ -226,12 +226,12 @@ class PythonSteps:
             else:                                             # the compiled step's arithmetic
                 LV, LH, direct = load_block(self.force, np.array([t_a]))
                 h = LH[0]
-                x0 = predict(Z, q, v, a, self.AinvL, h)
+                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+                vp = v + (dt * (1 - g)) * a
+                x0 = predict(Z, qp, vp, a, self.AinvL, h)
                 if af != 0.0:
                     f_a = h.copy() if direct else (LV @ h if len(h) else np.zeros(len(q)))
                     x0 = x0 + af * lu.solve(F)
-                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-                vp = v + (dt * (1 - g)) * a
             y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
             best = np.inf
             for it in range(1, MAX_ITERATIONS + 1):
