@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.linalg.lapack import dgesv
 
 from .jit import njit
 from .mesh_laws import mesh_commit, mesh_forces
@@ -45,7 +46,7 @@ def norm(v):
 @njit
 def newton_matrix(T, S):
     """``I + T S``, the zero entries of ``T`` (most: a mesh couples its own two columns)
-    skipped, each sum in column order (the Python step calls this too, for the same rounding)."""
+    skipped, each sum in column order (:func:`newton_matrix_rows` rounds the same)."""
     mm = S.shape[0]
     J = np.eye(mm)
     for i in range(mm):
@@ -57,39 +58,32 @@ def newton_matrix(T, S):
     return J
 
 
+def newton_matrix_rows(T, S):
+    """:func:`newton_matrix` on numpy arrays, numba absent: the same sums in the same order
+    (row by row, the k-th nonzero of every row at once), so the same bits."""
+    nz = T != 0.0
+    J = np.eye(S.shape[0])
+    order = np.argsort(~nz, axis=1, kind="stable")     # each row's nonzero columns first, ascending
+    counts = nz.sum(axis=1)
+    for k in range(int(counts.max(initial=0))):
+        rows = np.flatnonzero(counts > k)
+        cols = order[rows, k]
+        J[rows] += T[rows, cols][:, None] * S[cols]
+    return J
+
+
 @njit
 def solve(J, r):
-    """Newton's step ``J^-1 r``: Gaussian elimination with partial pivoting (LAPACK's getrf
-    order, in place on copies; a call to LAPACK costs more than the arithmetic at m = 26).
-    The Python step calls this too, so that both steps take the same rounding."""
-    A = J.copy()
-    x = r.copy()
-    mm = A.shape[0]
-    for c in range(mm):
-        p = c
-        big = abs(A[c, c])
-        for i in range(c + 1, mm):
-            if abs(A[i, c]) > big:
-                p, big = i, abs(A[i, c])
-        if big == 0.0:
-            raise ZeroDivisionError("singular Newton matrix")
-        if p != c:
-            for j in range(mm):
-                A[c, j], A[p, j] = A[p, j], A[c, j]
-            x[c], x[p] = x[p], x[c]
-        inv = 1.0 / A[c, c]
-        for i in range(c + 1, mm):
-            f = A[i, c] * inv
-            if f != 0.0:
-                A[i, c] = f
-                for j in range(c + 1, mm):
-                    A[i, j] -= f * A[c, j]
-                x[i] -= f * x[c]
-    for i in range(mm - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, mm):
-            s -= A[i, j] * x[j]
-        x[i] = s / A[i, i]
+    """Newton's step ``J^-1 r`` by LAPACK's dgesv (numba calls SciPy's LAPACK:
+    :func:`solve_lapack` is the same routine from Python, so both steps take the same bits)."""
+    return np.linalg.solve(J, r)
+
+
+def solve_lapack(J, r):
+    """:func:`solve` without numba: SciPy's dgesv, the routine numba calls."""
+    _, _, x, info = dgesv(J, r)
+    if info > 0:
+        raise np.linalg.LinAlgError("singular Newton matrix")
     return x
 
 

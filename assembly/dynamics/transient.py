@@ -46,8 +46,10 @@ from .step_kernel import (
     NOT_FINITE,
     ROUNDOFF,
     newton_matrix,
+    newton_matrix_rows,
     predictor,
     solve,
+    solve_lapack,
 )
 from .stretches import PREDICTOR_MAX, STRETCH_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
@@ -213,8 +215,8 @@ class PythonSteps:
         M, C, K, lu, W, S, UT, nl = self.M, self.C, self.K, self.lu, self.W, self.S, self.UT, self.nl
         am, af, b, g, dt = self.s.alpha_m, self.s.alpha_f, self.s.beta, self.s.gamma, self.dt
         q, v, a, Ma, F, xi, xi_prev, dxi = self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi
-        eye, ck, cc = np.eye(S.shape[0]), (1 - af) * b * dt * dt, (1 - af) * g * dt
-        newton_solve = solve if jit.COMPILED else np.linalg.solve
+        ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
+        newton_solve, jacobian = (solve, newton_matrix) if jit.COMPILED else (solve_lapack, newton_matrix_rows)
         Z, predict = self.Z, pick(predictor)
         for k in range(len(t) - 1):
             t_a = t[k] + (1 - af) * dt
@@ -258,7 +260,7 @@ class PythonSteps:
                     continue
                 best = res
                 Tw = _weighted(dk, dc, ck, cc)
-                J = newton_matrix(Tw, S) if jit.COMPILED else eye + Tw @ S
+                J = jacobian(Tw, S)
                 dxi = newton_solve(J, r)
                 xi = xi - dxi
                 # converged: xi (forces along U) or what it changes, U' a+, settled to

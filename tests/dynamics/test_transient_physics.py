@@ -567,3 +567,61 @@ def test_brake_stops_a_rigid_drivetrain_without_reversing():
     assert np.all(tail >= 0.0) and np.all(tail <= stick)
     big = tail[:-1] > 1e-12 * stick
     assert np.allclose(tail[1:][big] / tail[:-1][big], r, rtol=1e-6)
+
+
+# ---------------------------------------------------------------------------------------------
+# 4. The three steps agree: the compiled step (numba), the Python step on the same compiled
+# laws, and the Python step with numba absent (the laws on numpy arrays, Newton's matrix summed
+# in the compiled order, the same LAPACK solve) do the same arithmetic, so every physics run
+# above gives the same numbers on each to round-off: 1e-12 of each output's largest value.
+# ---------------------------------------------------------------------------------------------
+AGREE = 1e-12
+
+
+def _on_three_steps(run, monkeypatch) -> None:
+    """``run()`` -> {name: array} on the three steps, each output within AGREE of the compiled one."""
+    from assembly.dynamics import jit
+    out = {}
+    for name, enabled, compiled in (("compiled", True, True), ("python", False, True), ("no numba", False, False)):
+        monkeypatch.setattr(jit, "ENABLED", enabled)
+        monkeypatch.setattr(jit, "COMPILED", compiled)
+        out[name] = run()
+    ref = out["compiled"]
+    for name in ("python", "no numba"):
+        for key, y in out[name].items():
+            y0 = np.asarray(ref[key], float)
+            assert np.all(np.isfinite(y)), (name, key)
+            assert np.max(np.abs(np.asarray(y, float) - y0)) <= AGREE * np.max(np.abs(y0)), (name, key)
+
+
+def _dead_zone_rows(b_over_a: float) -> dict:
+    b = b_over_a * A_DZ
+    model, M, K, _ = _pair(J1=1.0, J2=J_DZ, r1=0.05, r2=R_DZ, k=K_DZ, backlash=b, fix_gear1=True)
+    meshes = Meshes(model)
+    w = math.sqrt(K_DZ * R_DZ ** 2 / J_DZ)
+    run = integrate(M, None, K, _zero(1), [A_DZ / R_DZ], [0.0], 2 * math.pi / w / 200,
+                    10 * (2 * math.pi / w + 2 * b / (w * A_DZ)), nonlinear=meshes, observe=_rows(meshes.U[:, 0]))
+    return {"rows": run.y, "losses": meshes.losses.astype(float)}
+
+
+def _brake_rows(stick: float) -> dict:
+    w_n = math.sqrt(KS * (1 / JR + 1 / JG))
+    dt = 2 * math.pi / w_n / 100
+    t_d, t_r = 10 * dt, 400 * dt
+    model = assemble(_brake_scene(stick, t_d, t_r))
+    res = simulate(model, t_d + t_r / 2 + (JR + JG) * OMEGA / TBRAKE + 0.1, dt, outputs=["speed:rotor", "speed:gen"])
+    return dict(res.outputs)
+
+
+def test_the_three_steps_agree_on_every_physics_run(step_path, monkeypatch):
+    if step_path != "compiled":
+        pytest.skip("runs the three steps itself, once")
+    lo, hi = _region()
+    _on_three_steps(lambda: {"states": _mathieu_run(lo + 0.5 * (hi - lo))[0]}, monkeypatch)    # Mathieu, growing
+    _on_three_steps(lambda: {"states": _mathieu_run(1.0, zeta=0.02)[0]}, monkeypatch)          # damped
+    for b_over_a in (0.5, 2.0):                                                                 # dead zone
+        _on_three_steps(lambda: _dead_zone_rows(b_over_a), monkeypatch)
+    for consistent in (True, False):                                                            # energy
+        _on_three_steps(lambda: dict(zip(("dE", "work"), _energy_run(consistent, 2e-6)[:2])), monkeypatch)
+    for stick in (1e-2, 1e-3):                                                                  # brake stop
+        _on_three_steps(lambda: _brake_rows(stick), monkeypatch)
