@@ -1,8 +1,7 @@
 """The compiled step (assembly.dynamics.step_kernel, numba) against the Python step of
 assembly.dynamics.transient: the same algorithm on the same arrays (the meshes' and shaft
 torques' laws are one code, assembly.dynamics.mesh_laws / torque_laws), so the two runs agree
-to round-off -- 1e-12 relative on every recorded output (the goal of issue 28), with the same
-Newton iteration counts and contact losses. Scene: the shipped ``nrel5mw_transient`` (126
+to round-off -- 1e-12 relative on every recorded output, with the same Newton iteration counts and contact losses. Scene: the shipped ``nrel5mw_transient`` (126
 DOFs, 13 meshes with stiffness driven by the gear angle and 0.4 mm backlash: rank 26), rated
 operation, dt = 1e-4 s.
 """
@@ -22,7 +21,7 @@ from tests.support.gear_pair_scene import gear_pair
 
 needs_numba = pytest.mark.skipif(not jit.COMPILED, reason="numba not installed (the speed extra) or switched off")
 DT = 1e-4
-AGREE = 1e-12                   # relative, issue 28's goal for the two steps
+AGREE = 1e-12                   # relative: the two steps do the same arithmetic
 
 #: the drive torques: a PI generator from its rated torque (Jonkman 2009: 43 093.55 N m, rated
 #: generator speed 1173.7 rpm = 122.91 rad/s), the HSS brake ramping in during the run, and

@@ -7,7 +7,7 @@ own outputs: every named stress point and nonlinear mesh force) in a fresh proce
 one Markdown table: steps, wall time of the process, steps/s of the run, the time to write
 the summary and pictures (``sim_files``: the history is written during the run), the
 process's peak resident memory (MB, ``getrusage``), its ratio to the first length's, and the
-HDF5 file's size. The issue's goal (issue 28): 600 s within 10 % of 10 s and under 1 GB.
+HDF5 file's size. The goal: 600 s within 10 % of 10 s and under 1 GB.
 """
 from __future__ import annotations
 

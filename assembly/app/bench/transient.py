@@ -1,8 +1,11 @@
 """Benchmark (not a test): time-domain runs (``flexgear simulate``), their cost and the reduction's error.
 
 ``flexgear bench transient [--steps 5000] [--repeat 20000] [--seconds 10] [--no-flexible]
-[--t-end 0.05] [--dt DT] [--no-full]`` prints three Markdown tables (times in s unless
-marked, peak resident memory in MB):
+[--t-end 0.05] [--dt DT] [--no-full] [--tables 1,2,3,4]`` prints Markdown tables (times in s
+unless marked, peak resident memory in MB): 1-3 below, 4 beside Exudyn
+(:mod:`~assembly.app.bench.transient_peer`), 5 a 600 s run through the command line
+(:mod:`~assembly.app.bench.transient_long`), 6 a batch of 600 s load cases on Dask workers
+(:mod:`~assembly.app.bench.transient_batch`); 5 and 6 run on demand only:
 
 1. **per-step cost** on the shipped ``nrel5mw_transient`` (126 DOFs, 13 meshes with the
    stiffness driven by the gear angle and 0.40 mm backlash: rank 26) and its flexible
@@ -11,7 +14,7 @@ marked, peak resident memory in MB):
    (``(wall_s - factor_s) / steps`` of the run's ``info``) of the compiled step
    (numba; after a run that compiles it) and of the Python step, against one dense
    back-substitution of the same size measured in the same run (``Solver(A0).solve(b)``, the
-   kept inverse times a vector, median of 5 blocks of ``--repeat``); the ratio, and issue 28's
+   kept inverse times a vector, median of 5 blocks of ``--repeat``); the ratio, and the step's
    goals (at most 12x / 5x that back-substitution, 30 / 60 us); then ``--estimate`` s of each
    scene compiled and the 600 s run it extrapolates to (goals: 4 and 7 minutes);
 2. **``--seconds`` of the drivetrain** (same scenes and settings, dt = 1e-4 s): wall time of
@@ -40,6 +43,7 @@ from threadpoolctl import threadpool_limits
 
 from .drivetrain import machine, peak_rss_mb
 from .rated import BACKLASH, DT_5MW, GENERATOR_TORQUE, RATIO, STEP, rated_5mw
+from .transient_batch import batch_table
 from .transient_long import long_table
 from .transient_peer import peer_table
 
@@ -138,8 +142,11 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--long-seconds", type=float, default=600.0,
                    help="table 5: the long run (s; default 600, one IEC 61400-1 load case)")
     p.add_argument("--short-seconds", type=float, default=10.0, help="table 5: the short run it is compared with (s)")
-    p.add_argument("--tables", default="1,2,3,4", help="which tables to print (default 1,2,3,4; 5 runs 600 s "
-                                                        "cases and takes tens of minutes)")
+    p.add_argument("--batch-seconds", type=float, default=600.0,
+                   help="table 6: simulated time of each load case of the batch (s; default 600)")
+    p.add_argument("--workers", type=int, default=2, help="table 6: Dask worker processes (default 2)")
+    p.add_argument("--tables", default="1,2,3,4", help="which tables to print (default 1,2,3,4; 5 and 6 run 600 s "
+                                                        "cases and take tens of minutes)")
     a = p.parse_args(argv)
     tables = {int(x) for x in a.tables.split(",") if x.strip()}
     names = (["nrel5mw"] + ([] if a.no_flexible else ["nrel5mw_flexible"])) if 2 in tables else []
@@ -160,6 +167,8 @@ def main(argv=None, out=None) -> int:
         peer_table(["nrel5mw", *flex], DT_5MW, a.peer_seconds, out)
     if 5 in tables:
         long_table(["nrel5mw", *flex], a.long_seconds, a.short_seconds, DT_5MW, out)
+    if 6 in tables:
+        batch_table(a.batch_seconds, a.short_seconds, a.workers, out)
     return 0
 
 
@@ -176,9 +185,9 @@ def transient_scenes(flexible: bool = True) -> dict:
 
 #: The bodies of nrel5mw_flexible.toml that are flexible
 FLEXIBLE = ("stages.stage1.carrier.fidelity", "stages.stage2.carrier.fidelity", "bodies.wheel.fidelity")
-#: Issue 28's goals per step at 126 and 322 DOFs: x one back-substitution, and us
+#: The compiled step's goals per step at 126 and 322 DOFs: x one back-substitution, and us
 GOALS = {126: (12.0, 30.0), 322: (5.0, 60.0)}
-#: Issue 28's goals for 600 s at dt = 1e-4 s (min), rigid and flexible
+#: The compiled step's goals for 600 s at dt = 1e-4 s (min), rigid and flexible
 GOALS_600 = {126: 4.0, 322: 7.0}
 
 
@@ -241,7 +250,7 @@ def _per_step(cases, a, out) -> None:
           "less factor_s). Back-substitution: one `Solver(A0).solve(b)` of the run's effective matrix (the kept "
           f"inverse times a vector), median of 5 blocks of {a.repeat}, in the same run. Load average (1, 5, 15 min) "
           f"{', '.join(f'{x:.2f}' for x in load0)} before, {', '.join(f'{x:.2f}' for x in load1)} after; "
-          "issue 28's absolute goals hold at load below 1.\n", file=out)
+          "the absolute goals hold at load below 1.\n", file=out)
     if long_rows:
         print("| scene | DOFs | simulated [s] | simulate, compiled [s] | Newton iterations / step | contact losses | "
               "600 s estimate [min] | goal [min] |", file=out)
