@@ -268,8 +268,9 @@ def _print_json(obj, indent: int | None = 1) -> None:
 def cmd_simulate(args) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
     run that stops keeps its partial result (:func:`_stopped`) and exits with 1. With ``--out``
-    and no ``--json`` the histories stream into the staged folder as the run goes (memory flat
-    in ``--t-end``; :mod:`assembly.app.report.simulate`)."""
+    and no ``--json`` the histories stream into the staged folder as the run goes, and the
+    summary alone (neither) keeps only the statistics: memory flat in ``--t-end``
+    (:mod:`assembly.app.report.simulate`). ``--json`` prints every step, so it holds them."""
     from ..dynamics.simulate import simulate
     from ..dynamics.transient import Diverged, check_history
     from ..scene.schema import load_scene
@@ -279,8 +280,9 @@ def cmd_simulate(args) -> int:
 
     flags = {"dt": "--dt", "t_end": "--t-end"}
     stream = args.out is not None and not args.json
+    summary_only = args.out is None and not args.json
     with api_flags(flags):          # the run's length against memory, before the scene is read
-        n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream)
+        n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream or summary_only)
     path = scene_file(args)
     scene = load_scene(path)
     progress = Progress(enabled=False if args.quiet or args.json else None)
@@ -295,7 +297,7 @@ def cmd_simulate(args) -> int:
                     with api_flags(flags):
                         r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
                                      speed=args.speed, progress=tick, full_fe=args.unreduced,
-                                     history=work / H5_PARTIAL if stream else None)
+                                     history=work / H5_PARTIAL if stream else None, arrays=not summary_only)
                 except Diverged as exc:
                     stopped = exc
             if stopped is not None:
