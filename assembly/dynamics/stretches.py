@@ -36,10 +36,16 @@ def predictor_map(Ainv, M, C, K, dt: float, scheme) -> np.ndarray:
 STRETCH_MIN, STRETCH_MAX = 64, 1024
 
 
-def plan(n_steps: int, report: int):
-    """[(first step, steps)] of the run's stretches (module notes)."""
+def plan(n_steps: int, report: int, sample: int = 0):
+    """[(first step, steps)] of the run's stretches (module notes); ``sample`` > 0: every
+    multiple of that many steps ends a stretch too (a sampled load's times,
+    :mod:`assembly.dynamics.sampled`)."""
     size = max(1, min(STRETCH_MAX, report * -(-STRETCH_MIN // report)))
-    return [(i, min(size, n_steps - i)) for i in range(0, n_steps, size)]
+    cuts = set(range(0, n_steps, size))
+    if sample > 0:
+        cuts.update(range(0, n_steps, sample))
+    ends = sorted(cuts) + [n_steps]
+    return [(a, b - a) for a, b in zip(ends[:-1], ends[1:])]
 
 
 def compiled_parts(nl, observe, Z):
@@ -99,6 +105,10 @@ class CompiledSteps:
         Os = o.Os if o.Os is not None else np.zeros_like(o.Ok)
         self.rows = (o.Ok, o.Oc, Os, o.Oa, o.Sv, swap[:, 0].copy(), swap[:, 1].copy())
         self.state = state
+
+    def now(self):
+        """(q, v) of the last step."""
+        return self.state[0], self.state[1]
 
     def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
         """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):

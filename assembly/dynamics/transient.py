@@ -32,11 +32,13 @@ from typing import Callable, Optional
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import SceneError
 from . import jit
 from .budget import check_memory
 from .history import STEP_BYTES, MemoryHistory
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 from .jit import pick
+from .sampled import HeldForce, sample_steps
 from .step_kernel import (
     DONE,
     EPS,
@@ -209,6 +211,10 @@ class PythonSteps:
         self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev = state
         self.dxi = np.zeros(U.shape[1])
 
+    def now(self):
+        """(q, v) of the last step."""
+        return self.q, self.v
+
     def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
         """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):
         (steps done, why it stopped or DONE, the residual or the coordinate)."""
@@ -291,14 +297,17 @@ class PythonSteps:
 def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, t_end: float,
               scheme: Optional[Scheme] = None, nonlinear: Optional[Nonlinear] = None,
               observe: Optional[Callable] = None, progress: Optional[Callable] = None,
-              dof_names: Optional[list] = None, history=None) -> Transient:
+              dof_names: Optional[list] = None, history=None, sampled=None) -> Transient:
     """Integrate the model of the module notes from ``q0``, ``v0`` at t = 0 to ``t_end`` (s)
     with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,) (a force with
     load ``vectors`` and ``histories``, :class:`assembly.dynamics.run_loads.RunLoads`, is
     evaluated a stretch at a time). ``observe(q, v, a, nu)`` -> 1-D array recorded at every
     step (default ``q``); ``progress(step, n_steps, t)`` is called about 200 times a run.
     ``history``: where the rows go (:mod:`assembly.dynamics.history`: ``append`` a block,
-    ``close``; default :class:`~assembly.dynamics.history.MemoryHistory`).
+    ``close``; default :class:`~assembly.dynamics.history.MemoryHistory`). ``sampled``: loads
+    a law sets from the state at its own sample times and holds in between
+    (:class:`assembly.dynamics.sampled.Sampled`; its period a whole number of steps), called
+    between stretches.
 
     The steps run in stretches (:mod:`assembly.dynamics.stretches`): compiled
     (:mod:`assembly.dynamics.step_kernel`) when numba is installed and switched on
@@ -316,6 +325,12 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     n_steps = check_history(dt, t_end, 0, n, U.shape[1])       # before any factorisation
     M, C, K = (_matrix(X, n) for X in (M, C, K))
     observe = observe or (lambda q, v, a, nu: q)
+    every = 0
+    if sampled is not None:                                        # the law's first sample, at t = 0
+        every = sample_steps(sampled.period, dt)
+        force = HeldForce(force, sampled, n)
+        if not force.sample(0.0, q, v):
+            raise SceneError("sampled.law", force.u.tolist(), "is not finite at t = 0 s")
     t0 = _time.perf_counter()
     lu = Solver(effective_matrix(M, C, K, dt, s))
     W = lu.solve(U) if U.shape[1] else np.zeros((n, 0))
@@ -341,7 +356,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     parts = compiled_parts(nl, observe, Z)
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
-    stretches = plan(n_steps, report)
+    stretches = plan(n_steps, report, every)
     # a history in memory lends its own rows for the steps to be written into (held once)
     reserve = history.reserve if isinstance(history, MemoryHistory) and history.capacity else None
     its_sum = 0
@@ -351,6 +366,9 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     for i0, count in stretches:
         t = np.arange(i0, i0 + count + 1, dtype=float)
         t *= dt                                                    # the steps' times, i dt
+        if every and i0 and i0 % every == 0 and not force.sample(t[0], *steps.now()):
+            _stop(history, s, f"the sampled load at t = {t[0]:.6g} s is not finite ({force.u.tolist()})",
+                  parts is not None, i0)
         if reserve is not None:
             _, Y, its = reserve(count)
         done, why, value = steps.run(t, Y[:count], its[:count])
