@@ -34,14 +34,18 @@ PREDICTOR_MAX coordinates) forms it with no product on q:
   forces to Newton's tolerance, ``r = xi + (1 - alpha_f) nu``), so ``P = K q + C v = F + U xi /
   (1 - alpha_f)`` at the last step, from that step's ``F`` and ``xi``;
 * ``K qp + C vp = P + dt K v0 + K d + dt (1 - gamma) C a`` with ``d = dt (v - v0) + dt^2 (1/2 -
-  beta) a``: ``v0`` the run's starting velocity (its rigid speed) and ``K v0`` formed once;
+  beta) a``: ``v0`` the run's starting velocity (its rigid speed), so ``d`` holds no rotation;
 * ``K d + dt (1 - gamma) C a+`` and ``M a+`` (for ``F+``) are one product with ``[[K, dt (1 -
   gamma) C], [0, M]]`` on ``[d; a+]`` (a dense model: three products, no stacked copy);
 * ``q`` and ``v`` are sums of their steps' increments, compensated (Kahan): the forces no
   longer follow from q, so q's own round-off would otherwise drift from them.
 
-Its round-off is eps times the forces summed and ``|K| dt |v|`` (the products on a step's
-increments), none of which grows with the angle (tests/dynamics/test_sparse_step.py).
+``P`` is carried this way (through the balance), so the round-off of every step's ``K qp + C
+vp`` stays in it: that of ``K d`` (eps ``|K| dt |v - v0|``, no rotation), and that of ``K v0``,
+the same every step, which adds up to ``t`` times it. ``K v0`` is therefore formed once in
+extended precision (:func:`extended_product`): ``eps_ld |K| |v0| t``, ``2^-11`` of the product
+form's eps ``|K| |q|`` where np.longdouble has 64 bits (x86), the same where it has none
+(tests/dynamics/test_sparse_step.py).
 """
 from __future__ import annotations
 
@@ -206,6 +210,15 @@ class Diverged(FloatingPointError):
         self.partial = partial
 
 
+def extended_product(A, x: np.ndarray, rows: int = 512) -> np.ndarray:
+    """``A x`` formed in extended precision (np.longdouble: 64-bit mantissa on x86, eps 1.1e-19;
+    plain double where the platform has none), ``rows`` rows of ``A`` at a time, rounded once."""
+    xl, out = x.astype(np.longdouble), np.empty(A.shape[0])
+    for i in range(0, A.shape[0], rows):
+        out[i:i + rows] = np.asarray(A[i:i + rows].astype(np.longdouble) @ xl).ravel()
+    return out
+
+
 def _matrix(A, n: int):
     if A is None:
         return sp.csr_matrix((n, n)) if n > DENSE_INVERSE_MAX else np.zeros((n, n))
@@ -235,7 +248,7 @@ class PythonSteps:
             # and K v0 formed once, at the start; q's and v's compensations
             e = dt * (1 - scheme.gamma)
             self.KM = sp.bmat([[K, e * C], [None, M]], format="csr") if sp.issparse(K) else None
-            self.v0, self.Kv0 = self.v.copy(), K @ self.v
+            self.v0, self.Kv0 = self.v.copy(), extended_product(K, self.v)
             self.P, (self.Kd, _) = K @ self.q + C @ self.v, self._products((dt * dt * (0.5 - scheme.beta)) * self.a,
                                                                             self.a)
             self.cq, self.cv = np.zeros(len(self.q)), np.zeros(len(self.q))
