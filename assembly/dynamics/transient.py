@@ -18,8 +18,34 @@ columns. The step is solved without refactorising:
   form of the full Newton step, O(m^3) each, no solve with A0; a step that does not lower
   the residual is halved (the kinks of backlash and of the brake's stick band).
 
-So a step costs one solve with the constant factorisation, two products with the model's
+So a step costs one solve with the constant factorisation, products with the model's
 matrices and O(n m) work. ``F+`` follows from the balance itself. Units: the model's (SI).
+
+``b0`` holds ``K qp + C vp`` (``qp = q + dt v + dt^2 (1/2 - beta) a``, ``vp = v + dt (1 -
+gamma) a``, Newmark's predictors). A spinning drivetrain carries its rigid rotation in q, which
+K and C annihilate: formed as products, ``K qp`` is off by eps ``|K| |q|``, which grows with
+the angle (about 1e3 rad after 10 s at a generator's speed); recovering ``a+`` from ``q+ - qp``
+(a displacement form) cancels the same digits. A model without the predictor's map
+(:func:`assembly.dynamics.stretches.predictor_map`: a sparse model, or a dense one above
+PREDICTOR_MAX coordinates) forms it with no product on q:
+
+* the ``F+`` the balance gives is ``K q+ + C v+ + U nu+`` with ``(1 - alpha_f) U nu+ = -U xi``
+  exactly (``A0 a+ + b0 = U xi`` for ``a+ = -x0 + W xi``; this ``nu+`` is the last iterate's
+  forces to Newton's tolerance, ``r = xi + (1 - alpha_f) nu``), so ``P = K q + C v = F + U xi /
+  (1 - alpha_f)`` at the last step, from that step's ``F`` and ``xi``;
+* ``K qp + C vp = P + dt K v0 + K d + dt (1 - gamma) C a`` with ``d = dt (v - v0) + dt^2 (1/2 -
+  beta) a``: ``v0`` the run's starting velocity (its rigid speed), so ``d`` holds no rotation;
+* ``K d + dt (1 - gamma) C a+`` and ``M a+`` (for ``F+``) are one product with ``[[K, dt (1 -
+  gamma) C], [0, M]]`` on ``[d; a+]`` (a dense model: three products, no stacked copy);
+* ``q`` and ``v`` are sums of their steps' increments, compensated (Kahan): the forces no
+  longer follow from q, so q's own round-off would otherwise drift from them.
+
+``P`` is carried this way (through the balance), so the round-off of every step's ``K qp + C
+vp`` stays in it: that of ``K d`` (eps ``|K| dt |v - v0|``, no rotation), and that of ``K v0``,
+the same every step, which adds up to ``t`` times it. ``K v0`` is therefore formed once in
+extended precision (:func:`extended_product`): ``eps_ld |K| |v0| t``, ``2^-11`` of the product
+form's eps ``|K| |q|`` where np.longdouble has 64 bits (x86), the same where it has none
+(tests/dynamics/test_sparse_step.py).
 """
 from __future__ import annotations
 
@@ -188,6 +214,15 @@ class Diverged(FloatingPointError):
         self.partial = partial
 
 
+def extended_product(A, x: np.ndarray, rows: int = 512) -> np.ndarray:
+    """``A x`` formed in extended precision (np.longdouble: 64-bit mantissa on x86, eps 1.1e-19;
+    plain double where the platform has none), ``rows`` rows of ``A`` at a time, rounded once."""
+    xl, out = x.astype(np.longdouble), np.empty(A.shape[0])
+    for i in range(0, A.shape[0], rows):
+        out[i:i + rows] = np.asarray(A[i:i + rows].astype(np.longdouble) @ xl).ravel()
+    return out
+
+
 def _matrix(A, n: int):
     if A is None:
         return sp.csr_matrix((n, n)) if n > DENSE_INVERSE_MAX else np.zeros((n, n))
@@ -202,7 +237,8 @@ class PythonSteps:
     forces or rows the compiled step does not know, or numba absent). The state ``(q, v, a,
     Ma, F, xi, xi_prev)``; a dense model's predictor map ``Z`` and ``AinvL`` (the inverse times
     the load vectors): its ``x0`` as the compiled step forms it
-    (:func:`assembly.dynamics.step_kernel.predictor`), else from M, C, K."""
+    (:func:`assembly.dynamics.step_kernel.predictor`), else from ``K q + C v`` taken from the
+    balance and one product a step (module notes; kept across the calls of :meth:`run`)."""
 
     def __init__(self, M, C, K, lu, W, S, U, scheme, dt, nl, observe, force, state, Z=None, AinvL=None):
         self.M, self.C, self.K, self.lu, self.W, self.S, self.Z, self.AinvL = M, C, K, lu, W, S, Z, AinvL
@@ -210,6 +246,22 @@ class PythonSteps:
         self.s, self.dt, self.nl, self.observe, self.force = scheme, dt, nl, observe, force
         self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev = state
         self.dxi = np.zeros(U.shape[1])
+        if Z is None:
+            # the products of the module notes: one with [[K, dt (1 - gamma) C], [0, M]] when
+            # sparse, three of a dense model (a stacked dense copy: 4 n^2 more numbers); K q + C v
+            # and K v0 formed once, at the start; q's and v's compensations
+            e = dt * (1 - scheme.gamma)
+            self.KM = sp.bmat([[K, e * C], [None, M]], format="csr") if sp.issparse(K) else None
+            self.v0, self.Kv0 = self.v.copy(), extended_product(K, self.v)
+            self.P, (self.Kd, _) = K @ self.q + C @ self.v, self._products((dt * dt * (0.5 - scheme.beta)) * self.a,
+                                                                            self.a)
+            self.cq, self.cv = np.zeros(len(self.q)), np.zeros(len(self.q))
+
+    def _products(self, d: np.ndarray, a: np.ndarray):
+        """``(K d + dt (1 - gamma) C a, M a)``: one product of a sparse model."""
+        if self.KM is None:
+            return self.K @ d + (self.dt * (1 - self.s.gamma)) * (self.C @ a), self.M @ a
+        return np.split(self.KM @ np.concatenate([d, a]), 2)
 
     def now(self):
         """(q, v) of the last step."""
@@ -218,19 +270,21 @@ class PythonSteps:
     def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
         """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):
         (steps done, why it stopped or DONE, the residual or the coordinate)."""
-        M, C, K, lu, W, S, UT, nl = self.M, self.C, self.K, self.lu, self.W, self.S, self.UT, self.nl
+        M, lu, W, S, UT, nl = self.M, self.lu, self.W, self.S, self.UT, self.nl
         am, af, b, g, dt = self.s.alpha_m, self.s.alpha_f, self.s.beta, self.s.gamma, self.dt
         q, v, a, Ma, F, xi, xi_prev, dxi = self.q, self.v, self.a, self.Ma, self.F, self.xi, self.xi_prev, self.dxi
+        Z, predict = self.Z, pick(predictor)
+        if Z is None:
+            Kd, P, U, cq, cv, v0, Kv0 = self.Kd, self.P, self.UT.T, self.cq, self.cv, self.v0, self.Kv0
         ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
         newton_solve, jacobian = (solve, newton_matrix) if jit.COMPILED else (solve_lapack, newton_matrix_rows)
-        Z, predict = self.Z, pick(predictor)
         for k in range(len(t) - 1):
             t_a = t[k] + (1 - af) * dt
             if Z is None:
                 f_a = np.asarray(self.force(t_a), float)
                 qp = q + dt * v + (dt * dt * (0.5 - b)) * a
                 vp = v + (dt * (1 - g)) * a
-                x0 = lu.solve(am * Ma + (1 - af) * (K @ qp + C @ vp) + af * F - f_a)
+                x0 = lu.solve(am * Ma + (1 - af) * (P + dt * Kv0 + Kd) + af * F - f_a)     # K qp + C vp
             else:                                             # the compiled step's arithmetic
                 LV, LH, direct = load_block(self.force, np.array([t_a]))
                 h = LH[0]
@@ -279,11 +333,24 @@ class PythonSteps:
             its[k] = it
             xi, xi_prev = 2 * xi - xi_prev, xi               # next guess: linear extrapolation
             a_new = W @ xi_prev - x0
-            q = qp + (b * dt * dt) * a_new
-            v = vp + (g * dt) * a_new
+            if Z is None:                                     # compensated sums (module notes)
+                dq = (dt * v + (dt * dt * (0.5 - b)) * a + (b * dt * dt) * a_new) - cq
+                dv = (dt * (1 - g)) * a + (g * dt) * a_new - cv
+                q_new, v_new = q + dq, v + dv
+                cq, cv = (q_new - q) - dq, (v_new - v) - dv
+                q, v = q_new, v_new
+            else:
+                q = qp + (b * dt * dt) * a_new
+                v = vp + (g * dt) * a_new
             if not np.all(np.isfinite(q)):
                 return k, NOT_FINITE, float(np.argmax(~np.isfinite(q)))
-            if Z is None or af != 0.0:
+            if Z is None:
+                Kd, Ma_new = self._products(dt * (v - v0) + (dt * dt * (0.5 - b)) * a_new, a_new)
+                F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
+                P = F + U @ (xi_prev / (1 - af))             # K q+ + C v+ = F+ - U nu+ (module notes)
+                Ma = Ma_new
+                self.Kd, self.P, self.cq, self.cv = Kd, P, cq, cv
+            elif af != 0.0:
                 Ma_new = M @ a_new
                 F = (f_a - am * Ma - (1 - am) * Ma_new - af * F) / (1 - af)
                 Ma = Ma_new
