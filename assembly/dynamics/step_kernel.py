@@ -88,6 +88,29 @@ def solve_lapack(J, r):
 
 
 @njit
+def csr_into(indptr, indices, data, x, out, first, add):
+    """Rows of a CSR matrix times ``x`` into ``out[first:]`` (added when ``add``), each row summed
+    in its column order from 0 (SciPy's CSR product sums the same way)."""
+    for i in range(indptr.shape[0] - 1):
+        s = 0.0
+        for p in range(indptr[i], indptr[i + 1]):
+            s += data[p] * x[indices[p]]
+        if add:
+            out[first + i] += s
+        else:
+            out[first + i] = s
+
+
+@njit
+def csr_row(indptr, indices, data, i, x):
+    """Row ``i`` of a CSR matrix times ``x`` (:func:`csr_into`'s sum)."""
+    s = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        s += data[p] * x[indices[p]]
+    return s
+
+
+@njit
 def predictor(Z, qp, vp, a, AinvL, h):
     """``x0`` of a step but its ``alpha_f F`` term: ``Z [qp; vp] - A0^-1 L h`` (``Z [qp; vp;
     a]`` when alpha_m != 0), ``Z`` the predictor's map
@@ -109,7 +132,7 @@ def predictor(Z, qp, vp, a, AinvL, h):
 @njit
 def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
                 mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, p, ps, table, brake, has_torques,
-                Ok, Oc, Os, Oa, Sv, swap_i, swap_j,
+                kp, ki, kd, cp, ci, cd, sp_, si, sd, ap, ai, ad, vp_, vi, vd, swap_i, swap_j,
                 q, v, a, Ma, F, xi, xi_prev, contact, losses, last_force, Y, its):
     """``count`` steps from ``t[0]`` (``t``: the count + 1 step times); ``scheme``: (alpha_m,
     alpha_f, beta, gamma, dt); ``Z`` the predictor's map (:func:`predictor`). Loads at ``t[k] +
@@ -130,7 +153,7 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
     dxi = np.zeros(mm)
     x, xd = np.zeros(mm), np.zeros(mm)
     ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
-    n_k, n_a, n_s = Ok.shape[0], Oa.shape[0], Sv.shape[0]
+    n_k, n_a = kp.shape[0] - 1, ap.shape[0] - 1
     f_a = np.zeros(q.shape[0])
     for k in range(count):
         h = LH[k]
@@ -204,9 +227,11 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
             last_force[:] = force
         if has_torques:
             shaft_commit(p, ps, table[k], brake[k], x[off:], xd[off:])
-        Y[k, :n_k] = Ok @ q + Oc @ v
+        row = Y[k]
+        csr_into(kp, ki, kd, q, row, 0, False)           # Ok q + Oc v (observe_rows: CSR rows)
+        csr_into(cp, ci, cd, v, row, 0, True)
         for s in range(swap_i.shape[0]):
-            Y[k, swap_i[s]] = last_force[swap_j[s]] + np.dot(Os[swap_i[s]], v)
-        Y[k, n_k:n_k + n_a] = Oa @ a
-        Y[k, n_k + n_a:n_k + n_a + n_s] = Sv @ v
+            row[swap_i[s]] = last_force[swap_j[s]] + csr_row(sp_, si, sd, swap_i[s], v)
+        csr_into(ap, ai, ad, a, row, n_k, False)         # Oa a
+        csr_into(vp_, vi, vd, v, row, n_k + n_a, False)  # Sv v
     return count, DONE, 0.0

@@ -55,7 +55,7 @@ def compiled_parts(nl, observe, Z):
     predictor's map of a dense model (:func:`predictor_map`) or None."""
     if not (jit.ENABLED and jit.COMPILED) or Z is None:
         return None
-    if not all(hasattr(observe, k) for k in ("Ok", "Oc", "Oa", "Sv", "swap")):
+    if not all(hasattr(observe, k) for k in ("sparse", "swap")):
         return None
     parts = list(getattr(nl, "parts", [nl]))
     kinds = [getattr(p, "compiled", None) for p in parts]
@@ -100,10 +100,9 @@ class CompiledSteps:
             self.mesh = (z, z, np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0)), z, z, z, 0.0)
             self.mesh_state = (np.zeros(0, bool), np.zeros(0, np.int64), z)
         self.torque = (torques.p, torques.s) if torques is not None else (np.zeros(0), np.zeros(0))
-        o = observe
-        swap = np.array(o.swap, np.int64).reshape(-1, 2)
-        Os = o.Os if o.Os is not None else np.zeros_like(o.Ok)
-        self.rows = (o.Ok, o.Oc, Os, o.Oa, o.Sv, swap[:, 0].copy(), swap[:, 1].copy())
+        swap = np.array(observe.swap, np.int64).reshape(-1, 2)
+        parts = [(X.indptr.astype(np.int64), X.indices.astype(np.int64), X.data) for X in observe.sparse]
+        self.rows = (*(a for p in parts for a in p), swap[:, 0].copy(), swap[:, 1].copy())
         self.state = state
 
     def now(self):
