@@ -33,7 +33,10 @@ class Rows:
 
     def __post_init__(self):
         Os = self.Os if self.Os is not None else np.zeros_like(self.Ok)
-        object.__setattr__(self, "sparse", tuple(csr(X) for X in (self.Ok, self.Oc, Os, self.Oa, self.Sv)))
+        Ok, Oc = np.array(self.Ok, float), np.array(self.Oc, float)
+        swapped = [i for i, _ in self.swap]
+        Ok[swapped], Oc[swapped] = 0.0, 0.0          # rows a swap replaces: not summed at all
+        object.__setattr__(self, "sparse", tuple(csr(X) for X in (Ok, Oc, Os, self.Oa, self.Sv)))
 
     @property
     def size(self) -> int:
