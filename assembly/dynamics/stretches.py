@@ -2,10 +2,12 @@
 loads, the progress calls, the history), and the compiled step's arrays gathered from the run's
 parts (:mod:`assembly.dynamics.step_kernel`).
 
-A stretch ends at a multiple of the progress period, and spans at least :data:`STRETCH_MIN`
-and at most :data:`STRETCH_MAX` steps: Python evaluates what depends on time alone for the
-whole stretch at once (the external loads at the steps' ``t_i + (1 - alpha_f) dt``, the
-generator's recorded torque and the brake torque at ``t_{i+1}``), then one call runs it.
+A compiled stretch spans :data:`STRETCH_MAX` steps (a few tens of ms of compiled steps: the
+progress calls it passed are made after it); a stretch of the Python step ends at a multiple
+of the progress period and spans at least :data:`STRETCH_MIN` steps. Python evaluates what
+depends on time alone for the whole stretch at once (the external loads at the steps' ``t_i +
+(1 - alpha_f) dt``, the generator's recorded torque and the brake torque at ``t_{i+1}``), then
+one call runs it. A sampled load's times end stretches too (:mod:`assembly.dynamics.sampled`).
 """
 from __future__ import annotations
 
@@ -36,11 +38,11 @@ def predictor_map(Ainv, M, C, K, dt: float, scheme) -> np.ndarray:
 STRETCH_MIN, STRETCH_MAX = 64, 1024
 
 
-def plan(n_steps: int, report: int, sample: int = 0):
+def plan(n_steps: int, report: int, sample: int = 0, compiled: bool = False):
     """[(first step, steps)] of the run's stretches (module notes); ``sample`` > 0: every
     multiple of that many steps ends a stretch too (a sampled load's times,
     :mod:`assembly.dynamics.sampled`)."""
-    size = max(1, min(STRETCH_MAX, report * -(-STRETCH_MIN // report)))
+    size = STRETCH_MAX if compiled else max(1, min(STRETCH_MAX, report * -(-STRETCH_MIN // report)))
     cuts = set(range(0, n_steps, size))
     if sample > 0:
         cuts.update(range(0, n_steps, sample))

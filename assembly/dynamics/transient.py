@@ -423,7 +423,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     parts = compiled_parts(nl, observe, Z)
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
-    stretches = plan(n_steps, report, every)
+    stretches = plan(n_steps, report, every, parts is not None)
     # a history in memory lends its own rows for the steps to be written into (held once)
     reserve = history.reserve if isinstance(history, MemoryHistory) and history.capacity else None
     its_sum = 0
