@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg.lapack import dgesv
 
 from .jit import njit
 from .mesh_laws import mesh_commit, mesh_forces
@@ -73,17 +72,89 @@ def newton_matrix_rows(T, S):
 
 
 @njit
-def solve(J, r):
-    """Newton's step ``J^-1 r`` by LAPACK's dgesv (numba calls SciPy's LAPACK:
-    :func:`solve_lapack` is the same routine from Python, so both steps take the same bits)."""
-    return np.linalg.solve(J, r)
+def lu_factor(J):
+    """(LU, piv): ``J``'s LU factors by Gaussian elimination with partial pivoting (LAPACK's
+    getrf order: L's multipliers below the diagonal, unit diagonal; ``piv[c]`` the row swapped
+    with row c), each entry updated as ``a - f b`` (:func:`lu_factor_rows` rounds the same).
+    Newton's matrix of the step: kept for a chord step (module notes of
+    :mod:`assembly.dynamics.transient`)."""
+    A = J.copy()
+    mm = A.shape[0]
+    piv = np.empty(mm, np.int64)
+    for c in range(mm):
+        p = c
+        big = abs(A[c, c])
+        for i in range(c + 1, mm):
+            if abs(A[i, c]) > big:
+                p, big = i, abs(A[i, c])
+        if not big > 0.0:
+            raise np.linalg.LinAlgError("singular Newton matrix")
+        piv[c] = p
+        if p != c:
+            for j in range(mm):
+                A[c, j], A[p, j] = A[p, j], A[c, j]
+        inv = 1.0 / A[c, c]
+        for i in range(c + 1, mm):
+            f = A[i, c] * inv
+            A[i, c] = f
+            for j in range(c + 1, mm):
+                A[i, j] = A[i, j] - f * A[c, j]
+    return A, piv
 
 
-def solve_lapack(J, r):
-    """:func:`solve` without numba: SciPy's dgesv, the routine numba calls."""
-    _, _, x, info = dgesv(J, r)
-    if info > 0:
-        raise np.linalg.LinAlgError("singular Newton matrix")
+@njit
+def lu_solve(A, piv, r):
+    """``J^-1 r`` from :func:`lu_factor`'s factors: the swaps, then L and U column by column
+    (:func:`lu_solve_rows` rounds the same)."""
+    mm = A.shape[0]
+    x = r.copy()
+    for c in range(mm):
+        p = piv[c]
+        if p != c:
+            x[c], x[p] = x[p], x[c]
+    for c in range(mm):
+        for i in range(c + 1, mm):
+            x[i] = x[i] - A[i, c] * x[c]
+    for j in range(mm - 1, -1, -1):
+        x[j] = x[j] / A[j, j]
+        for i in range(j):
+            x[i] = x[i] - A[i, j] * x[j]
+    return x
+
+
+def lu_factor_rows(J):
+    """:func:`lu_factor` on numpy arrays, numba absent: the same operations a column at a time
+    (the first largest pivot, ``a - f b`` entry by entry), so the same bits."""
+    A = np.array(J, float)
+    mm = A.shape[0]
+    piv = np.empty(mm, np.int64)
+    for c in range(mm):
+        col = np.abs(A[c:, c])
+        p = c + int(np.argmax(col))
+        if not col[p - c] > 0.0:
+            raise np.linalg.LinAlgError("singular Newton matrix")
+        piv[c] = p
+        if p != c:
+            A[[c, p]] = A[[p, c]]
+        f = A[c + 1:, c] * (1.0 / A[c, c])
+        A[c + 1:, c] = f
+        A[c + 1:, c + 1:] = A[c + 1:, c + 1:] - f[:, None] * A[c, c + 1:][None, :]
+    return A, piv
+
+
+def lu_solve_rows(A, piv, r):
+    """:func:`lu_solve` on numpy arrays, numba absent: the same bits."""
+    x = np.array(r, float)
+    mm = A.shape[0]
+    for c in range(mm):
+        p = piv[c]
+        if p != c:
+            x[c], x[p] = x[p], x[c]
+    for c in range(mm):
+        x[c + 1:] = x[c + 1:] - A[c + 1:, c] * x[c]
+    for j in range(mm - 1, -1, -1):
+        x[j] = x[j] / A[j, j]
+        x[:j] = x[:j] - A[:j, j] * x[j]
     return x
 
 
@@ -151,6 +222,7 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
     Tw = np.zeros((mm, mm))
     force, slope = np.zeros(m), np.ones(m)
     dxi = np.zeros(mm)
+    LU, piv = np.eye(mm), np.arange(mm)
     x, xd = np.zeros(mm), np.zeros(mm)
     ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
     n_k, n_a = kp.shape[0] - 1, ap.shape[0] - 1
@@ -169,6 +241,7 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
         y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
         best = np.inf
         converged = False
+        have_lu = False
         res = 0.0
         it = 0
         for it in range(1, MAX_ITERATIONS + 1):
@@ -194,12 +267,21 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
                 xi += dxi                                 # (in place: xi is the caller's state)
                 continue
             best = res
+            if have_lu:                                   # a chord step on this step's last factors
+                dxi = lu_solve(LU, piv, r)
+                trial = xi - dxi
+                step = norm(dxi)
+                if step <= NEWTON_RTOL * norm(trial) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua):
+                    xi[:] = trial
+                    converged = True
+                    break
             for i in range(mm):
                 for j in range(mm):
                     Tw[i, j] = ck * Kt[i, j]
                 Tw[i, i] += cc * dc[i]
-            J = newton_matrix(Tw, S)
-            dxi = solve(J, r)
+            LU, piv = lu_factor(newton_matrix(Tw, S))
+            have_lu = True
+            dxi = lu_solve(LU, piv, r)
             xi -= dxi
             step = norm(dxi)
             if step <= NEWTON_RTOL * norm(xi) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua):

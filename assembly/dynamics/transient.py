@@ -73,11 +73,13 @@ from .step_kernel import (
     NOT_CONVERGED,
     NOT_FINITE,
     ROUNDOFF,
+    lu_factor,
+    lu_factor_rows,
+    lu_solve,
+    lu_solve_rows,
     newton_matrix,
     newton_matrix_rows,
     predictor,
-    solve,
-    solve_lapack,
 )
 from .stretches import PREDICTOR_MAX, STRETCH_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
@@ -277,7 +279,8 @@ class PythonSteps:
         if Z is None:
             Kd, P, U, cq, cv, v0, Kv0 = self.Kd, self.P, self.UT.T, self.cq, self.cv, self.v0, self.Kv0
         ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
-        newton_solve, jacobian = (solve, newton_matrix) if jit.COMPILED else (solve_lapack, newton_matrix_rows)
+        factor, back, jacobian = ((lu_factor, lu_solve, newton_matrix) if jit.COMPILED
+                                  else (lu_factor_rows, lu_solve_rows, newton_matrix_rows))
         for k in range(len(t) - 1):
             t_a = t[k] + (1 - af) * dt
             if Z is None:
@@ -296,6 +299,7 @@ class PythonSteps:
                     x0 = x0 + af * lu.solve(F)
             y0, xp, xdp = UT @ x0, UT @ qp, UT @ vp
             best = np.inf
+            factors = None                                    # Newton's matrix of this step, factored
             for it in range(1, MAX_ITERATIONS + 1):
                 ua = S @ xi - y0                              # U' a+
                 x, xd = xp + (b * dt * dt) * ua, xdp + (g * dt) * ua
@@ -319,9 +323,14 @@ class PythonSteps:
                     xi = xi + dxi
                     continue
                 best = res
-                Tw = _weighted(dk, dc, ck, cc)
-                J = jacobian(Tw, S)
-                dxi = newton_solve(J, r)
+                if factors is not None:                       # a chord step on this step's last factors
+                    dxi = back(*factors, r)
+                    trial, step = xi - dxi, _norm(dxi)
+                    if step <= NEWTON_RTOL * _norm(trial) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
+                        xi = trial
+                        break
+                factors = factor(jacobian(_weighted(dk, dc, ck, cc), S))
+                dxi = back(*factors, r)
                 xi = xi - dxi
                 # converged: xi (forces along U) or what it changes, U' a+, settled to
                 # NEWTON_RTOL (x, nu: the last iterate's, that close)
