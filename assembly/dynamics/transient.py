@@ -16,7 +16,12 @@ columns. The step is solved without refactorising:
   ``xi + (1 - alpha_f) nu(x(xi), x'(xi)) = 0``, ``x = U' q+ = U' qp + beta dt^2 U' a+``;
 * Newton's iterations on ``xi`` use the tangents of ``nu`` and ``S = U' W``: the Woodbury
   form of the full Newton step, O(m^3) each, no solve with A0; a step that does not lower
-  the residual is halved (the kinks of backlash and of the brake's stick band).
+  the residual is halved (the kinks of backlash and of the brake's stick band). Newton's
+  matrix is factored once an iteration and kept: a later iterate of the same time step first
+  tries a chord step on those factors (O(m^2)), which ends the step if it already meets the
+  convergence tests (the step is then within NEWTON_RTOL of the full Newton step's answer);
+  otherwise the matrix is formed and factored again. Converged Newton iterations take one
+  factorisation, the second iterate's step only confirming convergence.
 
 So a step costs one solve with the constant factorisation, products with the model's
 matrices and O(n m) work. ``F+`` follows from the balance itself. Units: the model's (SI).
