@@ -92,10 +92,11 @@ class CompiledSteps:
         meshes, torques = parts
         self.dt, self.force, self.torques = dt, force, torques
         self.scheme = np.array([scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma, dt])
-        self.model = (Ainv, M, Z, W, S, np.ascontiguousarray(U.T))
-        self.AinvL = AinvL
+        C = np.ascontiguousarray                 # one layout for every run: one compiled signature
+        self.model = (C(Ainv), C(M), C(Z), C(W), C(S), C(U.T))
+        self.AinvL = C(AinvL)
         if meshes is not None and meshes.m:
-            self.mesh = (*meshes.laws(), float(meshes.consistent))
+            self.mesh = (*(np.ascontiguousarray(x) for x in meshes.laws()), float(meshes.consistent))
             self.mesh_state = (meshes.contact, meshes.losses, meshes.last_force)
         else:
             z = np.zeros(0)
@@ -117,6 +118,7 @@ class CompiledSteps:
         count = len(t) - 1
         af = self.scheme[1]
         LV, LH, direct = load_block(self.force, t[:-1] + (1 - af) * self.dt)
+        LV, LH = np.ascontiguousarray(LV), np.ascontiguousarray(LH)     # one compiled signature
         if self.torques is not None:
             table = np.asarray(self.torques.table(t[1:]), float)
             brake = np.asarray(self.torques.brake_torque(t[1:]), float)

@@ -88,9 +88,9 @@ def test_compiled_step_is_the_python_step_on_the_flexible_5mw_drivetrain(monkeyp
 
 def test_without_numba_the_python_step_gives_the_same_results(transient_model, monkeypatch):
     # numba absent: the Python step, the laws on numpy arrays (every mesh at once), Newton's
-    # matrix summed in the compiled step's order (newton_matrix_rows) and the same LAPACK
-    # routine (SciPy's dgesv, which numba calls): the same arithmetic, so the runs agree to
-    # round-off (AGREE) with the same Newton iteration counts
+    # matrix summed and factored in the compiled step's order (newton_matrix_rows,
+    # lu_factor_rows, lu_solve_rows): the same arithmetic, so the runs agree to round-off
+    # (AGREE) with the same Newton iteration counts
     available = jit.COMPILED
     monkeypatch.setattr(jit, "ENABLED", False)
     monkeypatch.setattr(jit, "COMPILED", False)
