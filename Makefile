@@ -28,6 +28,8 @@ $(STAMP): pyproject.toml | sysdeps
 	$(PY) -m pip install -q -e '.[test]'
 	@# Optional CHOLMOD backend: flexgear falls back to SciPy if it does not build.
 	$(PY) -m pip install -q -e '.[fast]' || echo "note: scikit-sparse not installed; using SciPy solvers"
+	@# Optional compiled time step (numba): flexgear falls back to its Python step if it does not install.
+	$(PY) -m pip install -q -e '.[speed]' || echo "note: numba not installed; time-domain runs use the Python step"
 	touch $(STAMP)
 
 setup: sysdeps $(STAMP)

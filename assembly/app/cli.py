@@ -40,7 +40,7 @@ log = logging.getLogger("flexgear")
 BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "flex": "assembly.app.bench.flex",
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
-              "part": "assembly.app.bench.part"}
+              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream"}
 
 
 def _raise_terminated(signum, frame):
@@ -267,49 +267,62 @@ def _print_json(obj, indent: int | None = 1) -> None:
 
 def cmd_simulate(args) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
-    run that stops keeps its partial result (:func:`_stopped`) and exits with 1."""
+    run that stops keeps its partial result (:func:`_stopped`) and exits with 1. With ``--out``
+    and no ``--json`` the histories stream into the staged folder as the run goes, and the
+    summary alone (neither) keeps only the statistics: memory flat in ``--t-end``
+    (:mod:`assembly.app.report.simulate`). ``--json`` prints every step, so it holds them."""
     from ..dynamics.simulate import simulate
     from ..dynamics.transient import Diverged, check_history
     from ..scene.schema import load_scene
+    from .output import staged_output, writing
     from .progress import Progress
-    from .report.simulate import sim_to_dir, summary_text
+    from .report.simulate import H5_PARTIAL, sim_files, sim_to_dir, summary_text
 
     flags = {"dt": "--dt", "t_end": "--t-end"}
+    stream = args.out is not None and not args.json
+    summary_only = args.out is None and not args.json
     with api_flags(flags):          # the run's length against memory, before the scene is read
-        n_steps = check_history(args.dt, args.t_end, len(args.output or []))
+        n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream or summary_only)
     path = scene_file(args)
     scene = load_scene(path)
     progress = Progress(enabled=False if args.quiet or args.json else None)
-    with holding_out(args):
-        stopped = None
-        with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
-            def tick(step, total, t):
-                bar.update(step - bar.n)
-                bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
-            try:
-                with api_flags(flags):
-                    r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
-                                 speed=args.speed, progress=tick, full_fe=args.unreduced)
-            except Diverged as exc:
-                stopped = exc
-        if stopped is not None:
-            return _stopped(args, stopped, scene.name, path)
-        return _emit(args, lambda: sim_to_dir(r, args.out, scene.name, path), r.as_json,
-                     f"{scene.name}: {len(r.time_s) - 1} steps, {len(r.outputs)} outputs",
-                     lambda: summary_text(r, scene.name), indent=None)
+    with holding_out(args), (staged_output(Path(args.out)) if stream else nullcontext()) as work:
+        with (writing(Path(args.out), work, "simulation results") if stream else nullcontext()):
+            stopped = None
+            with progress.bar(f"{scene.name}: simulate", total=n_steps, unit="step") as bar:
+                def tick(step, total, t):
+                    bar.update(step - bar.n)
+                    bar.set_postfix_str(f"t = {t:.4g} s", refresh=False)
+                try:
+                    with api_flags(flags):
+                        r = simulate(scene, args.t_end, args.dt, args.output, base_dir=Path(path).parent,
+                                     speed=args.speed, progress=tick, full_fe=args.unreduced,
+                                     history=work / H5_PARTIAL if stream else None, arrays=not summary_only)
+                except Diverged as exc:
+                    stopped = exc
+            if stopped is not None:
+                return _stopped(args, stopped, scene.name, path, work)
+            to_dir = (lambda: sim_files(r, work, scene.name, path)) if stream else (
+                lambda: sim_to_dir(r, args.out, scene.name, path))
+            return _emit(args, to_dir, r.as_json, f"{scene.name}: {r.steps} steps, {len(r.statistics)} outputs",
+                         lambda: summary_text(r, scene.name), indent=None)
 
 
-def _stopped(args, exc, scene_name: str, path: str) -> int:
+def _stopped(args, exc, scene_name: str, path: str, work=None) -> int:
     """A run that stopped (``exc``: :class:`~assembly.dynamics.transient.Diverged`): its
     partial result into ``--out`` as a complete one would go, marked partial
-    (:func:`~assembly.app.report.simulate.sim_to_dir`), else nowhere; ``--json`` or, without
-    ``--out``, the summary on stdout; the reason in one line on stderr; exit code 1."""
+    (:func:`~assembly.app.report.simulate.sim_to_dir`; into the staged folder ``work`` where
+    it streamed), else nowhere; ``--json`` or, without ``--out``, the summary on stdout; the
+    reason in one line on stderr; exit code 1."""
     from .output import OutputDirError
-    from .report.simulate import h5_name, sim_to_dir, summary_text
+    from .report.simulate import h5_name, sim_files, sim_to_dir, summary_text
 
     p = exc.partial
     kept = "is not kept: give --out DIR to keep it"
-    if args.out is not None:
+    if work is not None:            # streamed: an error writing the rest is the command's (exit 2)
+        sim_files(p, work, scene_name, path)
+        kept = f"is in {Path(args.out) / h5_name(p)} (marked partial)"
+    elif args.out is not None:
         try:
             sim_to_dir(p, args.out, scene_name, path)
             kept = f"is in {Path(args.out) / h5_name(p)} (marked partial)"
@@ -319,7 +332,7 @@ def _stopped(args, exc, scene_name: str, path: str) -> int:
         _print_json(p.as_json(), None)
     elif args.out is None:
         print(summary_text(p, scene_name))
-    print(f"flexgear: error: run stopped: {exc}; the partial result (to t = {p.time_s[-1]:.6g} s) {kept}",
+    print(f"flexgear: error: run stopped: {exc}; the partial result (to t = {p.t_last_s:.6g} s) {kept}",
           file=sys.stderr)
     return 1
 

@@ -24,15 +24,34 @@ from __future__ import annotations
 
 import numpy as np
 
+from .jit import pick
 from .load_series import brake_torque, efficiency_factor
+from .torque_laws import (
+    CONSTANT,
+    FRICTION,
+    LAST_BRAKE,
+    LAST_GEN,
+    N_STATE,
+    NONE,
+    PI,
+    TABLE,
+    parameters,
+    shaft_commit,
+    shaft_forces,
+)
 from .transient import Nonlinear
+
+LAWS = {"constant": CONSTANT, "table": TABLE, "pi": PI}
 
 
 class ShaftTorques(Nonlinear):
     """Generator, brake and gearbox friction (module notes). ``generator``/``brake``: the
     scene tables or None; rows on q; ``sense``: the generator's starting sense (+1/-1);
     ``inertia``: the generator's polar inertia (kg m^2); ``dt`` (s) the run's step;
-    ``history``: the torque T(t) of a generator of law "table" (a callable of t, N m)."""
+    ``history``: the torque T(t) of a generator of law "table" (a callable of t, N m).
+    Parameters ``p`` and state ``s``: the arrays of :mod:`assembly.dynamics.torque_laws`."""
+
+    compiled = "torques"                    # the compiled step knows these laws
 
     def __init__(self, n: int, dt: float, generator=None, r_gen=None, sense: float = 1.0, brake=None, r_brake=None,
                  efficiency: float = 1.0, lss_rows=None, inertia: float = 0.0, history=None):
@@ -46,66 +65,47 @@ class ShaftTorques(Nonlinear):
             self.i_brake = len(cols)
             cols.append(r_brake)
         if efficiency < 1.0:
+            efficiency_factor(efficiency, 1.0)               # checked: in (0, 1]
             self.i_lss = len(cols)
             cols.extend(lss_rows)
         self.U = np.array(cols).T if cols else np.zeros((n, 0))
-        self.integral, self.error, self.friction, self.omega_prev, self.alpha = 0.0, None, 0.0, None, 0.0
-        self.lss_torque = 0.0
-        self.last = {"generator": 0.0, "brake": 0.0, "friction": 0.0}
+        g = generator
+        law = NONE if g is None else LAWS[g.law]
+        top = 0.0 if g is None else (g.max_torque if g.max_torque is not None else 1.1 * g.torque)
+        self.p = parameters(law, sense, dt, (self.i_gen, self.i_brake, self.i_lss),
+                            torque=0.0 if g is None else g.torque, kp=getattr(g, "kp", 0.0) or 0.0,
+                            ki=getattr(g, "ki", 0.0) or 0.0, rated=getattr(g, "rated_speed", 0.0) or 0.0, top=top,
+                            stick=brake.stick_speed if brake is not None else 1.0, eta=efficiency, inertia=inertia)
+        self.s = np.zeros(N_STATE)
 
-    def _generator(self, t, xd):
-        """(nu, d nu / d omega, error) of the generator at time ``t`` and the row speeds ``xd``."""
-        g = self.gen
-        if g is None:
-            return 0.0, 0.0, 0.0
-        if g.law == "constant":
-            return self.sense * g.torque, 0.0, 0.0
-        if g.law == "table":
-            return self.sense * self.history(t), 0.0, 0.0
-        e = self.sense * xd[self.i_gen] - g.rated_speed
-        e_prev = e if self.error is None else self.error
-        T = g.torque + g.kp * e + g.ki * (self.integral + 0.5 * self.dt * (e_prev + e))
-        top = g.max_torque if g.max_torque is not None else 1.1 * g.torque
-        slope = g.kp + 0.5 * self.dt * g.ki if 0.0 < T < top else 0.0
-        return self.sense * float(np.clip(T, 0.0, top)), slope, e
+    def table(self, t):
+        """T(t) of a generator of law "table" at ``t`` (s, a float or an array), else 0."""
+        if self.history is None or self.gen is None or self.gen.law != "table":
+            return 0.0 if np.ndim(t) == 0 else np.zeros(np.shape(t))
+        return self.history(t)
 
-    def _brake(self, t, xd):
+    def brake_torque(self, t):
+        """The brake's ramped torque at ``t`` (s, a float or an array), 0 without a brake."""
         b = self.brake
         if b is None:
-            return 0.0, 0.0
-        Tb = float(brake_torque(t, b.deploy_time, b.ramp_time, b.torque))
-        w = xd[self.i_brake]
-        if abs(w) < b.stick_speed:
-            return Tb * w / b.stick_speed, Tb / b.stick_speed
-        return Tb * np.sign(w), 0.0
+            return 0.0 if np.ndim(t) == 0 else np.zeros(np.shape(t))
+        return brake_torque(t, b.deploy_time, b.ramp_time, b.torque)
 
     def forces(self, t, x, xd):
         m = self.U.shape[1]
         nu, dc = np.zeros(m), np.zeros(m)
-        if self.i_gen is not None:
-            g, slope, _ = self._generator(t, xd)
-            nu[self.i_gen] += g + self.friction
-            dc[self.i_gen] += slope
-        if self.i_brake is not None:
-            b, slope = self._brake(t, xd)
-            nu[self.i_brake] += b
-            dc[self.i_brake] += slope
+        pick(shaft_forces)(self.p, self.s, float(self.table(t)), float(self.brake_torque(t)), xd, nu, dc)
         return nu, np.zeros(m), dc
 
     def commit(self, t, x, xd):
-        g, _, e = self._generator(t, xd)
-        if self.gen is not None and self.gen.law == "pi":
-            e_prev = e if self.error is None else self.error
-            self.integral += 0.5 * self.dt * (e_prev + e)
-            self.error = e
-        b, _ = self._brake(t, xd)
-        if self.i_gen is not None:
-            w = xd[self.i_gen]
-            if self.omega_prev is not None:
-                self.alpha = (w - self.omega_prev) / self.dt
-            self.omega_prev = w
-        if self.i_lss is not None:
-            self.lss_torque = x[self.i_lss] + xd[self.i_lss + 1]
-            side = g + (b if self.i_brake is not None else 0.0) + self.J * self.alpha
-            self.friction = efficiency_factor(self.eta, 1.0 if self.lss_torque >= 0 else -1.0) * side
-        self.last = {"generator": abs(g), "brake": abs(b), "friction": self.friction}
+        pick(shaft_commit)(self.p, self.s, float(self.table(t)), float(self.brake_torque(t)), x, xd)
+
+    @property
+    def friction(self) -> float:
+        """The gearbox friction torque of the next step (N m)."""
+        return float(self.s[FRICTION])
+
+    @property
+    def last(self) -> dict:
+        """|generator|, |brake| torque (N m) of the last accepted step and the friction."""
+        return {"generator": float(self.s[LAST_GEN]), "brake": float(self.s[LAST_BRAKE]), "friction": self.friction}

@@ -121,6 +121,11 @@ class Solver:
             else:
                 self._lu, self.kind = sla.lu_factor(A), "dense LU"
 
+    @property
+    def inverse(self) -> np.ndarray | None:
+        """The kept dense inverse (kind "dense inverse"), else None."""
+        return getattr(self, "_inv", None)
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         if self.kind == "dense inverse":
             return self._inv @ b

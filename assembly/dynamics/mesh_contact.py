@@ -24,7 +24,9 @@ import numpy as np
 from ..model.probes import spin_row, strain_rows
 from ..scene.paths import body_origins, element_paths, stage_mesh_side
 from ..scene.tables import HOUSING
-from .mesh_variation import DeadZone, Series, check_positive, series
+from .jit import either, pick, plain
+from .mesh_laws import every_mesh, mesh_commit, mesh_forces, mesh_law
+from .mesh_variation import check_positive, series
 from .transient import Nonlinear
 
 log = logging.getLogger(__name__)
@@ -51,6 +53,8 @@ def _frame(scene, gear1: str, gear2: str) -> str | None:
 
 class Meshes(Nonlinear):
     """The nonlinear meshes of an assembled model (module notes)."""
+
+    compiled = "meshes"                     # the compiled step knows these laws
 
     def __init__(self, model, consistent: bool = True):
         scene, src = model.scene, model.source or model.scene
@@ -92,54 +96,48 @@ class Meshes(Nonlinear):
         self.phase = np.array(phase)
         self.consistent = consistent
         self._con = 1.0 if consistent else 0.0
-        self._i, self._j = np.arange(self.m), np.arange(self.m, 2 * self.m)
-        self._series, self._zone = Series(self.A, self.P), DeadZone(self.backlash)
+        self.cP, self.sP = np.cos(self.P), np.sin(self.P)
+        self.linear = np.isnan(self.backlash)
+        self.lin = self.linear.astype(float)
+        self.gap = np.where(self.linear, 0.0, self.backlash)
         n = model.K.shape[0]
         self.U = np.vstack(rows_g + rows_r).T if self.m else np.zeros((n, 0))
         self.contact = np.ones(self.m, dtype=bool)
         self.losses = np.zeros(self.m, dtype=np.int64)
         self.last_force = np.zeros(self.m)
-        self._last = None                   # the last forces() evaluation: commit reads it
+        #: the contact force and slope of the last forces() evaluation (commit reads them)
+        self.force, self.slope, self.evaluated = np.zeros(self.m), np.ones(self.m), False
         #: Least contact slope a tangent uses (0: exact). A static solve raises it so that
         #: Newton's method can step across an open gap (whose exact tangent is singular).
         self.gap_slope = 0.0
 
+    def laws(self) -> tuple:
+        """The meshes' parameters as the arrays of :func:`assembly.dynamics.mesh_laws.mesh_forces`."""
+        return self.k0, self.c, self.A, self.cP, self.sP, self.phase, self.lin, self.gap
+
     def state(self, x: np.ndarray, xd: np.ndarray, second: bool = False):
         """(force along the line of action N, k N/m, contact slope, e, f', f'') at ``x``, ``x'``."""
         m = self.m
-        delta, ddot = x[:m], xd[:m]
-        f, df, *d2 = self._series(x[m:] - self.phase, second)
-        e, s = self._zone(delta)
-        k = self.k0 * f
-        return k * e + self.c * s * ddot, k, s, e, df, (d2[0] if d2 else None)
+        x, xd = np.asarray(x, float), np.asarray(xd, float)
+        return plain(mesh_law)(x[:m], xd[:m], x[m:2 * m] - self.phase, self.k0, self.c, self.A.T, self.cP.T,
+                               self.sP.T, self.lin, self.gap)
 
     def forces(self, t, x, xd):
         """Forces along (g, r) and their tangents: the Hessian of the mesh potential on (delta,
-        angle) less the linear model's k0 (module notes), and the contact damper's slope."""
-        m = self.m
-        force, k, s, e, df, d2f = self._last = self.state(x, xd, second=True)
-        kdf = self.k0 * df
-        con = self._con
-        nu, dc, Kt = np.empty(2 * m), np.zeros(2 * m), np.zeros((2 * m, 2 * m))
-        nu[:m] = force - self.k0 * x[:m] - self.c * xd[:m]
-        nu[m:] = con * 0.5 * kdf * e * e
-        # the terms nu[:m] is the difference of (force_scale); nu[m:] is computed directly
-        self._scale = np.concatenate([np.abs(k * e) + np.abs(self.c * s * xd[:m]) + np.abs(self.k0 * x[:m])
-                                      + np.abs(self.c * xd[:m]), np.abs(nu[m:])])
-        dc[:m] = self.c * (s - 1.0)
-        i, j = self._i, self._j
-        Kt[i, i] = k * np.maximum(s, self.gap_slope) - self.k0
-        Kt[i, j] = kdf * e                               # d nu_g / d angle
-        Kt[j, i] = con * kdf * e * s                     # d nu_r / d delta (symmetric: a potential's Hessian)
-        Kt[j, j] = con * 0.5 * self.k0 * d2f * e * e
+        angle) less the linear model's k0 (module notes), and the contact damper's slope
+        (:func:`assembly.dynamics.mesh_laws.mesh_forces`)."""
+        m2 = 2 * self.m
+        nu, dc, Kt, self._scale = np.empty(m2), np.empty(m2), np.empty((m2, m2)), np.empty(m2)
+        law = either(mesh_forces, every_mesh)
+        law(x, xd, *self.laws(), self._con, self.gap_slope, nu, Kt, dc, self._scale, self.force, self.slope)
+        self.evaluated = True
         return nu, Kt, dc
 
     def commit(self, t, x, xd):
-        force, _, s, _, _, _ = self._last if self._last is not None else self.state(x, xd)
-        touching = s > 0
-        self.losses += self.contact & ~touching
-        self.contact = touching
-        self.last_force = force
+        if not self.evaluated:
+            self.force[:], _, self.slope[:], _, _, _ = self.state(x, xd)
+        pick(mesh_commit)(self.contact, self.losses, self.slope)
+        self.last_force = self.force.copy()
 
     def force_scale(self, nu: np.ndarray) -> np.ndarray:
         """The size of the forces the last :meth:`forces` summed: the contact force's spring and

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from ..errors import SceneError
+from .mesh_laws import flank, series_at
 
 #: Points per period of the highest harmonic at which the series is checked for k < 0.
 CHECK_POINTS = 64
@@ -52,14 +53,13 @@ class Series:
     def __init__(self, A: np.ndarray, P: np.ndarray):
         self.A, self.P = A, P
         self.h = np.arange(1, A.shape[-1] + 1, dtype=float)
-        self.hA, self.h2 = self.h * A, self.h ** 2
 
     def __call__(self, phi, second: bool = False):
-        """``f(phi)``, ``f'(phi)`` (and ``f''(phi)`` if ``second``) at the meshes' angles."""
-        arg = np.multiply.outer(phi, self.h) + self.P
-        c = self.A * np.cos(arg)
-        out = (1.0 + c.sum(axis=-1), -(self.hA * np.sin(arg)).sum(axis=-1))
-        return out + (-(self.h2 * c).sum(axis=-1),) if second else out
+        """``f(phi)``, ``f'(phi)`` (and ``f''(phi)`` if ``second``) at the meshes' angles
+        (:func:`assembly.dynamics.mesh_laws.fourier`)."""
+        out = series_at(phi, np.broadcast_to(self.A, np.shape(phi) + self.A.shape[-1:]),
+                        np.broadcast_to(self.P, np.shape(phi) + self.P.shape[-1:]))
+        return out if second else out[:2]
 
 
 def factor(phi, A: np.ndarray, P: np.ndarray, second: bool = False):
@@ -98,9 +98,7 @@ class DeadZone:
         self.gap = np.where(self.linear, 0.0, backlash)
 
     def __call__(self, delta: np.ndarray):
-        e = np.where(self.linear, delta, np.maximum(delta, 0.0) + np.minimum(delta + self.gap, 0.0))
-        s = self.linear | (delta >= 0.0) | (delta < -self.gap)
-        return e, s.astype(float)
+        return flank(delta, self.linear.astype(float), self.gap)
 
 
 def dead_zone(delta: np.ndarray, backlash: np.ndarray):

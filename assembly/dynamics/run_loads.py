@@ -35,6 +35,8 @@ class RunLoads:
             return np.zeros(self.vectors.shape[0])
         return self.vectors @ np.array([h(t) for h in self.histories])
 
+    __call__ = force
+
     @property
     def recorded(self) -> list:
         """Every history read from a file or a table (the loads' and the generator's)."""

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..model.probes import body_point, spin_row
 from .frf_channels import output_channels, output_rows, von_mises_peak
+from .observe_rows import Rows
 
 
 @dataclass(frozen=True)
@@ -41,17 +42,10 @@ class Recorder:
         """Values recorded a step."""
         return len(self.chans) + len(self.speed_names)
 
-    def observe(self, meshes):
+    def observe(self, meshes) -> Rows:
         """``observe(q, v, a, nu)`` for :func:`assembly.dynamics.transient.integrate` (the
-        contact forces read from ``meshes``)."""
-        Ok, Oc, Os, Oa, Sv, swap = self.Ok, self.Oc, self.Os, self.Oa, self.Sv, self.swap
-
-        def observe(q, v, a, nu):
-            y = Ok @ q + Oc @ v
-            for i, j in swap:
-                y[i] = meshes.last_force[j] + Os[i] @ v
-            return np.concatenate([y, Oa @ a, Sv @ v])
-        return observe
+        contact forces read from ``meshes``), as its rows (:class:`Rows`)."""
+        return Rows(self.Ok, self.Oc, self.Oa, self.Sv, self.Os, self.swap, meshes)
 
     def histories(self, Y: np.ndarray):
         """{name: history} and {name: unit} of the recorded rows ``Y`` (:func:`collect`)."""

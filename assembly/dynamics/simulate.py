@@ -38,6 +38,7 @@ from ..analysis.modal import SMALL_DENSE
 from ..model.assemble import AssembledModel, assemble, source_scene
 from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
+from .history import H5History, Statistics, Tee, chunk_steps
 from .integrators import check_step
 from .load_series import range_warning
 from .mesh_contact import Meshes
@@ -57,7 +58,11 @@ class SimulationResult:
     ``mesh_frequencies_hz`` {stage or mesh: Hz at the starting speed}, ``shaft_speeds_hz``
     {body: rev/s}, ``sidebands_hz`` {stage or mesh: the modulation's spacing, Hz: a stage's
     carrier speed, a pair's slower gear}; ``warnings``; ``info`` (run statistics);
-    ``complete`` False for the partial result of a run that stopped."""
+    ``complete`` False for the partial result of a run that stopped. ``statistics``: per
+    output its mean, RMS, min, max, peak |value| and the peak's time
+    (:class:`assembly.dynamics.history.Statistics`, accumulated as the run went);
+    ``history_file``: the HDF5 file the histories were streamed to (then ``time_s`` is empty
+    and ``outputs`` {}), None when they are in ``outputs``."""
 
     time_s: np.ndarray
     outputs: dict
@@ -69,6 +74,18 @@ class SimulationResult:
     warnings: list = field(default_factory=list)
     info: dict = field(default_factory=dict)
     complete: bool = True
+    statistics: dict = field(default_factory=dict)
+    history_file: str | None = None
+
+    @property
+    def steps(self) -> int:
+        """Steps done (the history holds one row more: the start)."""
+        return int(self.info.get("steps", len(self.time_s) - 1))
+
+    @property
+    def t_last_s(self) -> float:
+        """Time reached (s): the last row's."""
+        return self.steps * float(self.info["dt_s"]) if "dt_s" in self.info else float(self.time_s[-1])
 
     def as_json(self) -> dict:
         """``{"time_s": [...], "outputs": {NAME: [...]}, "units": {...}}`` plus run facts."""
@@ -78,7 +95,8 @@ class SimulationResult:
 
 
 def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base_dir=None,
-             speed: float | None = None, progress=None, full_fe: bool = False) -> SimulationResult:
+             speed: float | None = None, progress=None, full_fe: bool = False, history=None,
+             arrays: bool = True) -> SimulationResult:
     """Integrate ``model`` (an :class:`AssembledModel`, or a Scene assembled here, unreduced
     when ``full_fe``) to ``t_end`` with step ``dt`` (s) as its scene's ``[simulation]`` table
     says (defaults when it has none; ``simulation``: a :class:`Simulation` table in its place,
@@ -89,10 +107,23 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     :class:`assembly.dynamics.transient.Diverged` whose ``partial`` is the
     :class:`SimulationResult` so far (``complete`` False). A run whose history does not fit the
     memory budget is refused (SceneError at ``t_end``) before anything is assembled or
-    allocated (:func:`assembly.dynamics.transient.check_history`)."""
+    allocated (:func:`assembly.dynamics.transient.check_history`).
+
+    ``history``: an HDF5 file (path; it must not exist) the outputs are streamed to as the run
+    goes (:class:`assembly.dynamics.history.H5History`, layout in docs/output.md): memory
+    stays flat in ``t_end``, the result has the ``statistics`` and ``history_file`` but no
+    arrays, and a run that stops or is killed leaves the file marked incomplete with every
+    step flushed. ``arrays`` False (and no ``history``): keep only the ``statistics``, in flat
+    memory too."""
     scene, t_end, dt, outputs, speed = _arguments(model, t_end, dt, outputs, simulation, base_dir, speed,
                                                   progress, full_fe)
-    check_history(dt, t_end, 0)                 # the run's length alone, before assembling
+    if history is not None:
+        history = Path(check.file_path("history", history))
+        if history.exists() or history.is_symlink():
+            raise check.refuse("history", str(history), "exists; a streamed history is written to a new file only")
+    check.flag("arrays", arrays)
+    streaming = history is not None or not arrays
+    check_history(dt, t_end, 0, streaming=streaming)    # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
     model = model if isinstance(model, AssembledModel) else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
@@ -106,7 +137,10 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     if outputs is None:                         # every named stress point and nonlinear mesh force
         outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info)]
     rec = recorder(model, sim.points, list(dict.fromkeys(outputs)), G, meshes)
-    check_history(dt, t_end, rec.size, n, nl.U.shape[1])   # the whole run, before it starts
+    check_history(dt, t_end, rec.size, n, nl.U.shape[1], streaming=streaming)   # before it starts
+    stats = Statistics(rec.histories)
+    sink = None if not streaming else stats if history is None else Tee(
+        H5History(history, rec.histories, {"scene": scene.name}, chunk_steps(rec.size)), stats)
     freqs, shaft_hz, side_hz = mesh_frequencies(model, scene, v0)
     warnings = (step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
                 + [w for w in (range_warning(h, check_step(dt, t_end) * dt) for h in loads.recorded) if w]
@@ -116,12 +150,13 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     try:
         # one BLAS thread for small models: threads cost more than products of this size
         with threadpool_limits(1 if n <= SMALL_DENSE else None):
-            run = integrate(M, C, K, loads.force, q0, v0, dt, t_end, scheme_of(sim), nl, rec.observe(meshes),
-                            progress, model.dof_names)
+            run = integrate(M, C, K, loads, q0, v0, dt, t_end, scheme_of(sim), nl, rec.observe(meshes),
+                            progress, model.dof_names, history=sink)
         stopped = None
     except Diverged as exc:
         run, stopped = exc.partial, exc
-    result = _result(run, rec, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings, stopped is None)
+    result = _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
+                     stopped is None)
     if stopped is not None:
         raise Diverged(str(stopped), result)
     return result
@@ -168,14 +203,24 @@ def _start(M, K, nl, meshes, loads, sim, phi, v0) -> np.ndarray:
     return q0
 
 
-def _result(run, rec, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings, complete) -> SimulationResult:
-    """The :class:`SimulationResult` of a run (whole, or stopped: ``complete`` False)."""
-    values, units = rec.histories(run.y)
+def _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
+            complete) -> SimulationResult:
+    """The :class:`SimulationResult` of a run (whole, or stopped: ``complete`` False):
+    ``stats`` accumulated as it went, or now from the arrays when they are in memory."""
+    units = rec.histories(np.zeros((0, rec.size)))[1]
+    if run.y is not None:
+        values, units = rec.histories(run.y)
+        stats.add(run.time_s, values, units)
+        time_s = run.time_s
+    else:
+        values, time_s = {}, np.zeros(0)
     info = dict(run.info)
+    info.setdefault("steps", len(run.time_s) - 1 if run.time_s is not None else 0)
     info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "dofs": n,
                  "losses_total": int(meshes.losses.sum())})
-    return SimulationResult(run.time_s, values, units,
+    return SimulationResult(time_s, values, units,
                             [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
                               math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,
                               "contact_losses": int(meshes.losses[j])} for j, mi in enumerate(meshes.info)],
-                            freqs, shaft_hz, side_hz, warnings, info, complete)
+                            freqs, shaft_hz, side_hz, warnings, info, complete, stats.result(),
+                            None if history is None else str(history))

@@ -208,6 +208,31 @@ def test_a_stopped_run_without_out_writes_nothing(tmp_path, capsys, monkeypatch)
     assert len(err) == 1 and "run stopped" in err[0] and "give --out DIR to keep it" in err[0]
 
 
+def test_the_summary_alone_keeps_statistics_not_the_history(tmp_path, capsys, monkeypatch):
+    # neither --out nor --json: only the summary is printed, so the run keeps its statistics
+    # (memory flat in --t-end) and prints what the run kept whole in memory would
+    import assembly.dynamics.simulate as sim_mod
+    scene = pair_file(tmp_path)
+    seen = []
+    real = sim_mod.simulate
+
+    def spy(*a, **kw):
+        seen.append(kw.get("arrays", True))
+        return real(*a, **kw)
+    monkeypatch.setattr(sim_mod, "simulate", spy)
+    args = ["simulate", scene, "-q", "--t-end", "0.01", "--dt", "1e-4", "--output", "force:m"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert seen == [False]
+    assert main(args + ["--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert seen == [False, True]
+    y = np.array(data["outputs"]["force:m"])
+    # the summary's mean, min and max (6 significant digits) are those of the whole history
+    line = next(x for x in text.splitlines() if x.strip().startswith("force:m"))
+    assert f"mean {y.mean():.6g}, min {y.min():.6g}, max {y.max():.6g}" in line
+
+
 def test_a_stopped_run_never_writes_into_a_foreign_folder(tmp_path, capsys, monkeypatch):
     out, scene = tmp_path / "mine", pair_file(tmp_path)
     out.mkdir()

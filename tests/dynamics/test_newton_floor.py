@@ -36,6 +36,10 @@ OMEGA = math.sqrt(K / M_E)          # rad/s (421 Hz)
 ZETA = C / (2.0 * math.sqrt(K * M_E))   # 0.026
 
 
+# every run here on both steps, the compiled and the Python one (tests/dynamics/conftest.py)
+pytestmark = pytest.mark.usefixtures("step_path")
+
+
 def pair(backlash, simulation: dict, damping: float = C):
     return scene_from_dict(gear_pair(J1, J2, R1, R2, K, backlash=backlash, damping=damping, roles=("rotor", None),
                                      simulation=simulation))

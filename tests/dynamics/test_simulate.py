@@ -21,6 +21,10 @@ K_MESH = 1.0e8                     # N/m
 RATIO = R2 / R1                    # generator turns at 1/3 of the rotor, the other way
 
 
+# every run here on both steps, the compiled and the Python one (tests/dynamics/conftest.py)
+pytestmark = pytest.mark.usefixtures("step_path")
+
+
 def pair(simulation: dict, mesh: dict | None = None) -> dict:
     """Scene dict of the pair with ``simulation`` and extra ``mesh`` fields."""
     c = (R1 + R2) / math.cos(math.radians(20.0))

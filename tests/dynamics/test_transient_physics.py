@@ -29,6 +29,7 @@ from scipy.special import mathieu_a, mathieu_b
 from assembly.dynamics.integrators import generalized_alpha, hht, integrate_linear, newmark
 from assembly.dynamics.mesh_contact import Meshes
 from assembly.dynamics.mesh_variation import factor
+from assembly.dynamics.observe_rows import Rows, state_rows
 from assembly.dynamics.simulate import simulate
 from assembly.dynamics.transient import Nonlinear, integrate
 from assembly.model.assemble import assemble
@@ -41,6 +42,18 @@ def _pair(**kw):
     """Assembled torsional pair (gear_pair's arguments) and its dense M, K, C."""
     model = assemble(scene_from_dict(gear_pair(**kw)))
     return model, model.M.toarray(), model.K.toarray(), damping_matrix(model).toarray()
+
+
+# every run here on both steps, the compiled and the Python one (tests/dynamics/conftest.py)
+pytestmark = pytest.mark.usefixtures("step_path")
+
+
+def _rows(*rows, v_of=()):
+    """Rows recording ``r @ q`` then ``r @ v`` for each ``r`` of ``rows``, then the
+    velocities ``v_of`` (coordinate indices)."""
+    R = np.array(rows, float)
+    n, z = R.shape[1], np.zeros_like(R)
+    return Rows(np.vstack([R, z]), np.vstack([z, R]), np.zeros((0, n)), np.eye(n)[list(v_of)].reshape(-1, n))
 
 
 def _zero(n):
@@ -134,7 +147,7 @@ def _mathieu_run(a: float, zeta: float = 0.0, periods: int = 30):
     q0 = np.array([0.0, DELTA0 / R2])                    # delta = DELTA0, theta1 = 0 (phi = 0)
     v0 = np.array([omega, -R1 / R2 * omega])             # the rigid-body spin: delta' = 0
     run = integrate(M, C, K, _zero(2), q0, v0, dt, periods * period, nonlinear=meshes,
-                    observe=lambda q, v, acc, nu: np.array([g @ q, g @ v, v[0]]))
+                    observe=_rows(g, v_of=[0]))
     s = run.y[::STEPS]                                   # t = n * period (dt = period / STEPS exactly)
     assert len(s) == periods + 1
     assert np.ptp(run.y[:, 2]) <= 1e-9 * omega          # gear 1's speed: imposed
@@ -267,7 +280,7 @@ def test_dead_zone_period_and_contact_losses(b_over_a):
     dt = 2 * math.pi / w / 200
     n_periods = 10
     run = integrate(M, None, K, _zero(1), [A_DZ / R_DZ], [0.0], dt, n_periods * T, nonlinear=meshes,
-                    observe=lambda q, v, acc, nu: np.array([g @ q, g @ v]))
+                    observe=_rows(g))
     d, dd, t = run.y[:, 0], run.y[:, 1], run.time_s
     # up-crossings of delta = A/2 (on the drive flank, mid-arc), located by the cubic Hermite
     # interpolant of (delta, delta') over the step: O(dt^4), far below the tolerance
@@ -304,18 +317,18 @@ def _energy_run(consistent: bool, dt: float, amplitudes=(0.3, 0.1), omega=200.0,
     # Peeters' pair (2955 Hz), 20 teeth: mesh 637 Hz at 200 rad/s; 10 um initial compression
     model, M, K, _ = _pair(J1=2.9e-3, J2=2.9e-3, r1=0.05, r2=0.05, k=2e8, teeth=20, amplitudes=amplitudes)
     meshes = Meshes(model, consistent)
-
-    def observe(q, v, acc, nu):
-        x, xd = meshes.U.T @ q, meshes.U.T @ v
-        E = 0.5 * v @ M @ v + 0.5 * q @ K @ q + meshes.energy(x)
-        if not meshes.m:
-            return np.array([E, 0.0])
-        _, df = factor(x[1:] - meshes.phase, meshes.A, meshes.P)
-        return np.array([E, 0.5 * meshes.k0[0] * df[0] * xd[1] * x[0] ** 2])   # the missing power
-
     run = integrate(M, None, K, _zero(2), [0.0, 1e-5 / 0.05], [omega, -omega + 3.0], dt, t_end,
-                    nonlinear=meshes, observe=observe)
-    E, power = run.y[:, 0], run.y[:, 1]
+                    nonlinear=meshes, observe=state_rows(2, q=True, v=True))
+    Q, V = run.y[:, :2], run.y[:, 2:]
+    X, XD = Q @ meshes.U, V @ meshes.U
+    E = (0.5 * np.einsum("ti,ij,tj->t", V, M, V) + 0.5 * np.einsum("ti,ij,tj->t", Q, K, Q)
+         + np.array([meshes.energy(x) for x in X]))
+    if meshes.m:
+        _, df = factor(X[:, 1] - meshes.phase[0], np.broadcast_to(meshes.A[0], (len(X), meshes.A.shape[1])),
+                       np.broadcast_to(meshes.P[0], (len(X), meshes.P.shape[1])))
+        power = 0.5 * meshes.k0[0] * df * XD[:, 1] * X[:, 0] ** 2     # the missing power
+    else:
+        power = np.zeros(len(X))
     work = np.concatenate([[0.0], np.cumsum(0.5 * dt * (power[1:] + power[:-1]))])
     return E - E[0], work, E[0]
 
@@ -398,7 +411,7 @@ def test_integrate_equals_integrate_linear(scheme):
     dt, t_end = 2e-4, 0.2
     ref = integrate_linear(M, None, K, force, q0, v0, dt, t_end, scheme)
     run = integrate(M, None, K, force, q0, v0, dt, t_end, scheme, nonlinear=Meshes(model),
-                    observe=lambda q, v, a, nu: np.concatenate([q, v]))
+                    observe=state_rows(n, q=True, v=True))
     scale = np.max(np.abs(ref.q))
     assert np.max(np.abs(run.y[:, :n] - ref.q)) <= 1e-12 * scale
     # v+ = v + dt (a + a+)/2 carries the accelerations' round-off, which the stiffest mode (the
@@ -422,7 +435,7 @@ def test_integrate_is_modal_superposition_at_the_numerical_frequencies():
     rng = np.random.default_rng(11)
     q0, v0 = 1e-4 * rng.normal(size=n), rng.normal(size=n)
     dt, t_end = 2e-4, 0.2
-    run = integrate(M, None, K, _zero(n), q0, v0, dt, t_end, nonlinear=Meshes(model))
+    run = integrate(M, None, K, _zero(n), q0, v0, dt, t_end, nonlinear=Meshes(model), observe=state_rows(n))
     x0, xd0 = Phi.T @ M @ q0, Phi.T @ M @ v0
     w = np.sqrt(lam)
     k = np.arange(len(run.time_s))[:, None]
@@ -554,3 +567,61 @@ def test_brake_stops_a_rigid_drivetrain_without_reversing():
     assert np.all(tail >= 0.0) and np.all(tail <= stick)
     big = tail[:-1] > 1e-12 * stick
     assert np.allclose(tail[1:][big] / tail[:-1][big], r, rtol=1e-6)
+
+
+# ---------------------------------------------------------------------------------------------
+# 4. The three steps agree: the compiled step (numba), the Python step on the same compiled
+# laws, and the Python step with numba absent (the laws on numpy arrays, Newton's matrix summed
+# in the compiled order, the same LAPACK solve) do the same arithmetic, so every physics run
+# above gives the same numbers on each to round-off: 1e-12 of each output's largest value.
+# ---------------------------------------------------------------------------------------------
+AGREE = 1e-12
+
+
+def _on_three_steps(run, monkeypatch) -> None:
+    """``run()`` -> {name: array} on the three steps, each output within AGREE of the compiled one."""
+    from assembly.dynamics import jit
+    out = {}
+    for name, enabled, compiled in (("compiled", True, True), ("python", False, True), ("no numba", False, False)):
+        monkeypatch.setattr(jit, "ENABLED", enabled)
+        monkeypatch.setattr(jit, "COMPILED", compiled)
+        out[name] = run()
+    ref = out["compiled"]
+    for name in ("python", "no numba"):
+        for key, y in out[name].items():
+            y0 = np.asarray(ref[key], float)
+            assert np.all(np.isfinite(y)), (name, key)
+            assert np.max(np.abs(np.asarray(y, float) - y0)) <= AGREE * np.max(np.abs(y0)), (name, key)
+
+
+def _dead_zone_rows(b_over_a: float) -> dict:
+    b = b_over_a * A_DZ
+    model, M, K, _ = _pair(J1=1.0, J2=J_DZ, r1=0.05, r2=R_DZ, k=K_DZ, backlash=b, fix_gear1=True)
+    meshes = Meshes(model)
+    w = math.sqrt(K_DZ * R_DZ ** 2 / J_DZ)
+    run = integrate(M, None, K, _zero(1), [A_DZ / R_DZ], [0.0], 2 * math.pi / w / 200,
+                    10 * (2 * math.pi / w + 2 * b / (w * A_DZ)), nonlinear=meshes, observe=_rows(meshes.U[:, 0]))
+    return {"rows": run.y, "losses": meshes.losses.astype(float)}
+
+
+def _brake_rows(stick: float) -> dict:
+    w_n = math.sqrt(KS * (1 / JR + 1 / JG))
+    dt = 2 * math.pi / w_n / 100
+    t_d, t_r = 10 * dt, 400 * dt
+    model = assemble(_brake_scene(stick, t_d, t_r))
+    res = simulate(model, t_d + t_r / 2 + (JR + JG) * OMEGA / TBRAKE + 0.1, dt, outputs=["speed:rotor", "speed:gen"])
+    return dict(res.outputs)
+
+
+def test_the_three_steps_agree_on_every_physics_run(step_path, monkeypatch):
+    if step_path != "compiled":
+        pytest.skip("runs the three steps itself, once")
+    lo, hi = _region()
+    _on_three_steps(lambda: {"states": _mathieu_run(lo + 0.5 * (hi - lo))[0]}, monkeypatch)    # Mathieu, growing
+    _on_three_steps(lambda: {"states": _mathieu_run(1.0, zeta=0.02)[0]}, monkeypatch)          # damped
+    for b_over_a in (0.5, 2.0):                                                                 # dead zone
+        _on_three_steps(lambda: _dead_zone_rows(b_over_a), monkeypatch)
+    for consistent in (True, False):                                                            # energy
+        _on_three_steps(lambda: dict(zip(("dE", "work"), _energy_run(consistent, 2e-6)[:2])), monkeypatch)
+    for stick in (1e-2, 1e-3):                                                                  # brake stop
+        _on_three_steps(lambda: _brake_rows(stick), monkeypatch)

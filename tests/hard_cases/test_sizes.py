@@ -149,6 +149,8 @@ def test_the_history_estimate_bounds_what_the_integrator_allocates():
     rng = random.Random(7)
     n = 4
     M, K = np.eye(n), np.diag([1.0, 2.0, 3.0, 4.0]) * 1e4
+    # the step's compiled functions (numba, when installed) loaded once, outside the measure
+    integrate(M, None, K, lambda t: np.zeros(n), np.ones(n), np.zeros(n), 1e-4, 1e-3, nonlinear=Stack([], n))
     for _ in range(examples(3)):       # tracemalloc slows each step ~100x: few steps, many values
         steps, rows = rng.randint(500, 1500), rng.randint(50, 1000)
         R = np.ones((rows, n))
@@ -186,8 +188,9 @@ def test_the_campbell_estimate_bounds_what_it_allocates(scenes):
 
 def test_the_refusal_comes_where_the_estimate_passes_the_budget(scenes, monkeypatch, capsys):
     # 100 steps recording one value: 101 x (8 + 12) B, the time and the Newton count included, and
-    # the state of the pair's 2 coordinates (no nonlinear force): 8 x 2 x 12 B
-    need = 101 * (8 + STEP_BYTES) + 8 * 2 * 12
+    # the state of the pair's 2 coordinates (no nonlinear force): 8 x 2 x 12 B, and the predictor's
+    # map of its dense model (2 x 6 values, transient.check_history): 24 x 2^2 B
+    need = 101 * (8 + STEP_BYTES) + 8 * 2 * 12 + 24 * 2 ** 2
     scene = load_scene(scenes["pair"])
     monkeypatch.setattr(budget, "memory_budget", lambda: need - 1)
     with pytest.raises(SceneError, match=r"t_end = 0\.01: the history of 100 steps .* 1 recorded values"):

@@ -35,13 +35,18 @@ def tiny_body(name: str = "bar"):
 
 def stop_after(steps: int, calls: list | None = None):
     """``integrate`` that stops after ``steps`` steps (simulate's positional call: ``(M, C, K,
-    force, q0, v0, dt, t_end, scheme, ...)``); each call is appended to ``calls``."""
+    force, q0, v0, dt, t_end, scheme, ...)``, and its ``history``, closed as stopped); each
+    call is appended to ``calls``."""
     from assembly.dynamics.transient import Diverged, integrate
 
-    def stops(*args):
+    def stops(*args, history=None):
         if calls is not None:
             calls.append(args[7])
-        full = integrate(*args[:7], steps * args[6], *args[8:])
-        raise Diverged(STOP_REASON, type(full)(full.time_s, full.y, full.iterations, full.scheme,
-                                               {"stopped": STOP_REASON}, complete=False))
+        held = None if history is None else SimpleNamespace(append=history.append, close=lambda *a: None)
+        full = integrate(*args[:7], steps * args[6], *args[8:], history=held)
+        info = {"stopped": STOP_REASON, "steps": steps}
+        if history is not None:
+            history.close(False, info)
+        raise Diverged(STOP_REASON, type(full)(full.time_s, full.y, full.iterations, full.scheme, info,
+                                               complete=False, history=history))
     return stops

@@ -1,18 +1,22 @@
 """Benchmark (not a test): time-domain runs (``flexgear simulate``), their cost and the reduction's error.
 
 ``flexgear bench transient [--steps 5000] [--repeat 20000] [--seconds 10] [--no-flexible]
-[--t-end 0.05] [--dt DT] [--no-full]`` prints three Markdown tables (times in s unless
-marked, peak resident memory in MB):
+[--t-end 0.05] [--dt DT] [--no-full] [--tables 1,2,3,4]`` prints Markdown tables (times in s
+unless marked, peak resident memory in MB): 1-3 below, 4 beside Exudyn
+(:mod:`~assembly.app.bench.transient_peer`), 5 a 600 s run through the command line
+(:mod:`~assembly.app.bench.transient_long`), 6 a batch of 600 s load cases on Dask workers
+(:mod:`~assembly.app.bench.transient_batch`); 5 and 6 run on demand only:
 
-1. **per-step cost** on ``nrel5mw`` (rigid) and ``nrel5mw_flexible`` at rated operation
-   (rotor 1.2671 rad/s = 12.1 rpm, generator 43 093.55 N m, rotor 43 093.55 x 96.354 N m;
-   Jonkman 2009), every mesh of both planetary stages and of the helical stage with the
-   stiffness driven by the gear angle (``step`` 0.3, contact ratio from the teeth) and normal
-   backlash 0.40 mm (Nejad et al. 2016), dt = 1e-4 s, ``--steps`` steps: the time of a step,
-   ``(wall_s - factor_s) / steps`` of the run's ``info``, against one bare solve with the
-   run's constant factorisation (``transient.Solver(A0).solve(b)``, median of 5 blocks of
-   ``--repeat`` calls, the run's BLAS threads), and against the step's linear algebra alone
-   (that solve and the products with K, C and M); Newton iterations a step, rank m of U;
+1. **per-step cost** on the shipped ``nrel5mw_transient`` (126 DOFs, 13 meshes with the
+   stiffness driven by the gear angle and 0.40 mm backlash: rank 26) and its flexible
+   variant (stage 1 and 2 carriers and the stage-3 wheel flexible, 322 DOFs), dt = 1e-4 s,
+   ``--steps`` steps from the static start, one BLAS thread: the step time
+   (``(wall_s - factor_s) / steps`` of the run's ``info``) of the compiled step
+   (numba; after a run that compiles it) and of the Python step, against one dense
+   back-substitution of the same size measured in the same run (``Solver(A0).solve(b)``, the
+   kept inverse times a vector, median of 5 blocks of ``--repeat``); the ratio, and the step's
+   goals (at most 12x / 5x that back-substitution, 30 / 60 us); then ``--estimate`` s of each
+   scene compiled and the 600 s run it extrapolates to (goals: 4 and 7 minutes);
 2. **``--seconds`` of the drivetrain** (same scenes and settings, dt = 1e-4 s): wall time of
    ``simulate`` (model assembled before), steps/s, contact-loss events, mean main-shaft
    torque (``torque:main_shaft``, its rotor-side element) against the rated rotor torque;
@@ -28,6 +32,8 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
+import os
 import statistics
 import sys
 import time
@@ -36,29 +42,12 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .drivetrain import machine, peak_rss_mb
+from .rated import BACKLASH, DT_5MW, GENERATOR_TORQUE, RATIO, STEP, rated_5mw
+from .transient_batch import batch_table
+from .transient_long import long_table
+from .transient_peer import peer_table
 
 log = logging.getLogger(__name__)
-
-RATED_SPEED = 1.2671              # rad/s: 12.1 rpm rated rotor speed [Jonkman 2009]
-GENERATOR_TORQUE = 43093.55       # N m: rated generator torque [Jonkman 2009]
-RATIO = 96.354                    # the scenes' overall ratio from the teeth (nrel5mw.toml header)
-STEP, BACKLASH = 0.3, 4.0e-4      # dk/k0 of every mesh; normal backlash m [Nejad et al. 2016]
-DT_5MW = 1e-4                     # s
-
-
-def rated_5mw(name: str):
-    """The NREL 5 MW scene ``name`` at rated operation, every mesh angle-driven with backlash."""
-    from ...scene.schema import load_scene
-    scene = load_scene(name)
-    ch = {"simulation": {"speed": RATED_SPEED, "generator": {"torque": GENERATOR_TORQUE},
-                         "loads": [{"body": "rotor", "value": GENERATOR_TORQUE * RATIO}]}}
-    for i, _ in enumerate(scene.stages):
-        ch.update({f"stages[{i}].variation_sun": {"step": STEP}, f"stages[{i}].variation_ring": {"step": STEP},
-                   f"stages[{i}].backlash": BACKLASH})
-    for i, _ in enumerate(scene.meshes):
-        ch.update({f"meshes[{i}].variation": {"step": STEP}, f"meshes[{i}].backlash": BACKLASH})
-    return scene.with_values(ch)
-
 
 def bare_solve(model, scene, dt: float, repeat: int) -> tuple[float, float, str]:
     """(s per solve with the run's constant factorisation, s per solve + products with K, C
@@ -137,6 +126,8 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--steps", type=int, default=5000, help="steps of the per-step runs (table 1)")
     p.add_argument("--repeat", type=int, default=20000, help="bare solves a timing block (table 1)")
     p.add_argument("--seconds", type=float, default=10.0, help="simulated time of table 2 (s)")
+    p.add_argument("--estimate", type=float, default=10.0,
+                   help="table 1: simulated time of the compiled run that estimates 600 s (s; 0: none)")
     p.add_argument("--no-flexible", action="store_true", help="tables 1, 2: nrel5mw only")
     p.add_argument("--t-end", type=float, default=0.05, help="table 3: simulated time (s)")
     p.add_argument("--dt", type=float, default=None, help="table 3: time step (s; default 1 / (10 band_hz))")
@@ -147,10 +138,18 @@ def main(argv=None, out=None) -> int:
     p.add_argument("--cutoff-factor", type=float, default=3.0,
                    help="table 3: the reduced bodies keep their fixed-interface modes up to this x the band "
                         "(default 3; the scene's default is 1.5)")
-    p.add_argument("--tables", default="1,2,3", help="which tables to print (default 1,2,3)")
+    p.add_argument("--peer-seconds", type=float, default=1.0, help="table 4: simulated time beside Exudyn (s)")
+    p.add_argument("--long-seconds", type=float, default=600.0,
+                   help="table 5: the long run (s; default 600, one IEC 61400-1 load case)")
+    p.add_argument("--short-seconds", type=float, default=10.0, help="table 5: the short run it is compared with (s)")
+    p.add_argument("--batch-seconds", type=float, default=600.0,
+                   help="table 6: simulated time of each load case of the batch (s; default 600)")
+    p.add_argument("--workers", type=int, default=2, help="table 6: Dask worker processes (default 2)")
+    p.add_argument("--tables", default="1,2,3,4", help="which tables to print (default 1,2,3,4; 5 and 6 run 600 s "
+                                                        "cases and take tens of minutes)")
     a = p.parse_args(argv)
     tables = {int(x) for x in a.tables.split(",") if x.strip()}
-    names = (["nrel5mw"] + ([] if a.no_flexible else ["nrel5mw_flexible"])) if tables & {1, 2} else []
+    names = (["nrel5mw"] + ([] if a.no_flexible else ["nrel5mw_flexible"])) if 2 in tables else []
     cases = {}
     for name in names:
         scene = rated_5mw(name)
@@ -163,28 +162,116 @@ def main(argv=None, out=None) -> int:
         _drivetrain(cases, a, out)
     if 3 in tables:
         _reduced_vs_unreduced(a, out)
+    flex = [] if a.no_flexible else ["nrel5mw_flexible"]
+    if 4 in tables:
+        peer_table(["nrel5mw", *flex], DT_5MW, a.peer_seconds, out)
+    if 5 in tables:
+        long_table(["nrel5mw", *flex], a.long_seconds, a.short_seconds, DT_5MW, out)
+    if 6 in tables:
+        batch_table(a.batch_seconds, a.short_seconds, a.workers, out)
     return 0
 
 
+def transient_scenes(flexible: bool = True) -> dict:
+    """{name: scene}: the shipped ``nrel5mw_transient`` and its flexible variant (the bodies
+    ``nrel5mw_flexible`` makes flexible)."""
+    from ...scene.schema import load_scene
+    scene = load_scene("nrel5mw_transient")
+    out = {"nrel5mw_transient": scene}
+    if flexible:
+        out["nrel5mw_transient, flexible"] = scene.with_values({f: "flexible" for f in FLEXIBLE})
+    return out
+
+
+#: The bodies of nrel5mw_flexible.toml that are flexible
+FLEXIBLE = ("stages.stage1.carrier.fidelity", "stages.stage2.carrier.fidelity", "bodies.wheel.fidelity")
+#: The compiled step's goals per step at 126 and 322 DOFs: x one back-substitution, and us
+GOALS = {126: (12.0, 30.0), 322: (5.0, 60.0)}
+#: Interleaved rounds of the compiled step's timing (table 1)
+ROUNDS = 5
+#: The compiled step's goals for 600 s at dt = 1e-4 s (min), rigid and flexible
+GOALS_600 = {126: 4.0, 322: 7.0}
+
+
+def step_time(model, steps: int, compiled: bool) -> tuple[float, dict]:
+    """(s per step, run info) of ``steps`` steps of 1e-4 s on the compiled or the Python step."""
+    from ...dynamics import jit
+    from ...dynamics.simulate import simulate
+    saved = jit.ENABLED
+    jit.ENABLED = compiled
+    try:
+        r = simulate(model, steps * DT_5MW, DT_5MW)
+    finally:
+        jit.ENABLED = saved
+    i = r.info
+    if i["compiled"] is not compiled:
+        raise RuntimeError(f"the run took the {'compiled' if i['compiled'] else 'Python'} step")
+    return (i["wall_s"] - i["factor_s"]) / i["steps"], i
+
+
 def _per_step(cases, a, out) -> None:
-    print(f"`flexgear bench transient` 1: per-step cost against the bare solve; {machine()}\n", file=out)
-    print("| scene | DOFs | rank m | Newton iterations / step | solver | step [us] | bare solve [us] | "
-          "step / bare solve | solve + K, C, M products [us] | step / those |", file=out)
-    print("|---|---|---|---|---|---|---|---|---|---|", file=out)
-    warn = set()
-    for name, (scene, model, _) in cases.items():
-        r, _, _ = timed(model, a.steps * DT_5MW, DT_5MW, [])
-        i = r.info
-        step = (i["wall_s"] - i["factor_s"]) / i["steps"]
-        solve, algebra, kind = bare_solve(model, scene, DT_5MW, a.repeat)
-        warn.update(r.warnings)
-        print(f"| {name} | {i['dofs']} | {i['rank']} | {i['mean_iterations']:.2f} | {kind} | {step * 1e6:.1f} | "
-              f"{solve * 1e6:.2f} | {step / solve:.0f} | {algebra * 1e6:.2f} | {step / algebra:.0f} |", file=out)
-    print(f"\nNotes: {a.steps} steps of {DT_5MW:g} s from the static start, rated operation; every mesh "
-          f"angle-driven (step {STEP}) with backlash {BACKLASH * 1e3:.2f} mm. Step time from the run's info "
-          "(its wall_s less factor_s: both factorisations). Bare solve: "
-          f"one `Solver(A0).solve(b)`, median of 5 blocks of {a.repeat}. The goal is a step within 3x a bare "
-          "solve. simulate's warnings: " + ("; ".join(sorted(warn)) or "none") + ".\n", file=out)
+    from ...dynamics import jit
+    from ...model.assemble import assemble
+    if not jit.COMPILED:
+        print("`flexgear bench transient` 1: numba is not installed (make installs the speed extra); the compiled "
+              "step is not measured.\n", file=out)
+    load0 = os.getloadavg()
+    rows, long_rows = [], []
+    with threadpool_limits(1):
+        for name, scene in transient_scenes(not a.no_flexible).items():
+            model = assemble(scene)
+            n = model.K.shape[0]
+            python, pinfo = step_time(model, a.steps, False)
+            if jit.COMPILED:
+                step_time(model, 10, True)                      # compiles (or loads numba's cache)
+                # rounds of a run and a back-substitution block, interleaved so that both see the
+                # machine alike (a shared machine's speed drifts by some 10 % over a minute); the
+                # medians of the step, the back-substitution and their ratio
+                rounds = []
+                for _ in range(ROUNDS):
+                    c = step_time(model, a.steps, True)[0]
+                    b, _, kind = bare_solve(model, scene, DT_5MW, a.repeat)
+                    rounds.append((c, b, c / b))
+                compiled, solve, ratio = (statistics.median(x) for x in zip(*rounds))
+            else:
+                compiled, ratio = math.nan, math.nan
+                solve, _, kind = bare_solve(model, scene, DT_5MW, a.repeat)
+            rows.append((name, n, pinfo["rank"], pinfo["mean_iterations"], kind, compiled, python, solve, ratio))
+            if jit.COMPILED and a.estimate > 0:
+                from ...dynamics.simulate import simulate
+                t0 = time.perf_counter()
+                r = simulate(model, a.estimate, DT_5MW)
+                wall = time.perf_counter() - t0
+                long_rows.append((name, n, a.estimate, wall, r.info["mean_iterations"], r.info["losses_total"],
+                                  wall * 600.0 / a.estimate / 60.0))
+    load1 = os.getloadavg()
+    print(f"`flexgear bench transient` 1: per-step cost against one back-substitution, one thread; {machine()}\n",
+          file=out)
+    print("| scene | DOFs | rank m | Newton iterations / step | solver | compiled step [us] | Python step [us] | "
+          "back-substitution [us] | compiled / back-substitution | goal | Python / back-substitution | holds |",
+          file=out)
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|", file=out)
+    for name, n, m, its, kind, c, p, solve, r in rows:
+        goal, us = GOALS.get(n, (math.nan, math.nan))
+        holds = "yes" if r <= goal and c * 1e6 <= us else ("no" if c == c else "")
+        print(f"| {name} | {n} | {m} | {its:.2f} | {kind} | {c * 1e6:.1f} | {p * 1e6:.1f} | {solve * 1e6:.2f} | "
+              f"{r:.1f} | <= {goal:g}x, <= {us:g} us | {p / solve:.0f} | {holds} |", file=out)
+    print(f"\nNotes: {a.steps} steps of {DT_5MW:g} s from the static start; step time from the run's info (wall_s "
+          "less factor_s). Back-substitution: one `Solver(A0).solve(b)` of the run's effective matrix (the kept "
+          f"inverse times a vector), median of 5 blocks of {a.repeat}. The compiled step: {ROUNDS} rounds of a run "
+          "and a back-substitution measurement, interleaved; the medians of the step, the back-substitution and "
+          "their ratio (the Python step: one run). Load average (1, 5, 15 min) "
+          f"{', '.join(f'{x:.2f}' for x in load0)} before, {', '.join(f'{x:.2f}' for x in load1)} after; "
+          "the absolute goals hold at load below 1.\n", file=out)
+    if long_rows:
+        print("| scene | DOFs | simulated [s] | simulate, compiled [s] | Newton iterations / step | contact losses | "
+              "600 s estimate [min] | goal [min] |", file=out)
+        print("|---|---|---|---|---|---|---|---|", file=out)
+        for name, n, secs, wall, its, losses, est in long_rows:
+            print(f"| {name} | {n} | {secs:g} | {wall:.1f} | {its:.2f} | {losses} | {est:.1f} | "
+                  f"< {GOALS_600.get(n, math.nan):g} |", file=out)
+        print("\nNotes: the whole `simulate` call (static start, setup, integration; the model assembled before), "
+              "x 600 / simulated seconds.\n", file=out)
 
 
 def _drivetrain(cases, a, out) -> None:

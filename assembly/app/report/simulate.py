@@ -16,9 +16,21 @@ partial: the history is ``partial_simulation.h5`` (attributes ``complete`` False
 ``stopped``, the reason), ``summary.json`` has ``"complete": false`` and ``"stopped"``,
 ``index.html`` says so at the top. Without ``--out`` nothing is written (the summary or
 ``--json`` is printed). The command ends with the reason and exit code 1.
+
+With ``--out`` (and no ``--json``) the histories stream: the run writes
+``partial_simulation.h5`` in the work folder as it goes (:class:`assembly.dynamics.history.H5History`),
+renamed ``simulation.h5`` when it completes, and the summary's statistics are accumulated on
+the fly. The pictures are made from the file read back in blocks (never the whole history):
+a trace draws the min and max of each of :data:`PLOT_COLUMNS` columns (:func:`envelope`;
+the file keeps every step), a spectrum longer than :data:`SEGMENT` samples is averaged over
+segments (:func:`spectrum_blocks`), and a spectrum of more than 2 x :data:`PLOT_COLUMNS` lines
+draws its min and max per column too. A run killed (SIGKILL) leaves its history, marked
+incomplete, in the work folder ``.DIR.partial-<hex>/partial_simulation.h5`` beside DIR
+until the next run into DIR clears it (:mod:`assembly.app.output`).
 """
 from __future__ import annotations
 
+import dataclasses
 import html
 import sys
 import time
@@ -26,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...dynamics.history import read_blocks
 from ...dynamics.simulate import SimulationResult
 from .. import strict_json
 from .html import figure
@@ -34,6 +47,10 @@ from .html import figure
 MARKED_HARMONICS = 3
 #: The history file of a complete run and of a run that stopped.
 H5_COMPLETE, H5_PARTIAL = "simulation.h5", "partial_simulation.h5"
+#: Columns of a time trace's picture: a longer history draws each column's min and max.
+PLOT_COLUMNS = 2000
+#: Samples of a spectrum's segment: a longer history's spectrum is the segments' average.
+SEGMENT = 2 ** 17
 
 
 def h5_name(r: SimulationResult) -> str:
@@ -53,6 +70,85 @@ def spectrum(time_s: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return np.fft.rfftfreq(n, time_s[1] - time_s[0]), 2.0 * np.abs(Y) / w.sum()
 
 
+def blocks(r: SimulationResult, name: str):
+    """(t, y) blocks of output ``name``, in order: read back from ``r.history_file`` when
+    the run streamed there, else the arrays as one block."""
+    if r.history_file is not None:
+        yield from read_blocks(r.history_file, name)
+    else:
+        yield r.time_s, r.outputs[name]
+
+
+def envelope(parts, n: int, columns: int = PLOT_COLUMNS) -> tuple[np.ndarray, np.ndarray]:
+    """What a trace draws of the ``n`` samples of the (t, y) blocks ``parts``: all of them
+    when ``n <= 2 columns``, else per column (consecutive samples ``c n / columns`` to ``(c +
+    1) n / columns``) its min and max at its first time, in order: every extreme is drawn."""
+    if n <= 2 * columns:
+        got = list(parts)
+        return (np.concatenate([t for t, _ in got]) if got else np.zeros(0),
+                np.concatenate([y for _, y in got]) if got else np.zeros(0))
+    lo, hi, tc = np.full(columns, np.inf), np.full(columns, -np.inf), np.full(columns, np.nan)
+    start = 0
+    for t, y in parts:
+        k = len(y)
+        if not k:
+            continue
+        col = (np.arange(start, start + k) * columns) // n
+        cuts = np.flatnonzero(np.diff(col)) + 1
+        first = np.concatenate([[0], cuts])
+        c = col[first]
+        lo[c] = np.minimum(lo[c], np.minimum.reduceat(y, first))
+        hi[c] = np.maximum(hi[c], np.maximum.reduceat(y, first))
+        tc[c] = np.fmin(tc[c], t[first])
+        start += k
+    seen = np.isfinite(tc)
+    return np.repeat(tc[seen], 2), np.column_stack([lo[seen], hi[seen]]).ravel()
+
+
+def spectrum_blocks(parts, n: int, mean: float, segment: int = SEGMENT) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`spectrum` of the ``n`` samples of the (t, y) blocks ``parts`` (``mean``: the
+    history's): the whole history's when ``n <= segment``, else the average of the power of
+    consecutive segments of ``segment`` samples (Welch, Hann window, no overlap; a remainder
+    shorter than a segment left out), so that a sinusoid of amplitude A still shows A."""
+    if n <= segment:
+        got = list(parts)
+        if not got:
+            return np.zeros(0), np.zeros(0)
+        return spectrum(np.concatenate([t for t, _ in got]), np.concatenate([y for _, y in got]))
+    w = np.hanning(segment)
+    power, count, buf, fill, dt = np.zeros(segment // 2 + 1), 0, np.empty(segment), 0, None
+    for t, y in parts:
+        if dt is None and len(t) > 1:
+            dt = float(t[1] - t[0])
+        a = 0
+        while a < len(y):
+            k = min(segment - fill, len(y) - a)
+            buf[fill:fill + k] = y[a:a + k]
+            fill, a = fill + k, a + k
+            if fill == segment:
+                power += np.abs(np.fft.rfft((buf - mean) * w)) ** 2
+                count, fill = count + 1, 0
+    return np.fft.rfftfreq(segment, dt), 2.0 * np.sqrt(power / count) / w.sum()
+
+
+def release_memory() -> None:
+    """Give the memory freed so far back to the system (glibc's ``malloc_trim``; nothing
+    elsewhere): the pictures' arrays and renderers, freed after each output, otherwise stay in
+    a fragmented heap and the process's peak grows by picture, by some 100-250 MB over 13
+    outputs of a long run (measured), whatever the run's length."""
+    import ctypes
+    import ctypes.util
+    import gc
+    gc.collect()
+    name = ctypes.util.find_library("c")
+    try:
+        trim = getattr(ctypes.CDLL(name), "malloc_trim", None) if name else None
+    except OSError:
+        trim = None
+    if trim is not None:
+        trim(0)
+
+
 def marks(r: SimulationResult) -> list:
     """(Hz, label, kind) of the mesh harmonics and sidebands to mark on the spectra."""
     out = []
@@ -64,14 +160,13 @@ def marks(r: SimulationResult) -> list:
 
 
 def summary(r: SimulationResult, scene: str) -> dict:
-    """Per output its mean, RMS, min, max and peak |value|; the meshes' contact losses."""
-    rows = {}
-    for k, y in r.outputs.items():
-        rows[k] = {"unit": r.units[k], "mean": float(np.mean(y)), "rms": float(np.sqrt(np.mean(y * y))),
-                   "min": float(np.min(y)), "max": float(np.max(y)),
-                   "peak": float(np.max(np.abs(y))), "peak_time_s": float(r.time_s[int(np.argmax(np.abs(y)))])}
+    """Per output its mean, RMS, min, max and peak |value| with its time (the statistics the
+    run accumulated, :class:`assembly.dynamics.history.Statistics`); the meshes' contact
+    losses."""
+    rows = {k: {"unit": v["unit"], **{s: float(v[s]) for s in ("mean", "rms", "min", "max", "peak", "peak_time_s")}}
+            for k, v in r.statistics.items()}
     return {"scene": scene, "complete": r.complete, "stopped": None if r.complete else r.info.get("stopped"),
-            "t_end_s": float(r.time_s[-1]), "steps": len(r.time_s) - 1,
+            "t_end_s": float(r.t_last_s), "steps": r.steps,
             "outputs": rows, "meshes": r.meshes, "mesh_frequencies_hz": r.mesh_frequencies_hz,
             "warnings": r.warnings, "info": {k: v for k, v in r.info.items() if not k.startswith("_")}}
 
@@ -108,6 +203,16 @@ def write_h5(r: SimulationResult, path, scene: str, facts: dict | None = None) -
     return Path(path)
 
 
+def finish_h5(path, scene: str, facts: dict) -> Path:
+    """A streamed history file (:class:`assembly.dynamics.history.H5History`, closed) given
+    the attributes :func:`write_h5` writes: ``scene`` and ``summary`` (``facts``)."""
+    import h5py
+    with h5py.File(path, "r+") as f:
+        f.attrs["scene"] = scene
+        f.attrs["summary"] = strict_json.dumps(facts)
+    return Path(path)
+
+
 def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
     e = html.escape
     rows = "".join(f"<tr><td>{e(k)}</td><td>{e(v['unit'])}</td><td>{v['mean']:.6g}</td><td>{v['rms']:.6g}</td>"
@@ -138,32 +243,56 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
     """Write simulation.h5, the traces and spectra, summary.json and index.html atomically;
     the partial result of a stopped run (``r.complete`` False) likewise, marked as partial
     (module notes)."""
-    from ..output import check_output_dir, staged_output, write_manifest, writing
-    from ..plots import plot_spectrum, plot_time_trace
+    from ..output import check_output_dir, staged_output, writing
 
     out_dir = Path(out_dir).absolute()
-    t0 = time.perf_counter()
     check_output_dir(out_dir)
-    s = summary(r, scene)
-    plots, mk = [], marks(r)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
-            write_h5(r, work / h5_name(r), scene, s)
-            (work / "summary.json").write_text(strict_json.dumps(s, indent=1), encoding="utf-8")
-            for i, (k, y) in enumerate(r.outputs.items()):
-                unit = r.units[k]
-                p = f"trace_{i + 1:02d}.png"
-                plot_time_trace(r.time_s, y, work / p, title=f"{scene}: {k}", ylabel=f"{k} [{unit}]")
-                plots.append((f"{k}: time history", p))
-                f, a = spectrum(r.time_s, y)
-                if len(f):
-                    p = f"spectrum_{i + 1:02d}.png"
-                    plot_spectrum(f, a, work / p, title=f"{scene}: {k}", ylabel=unit, marks=mk)
-                    plots.append((f"{k}: spectrum", p))
-            (work / "index.html").write_text(_index(r, scene, s, plots), encoding="utf-8")
-            files = [h5_name(r), "summary.json", *(p for _, p in plots), "index.html"]
-            info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
-                        complete=r.complete, outputs=list(r.outputs), time_s=round(time.perf_counter() - t0, 4),
-                        python=sys.version.split()[0])
-            write_manifest(work, info)
+            return sim_files(r, work, scene, scene_source)
+
+
+def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "") -> dict:
+    """The files of :func:`sim_to_dir` written into the work folder ``work``: the history
+    file from the arrays, or the streamed one (``r.history_file``: moved there, named for a
+    complete or partial run, when it is in ``work``, else copied); the pictures from it read
+    back in blocks (module notes). Returns the manifest."""
+    import shutil
+
+    from ..output import write_manifest
+    from ..plots import plot_spectrum, plot_time_trace
+
+    work, t0 = Path(work), time.perf_counter()
+    s = summary(r, scene)
+    plots, mk = [], marks(r)
+    h5 = work / h5_name(r)
+    if r.history_file is None:
+        write_h5(r, h5, scene, s)
+    else:
+        src = Path(r.history_file)
+        if src.absolute().parent == work.absolute():
+            src.rename(h5)
+        else:
+            shutil.copyfile(src, h5)
+        finish_h5(h5, scene, s)
+        r = dataclasses.replace(r, history_file=str(h5))
+    (work / "summary.json").write_text(strict_json.dumps(s, indent=1), encoding="utf-8")
+    n = r.steps + 1
+    for i, (k, row) in enumerate(s["outputs"].items()):
+        unit = row["unit"]
+        p = f"trace_{i + 1:02d}.png"
+        plot_time_trace(*envelope(blocks(r, k), n), work / p, title=f"{scene}: {k}", ylabel=f"{k} [{unit}]")
+        plots.append((f"{k}: time history", p))
+        f, a = spectrum_blocks(blocks(r, k), n, row["mean"])
+        if len(f):
+            p = f"spectrum_{i + 1:02d}.png"
+            plot_spectrum(*envelope([(f, a)], len(f)), work / p, title=f"{scene}: {k}", ylabel=unit, marks=mk)
+            plots.append((f"{k}: spectrum", p))
+        release_memory()
+    (work / "index.html").write_text(_index(r, scene, s, plots), encoding="utf-8")
+    files = [h5_name(r), "summary.json", *(p for _, p in plots), "index.html"]
+    info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
+                complete=r.complete, outputs=list(s["outputs"]), time_s=round(time.perf_counter() - t0, 4),
+                python=sys.version.split()[0])
+    write_manifest(work, info)
     return info

@@ -17,7 +17,8 @@ Results per analysis (:mod:`assembly.app.study.file` gives the settings):
   where it is, ``peak_hz[OUT]`` (Hz);
 * ``simulate``: per output the ``keep["stats"]`` of its history, ``peak[OUT]``,
   ``mean[OUT]``, ... (a stress output's history is its von Mises stress, Pa), and
-  ``contact_losses`` over all meshes.
+  ``contact_losses`` over all meshes. The statistics are accumulated as the run goes and no
+  history is kept (``simulate(..., arrays=False)``): a variant's memory is flat in ``t_end``.
 
 Columns about the run, not the result (:data:`RUN_COLUMNS`): ``time_s``, the superelements
 the variant took from the cache (``reductions_reused``) and built (``reductions_built``),
@@ -115,8 +116,8 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
         from ...dynamics.transient import Diverged
         from ..report.simulate import summary
         try:
-            r = simulate(scene, settings["t_end"], settings["dt"], settings["outputs"],
-                         base_dir=Path(scene_source).parent, speed=settings["speed"], full_fe=settings["unreduced"])
+            r = simulate(scene, settings["t_end"], settings["dt"], settings["outputs"], base_dir=Path(scene_source).parent,
+                         speed=settings["speed"], full_fe=settings["unreduced"], arrays=False)
         except Diverged as exc:
             raise SceneError("simulate", settings["t_end"], f"run stopped: {exc}") from None
         s = summary(r, scene.name)

@@ -1,0 +1,256 @@
+"""Where a time-domain run's history goes, as the run goes: the integrator hands over blocks of
+consecutive steps, in order (``append(t, y, iterations)``: times (k,) in s, recorded rows
+(k, n_obs), Newton iterations (k,)) and ends with ``close(complete, info)`` (``complete``
+False for a run that stopped; ``info['stopped']`` the reason). A block is the integrator's own
+buffer, reused for the next one: a history copies what it keeps.
+
+* :class:`MemoryHistory`: the rows in memory (what the Python API returns as arrays);
+* :class:`H5History`: the outputs in an HDF5 file, written and flushed block by block, so
+  that memory stays flat in the run's length and a run that is killed or stops leaves a
+  readable file with every step flushed so far, marked incomplete (layout in docs/output.md);
+* :class:`Statistics`: per output its mean, RMS, min, max and peak |value| with its time,
+  accumulated block by block (never the whole history);
+* :class:`Tee`: several of them at once.
+
+``split(y) -> ({name: (k,) history}, {name: unit})`` turns recorded rows into outputs
+(:meth:`assembly.dynamics.run_outputs.Recorder.histories`, row by row, so it applies to a
+block as to the whole).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+#: Steps the integrator buffers before it hands them to the history (fewer when the rows are
+#: many: :data:`BUFFER_BYTES`); also the HDF5 chunk length of a streamed history.
+CHUNK_STEPS = 8192
+#: Bytes the integrator's row buffer may take.
+BUFFER_BYTES = 16 * 2 ** 20
+#: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
+STEP_BYTES = 12
+#: The file attribute a streamed history carries until it is closed.
+#: HDF5 file format of a streamed history: the earliest, whose file a run killed mid-run leaves
+#: readable by any HDF5 reader ("latest" marks the file open for writing until it is closed, and
+#: such a file opens only after ``h5clear``); it keeps some 360 B of memory per chunk written.
+LIBVER = "earliest"
+RUNNING = "the run did not finish: it was killed, or is still running"
+
+
+def chunk_steps(rows: int) -> int:
+    """Steps of ``rows`` recorded values the integrator buffers between two appends."""
+    return max(1, min(CHUNK_STEPS, BUFFER_BYTES // (8 * rows + STEP_BYTES)))
+
+
+class MemoryHistory:
+    """The rows in memory: ``time_s`` (n_t,), ``y`` (n_t, n_obs), ``iterations`` (n_t,)
+    after :meth:`close`. ``capacity``: the number of steps to expect (the arrays are allocated
+    once at the first block; more steps than that raise ValueError), None: grown by blocks."""
+
+    def __init__(self, capacity: int | None = None):
+        self.capacity = capacity
+        self.n = 0
+        self._t = self._y = self._its = None
+        self._blocks = []
+        self.complete, self.info = False, {}
+
+    def buffers(self, rows: int) -> tuple[np.ndarray, np.ndarray]:
+        """The arrays of the rows (capacity, ``rows``) and of the iterations (capacity,) this
+        history will hold, for the integrator to fill in place: blocks appended from them are
+        not copied, so a run kept in memory holds its rows once."""
+        self._allocate(rows)
+        return self._y, self._its
+
+    def reserve(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(times, rows, Newton counts): views of this history's next ``k`` rows, for the
+        integrator to write its steps into before it appends them (no second copy of a block;
+        the rows' width is known once a first block has been appended)."""
+        a, b = self.n, self.n + k
+        return self._t[a:b], self._y[a:b], self._its[a:b]
+
+    def _allocate(self, rows: int) -> None:
+        if self._y is None:
+            self._t = np.empty(self.capacity)
+            self._y = np.empty((self.capacity, rows))
+            self._its = np.zeros(self.capacity, np.int32)
+
+    def append(self, t: np.ndarray, y: np.ndarray, iterations: np.ndarray) -> None:
+        k = len(t)
+        if self.capacity is None:
+            self._blocks.append((np.array(t, float), np.array(y, float), np.array(iterations, np.int32)))
+        else:
+            self._allocate(y.shape[1])
+            if self.n + k > self.capacity:
+                raise ValueError(f"{self.n + k} steps appended to a history of capacity {self.capacity}")
+            self._t[self.n:self.n + k] = t
+            if not np.may_share_memory(y, self._y):          # else: filled in place (buffers)
+                self._y[self.n:self.n + k] = y
+            if not np.may_share_memory(iterations, self._its):
+                self._its[self.n:self.n + k] = iterations
+        self.n += k
+
+    def close(self, complete: bool, info: dict) -> None:
+        self.complete, self.info = bool(complete), dict(info)
+        if self.capacity is None and self._blocks:
+            self._t, self._y, self._its = (np.concatenate(b) for b in zip(*self._blocks))
+            self._blocks = []
+
+    @property
+    def time_s(self) -> np.ndarray:
+        return self._t[:self.n] if self._t is not None else np.zeros(0)
+
+    @property
+    def y(self) -> np.ndarray:
+        return self._y[:self.n] if self._y is not None else np.zeros((0, 0))
+
+    @property
+    def iterations(self) -> np.ndarray:
+        return self._its[:self.n] if self._its is not None else np.zeros(0, np.int32)
+
+
+def neumaier(acc: tuple, x: float) -> tuple:
+    """``(sum, compensation)`` with ``x`` added (Neumaier's improved Kahan summation; Higham,
+    Accuracy and Stability of Numerical Algorithms, 2nd ed., sec. 4.3): ``sum + compensation``
+    is the total to about eps of it, whatever the number of terms."""
+    s, c = acc
+    t = s + x
+    c += (s - t) + x if abs(s) >= abs(x) else (x - t) + s
+    return t, c
+
+
+class Statistics:
+    """Per output (``split``: module notes) ``mean``, ``rms``, ``min``, ``max``, ``peak``
+    (largest |value|) and ``peak_time_s`` (its first time), accumulated block by block:
+    min, max and peak exact, the sums of the mean and RMS by numpy's pairwise sums per block
+    added across blocks with Neumaier's compensation (:func:`neumaier`), so they equal the
+    whole history's to round-off in memory that does not grow with the run. :meth:`result`
+    gives them, ``units`` the outputs' units."""
+
+    def __init__(self, split):
+        self.split = split
+        self.n = 0
+        self.units: dict = {}
+        self._acc: dict = {}
+        self.complete, self.info = False, {}
+
+    def append(self, t: np.ndarray, y: np.ndarray, iterations=None) -> None:
+        values, units = self.split(y)
+        self.add(t, values, units)
+
+    def add(self, t: np.ndarray, values: dict, units: dict | None = None) -> None:
+        """Account one block of outputs ``values`` {name: (k,)} at times ``t`` (k,)."""
+        if not len(t):
+            return
+        for name, v in values.items():
+            v = np.asarray(v, float)
+            a = self._acc.setdefault(name, {"sum": (0.0, 0.0), "sq": (0.0, 0.0), "min": math.inf,
+                                            "max": -math.inf, "peak": -1.0, "peak_time_s": math.nan})
+            a["sum"] = neumaier(a["sum"], float(np.sum(v)))
+            a["sq"] = neumaier(a["sq"], float(np.sum(v * v)))
+            a["min"], a["max"] = min(a["min"], float(np.min(v))), max(a["max"], float(np.max(v)))
+            mag = np.abs(v)
+            k = int(np.argmax(mag))
+            if mag[k] > a["peak"] or math.isnan(mag[k]):
+                a["peak"], a["peak_time_s"] = float(mag[k]), float(t[k])
+        self.units.update(units or {})
+        self.n += len(t)
+
+    def close(self, complete: bool, info: dict) -> None:
+        self.complete, self.info = bool(complete), dict(info)
+
+    def result(self) -> dict:
+        """{name: {"unit", "mean", "rms", "min", "max", "peak", "peak_time_s"}} so far ({}
+        before the first block)."""
+        out = {}
+        if not self.n:
+            return out
+        for name, a in self._acc.items():
+            out[name] = {"unit": self.units.get(name, ""), "mean": sum(a["sum"]) / self.n,
+                         "rms": math.sqrt(sum(a["sq"]) / self.n), "min": a["min"], "max": a["max"],
+                         "peak": a["peak"], "peak_time_s": a["peak_time_s"]}
+        return out
+
+
+class H5History:
+    """The outputs streamed to the HDF5 file ``path`` (which must not exist): ``/time_s`` (s)
+    and ``/outputs/NAME`` (attribute ``unit``; a ``/`` in NAME is written ``|``), chunked and
+    resizable, grown and flushed at every block; file attributes ``complete`` (False until
+    :meth:`close` says otherwise), ``stopped`` (why it is incomplete: :data:`RUNNING` while
+    the run goes) and ``steps`` (steps flushed, the first row being the start, step 0),
+    plus ``attrs``. ``split``: module notes."""
+
+    def __init__(self, path, split, attrs: dict | None = None, chunk: int = CHUNK_STEPS):
+        import h5py
+        self.path = Path(path)
+        self.split, self.chunk = split, max(1, int(chunk))
+        # never over a file that is there; no chunk cache (it kept up to 1 MB of written chunks per
+        # dataset): every block is written whole, once
+        self._f = h5py.File(self.path, "w-", rdcc_nbytes=0, libver=LIBVER)
+        self._f.attrs["complete"] = False
+        self._f.attrs["stopped"] = RUNNING
+        self._f.attrs["steps"] = -1
+        for k, v in (attrs or {}).items():
+            self._f.attrs[k] = v
+        self._time = self._grown("time_s", "s")
+        self._f.create_group("outputs")
+        self._out: dict = {}
+        self.n = 0
+        self.complete, self.info = False, {}
+        self._f.flush()
+
+    def _grown(self, name: str, unit: str):
+        d = self._f.create_dataset(name, shape=(0,), maxshape=(None,), chunks=(self.chunk,), dtype="f8")
+        d.attrs["unit"] = unit
+        return d
+
+    def append(self, t: np.ndarray, y: np.ndarray, iterations=None) -> None:
+        k = len(t)
+        if not k:
+            return
+        values, units = self.split(y)
+        if not self._out:
+            self._out = {name: self._grown(f"outputs/{name.replace('/', '|')}", units[name]) for name in values}
+        for d, v in ((self._time, t), *((self._out[name], values[name]) for name in self._out)):
+            d.resize((self.n + k,))
+            d[self.n:] = v
+        self.n += k
+        self._f.attrs["steps"] = self.n - 1
+        self._f.flush()
+
+    def close(self, complete: bool, info: dict) -> None:
+        self.complete, self.info = bool(complete), dict(info)
+        if not self._f:
+            return
+        self._f.attrs["complete"] = bool(complete)
+        if complete:
+            del self._f.attrs["stopped"]
+        else:
+            self._f.attrs["stopped"] = str(info.get("stopped", RUNNING))
+        self._f.close()
+
+
+class Tee:
+    """Several histories fed the same blocks, closed together."""
+
+    def __init__(self, *histories):
+        self.histories = histories
+
+    def append(self, t, y, iterations) -> None:
+        for h in self.histories:
+            h.append(t, y, iterations)
+
+    def close(self, complete: bool, info: dict) -> None:
+        for h in self.histories:
+            h.close(complete, info)
+
+
+def read_blocks(path, name: str, block: int = CHUNK_STEPS):
+    """(t, y) blocks of output ``name`` of an HDF5 history (:class:`H5History`'s layout), in
+    order, ``block`` steps at a time: the whole history never in memory."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        t, d = f["time_s"], f[f"outputs/{name.replace('/', '|')}"]
+        n = min(len(t), len(d))
+        for a in range(0, n, block):
+            yield t[a:a + block], d[a:a + block]
