@@ -1,9 +1,9 @@
 """Files that the ``rosco`` package installs (ROSCO, the NREL/TU Delft reference controller):
 its example turbines' performance tables and controller inputs, beside its compiled library.
 
-flexgear installs ``rosco`` without its Python toolbox's dependencies (``pip install --no-deps
-rosco``; the toolbox pulls in WISDEM and Jupyter, about 1.4 GB): only the package's files are
-used, and nothing here imports it.
+flexgear's Makefile installs ``rosco`` without its Python toolbox's dependencies (the toolbox
+pulls in WISDEM and Jupyter, about 1.4 GB): only the package's files are used, and nothing here
+imports it.
 """
 from __future__ import annotations
 
@@ -20,7 +20,8 @@ def rosco_root() -> Path:
     """The folder the ``rosco`` package was installed into (its ``Examples`` beside it)."""
     spec = importlib.util.find_spec("rosco")
     if spec is None or spec.origin is None:
-        raise SceneError("turbine", "rosco", "is not installed: pip install --no-deps rosco (make installs it)")
+        raise SceneError("turbine", "rosco", "is not installed (make installs it without its toolbox's "
+                                             "dependencies; README)")
     return Path(spec.origin).resolve().parent.parent
 
 
