@@ -1,0 +1,44 @@
+"""The rotor's quasi-steady aerodynamic torque as a nonlinear force of the time step: ``Q(Omega,
+V(t), beta(t))`` from the performance surface (:mod:`assembly.dynamics.rotor_surface`) on the
+rotor's rotation row, its speed tangent ``dQ/dOmega`` in Newton's matrix -- so the aerodynamic
+damping ``-dQ/dOmega`` acts through the surface's own slope, never added by hand.
+
+In the balance ``M q'' + C q' + K q + U nu = f`` of :mod:`assembly.dynamics.transient` a driving
+torque enters as ``nu = -sense Q`` along the rotor's row ``u`` (``sense`` = +1 when the rotor
+turns in the row's positive sense), with ``d nu / d q' = -dQ/dOmega`` (u' q' = sense Omega).
+The Python step runs it (the compiled step knows the meshes and shaft torques only).
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from .rotor_surface import RotorSurface, rotor_loads
+from .transient import Nonlinear
+
+
+class RotorAero(Nonlinear):
+    """The aerodynamic torque on the row ``u`` (n,) of the rotor's rotation (module notes):
+    ``surface``, ``radius`` (m), ``density`` (kg/m^3), ``wind(t)`` (m/s) and ``pitch(t)`` (rad)
+    the rotor-effective wind speed and the collective pitch; ``sense`` the rotor's turning sense
+    on ``u``. :attr:`last` holds the last :class:`assembly.dynamics.rotor_surface.RotorLoads`."""
+
+    def __init__(self, u, surface: RotorSurface, radius: float, density: float, wind: Callable[[float], float],
+                 pitch: Callable[[float], float], sense: float = 1.0):
+        self.U = np.asarray(u, float).reshape(-1, 1)
+        self.surface, self.radius, self.density = surface, radius, density
+        self.wind, self.pitch, self.sense = wind, pitch, float(sense)
+        self.last = None
+
+    def loads(self, t: float, xd: np.ndarray):
+        return rotor_loads(self.surface, self.radius, self.density, float(self.wind(t)), self.sense * float(xd[0]),
+                           float(self.pitch(t)))
+
+    def forces(self, t, x, xd):
+        ld = self.loads(t, xd)
+        self.last = ld
+        return np.array([-self.sense * ld.torque]), np.zeros(1), np.array([-ld.dq_domega])
+
+    def force_scale(self, nu):
+        return np.abs(nu)
