@@ -1,0 +1,74 @@
+"""The controller in the loop (assembly.dynamics.turbine_loop): ROSCO's compiled NREL 5 MW
+controller (its DISCON.IN) on the rotor and generator as one inertia with the rotor's
+aerodynamics from ROSCO's performance table, in a steady wind above rated.
+
+Checks:
+- the controller is called at its sample times and nowhere else (count and times);
+- the pitch actuator holds its closed form between samples;
+- above rated the loop settles at DISCON.IN's reference generator speed (PC_RefSpd = VS_RefSpd
+  = 122.90967 rad/s): the pitch PI's integral removes the steady error, so after 110 s of a
+  steady 16 m/s the speed equals it to the float32 swap array's resolution (2^-24 relative: the
+  speed the controller sees); the generator torque is VS_RtTq = 43 093.51876 N m there, the
+  pitch positive, and the rotor's aerodynamic torque balances the generator's through the ratio
+  (steady: J Omega' = 0).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from assembly.dynamics.discon import Discon
+from assembly.dynamics.observe_rows import state_rows
+from assembly.dynamics.rosco_data import NREL5MW_SURFACE, rosco_file
+from assembly.dynamics.rotor_aero import RotorAero
+from assembly.dynamics.rotor_surface import read_surface, rotor_loads
+from assembly.dynamics.sampled import Sampled
+from assembly.dynamics.transient import integrate
+from assembly.dynamics.turbine_loop import ControllerLoop, PitchActuator
+
+pytest.importorskip("rosco", reason="the rosco package (turbine extra) is not installed")
+R, RHO, N = 63.0, 1.225, 97.0                    # m, kg/m^3, gear ratio (Jonkman et al. 2009)
+J = 38759236.0 + 534.116 * N ** 2                # kg m^2 on the low-speed side
+REF, VS_RTTQ = 122.90967, 43093.51876            # rad/s, N m: DISCON.IN
+
+
+def test_pitch_actuator_between_samples():
+    a = PitchActuator(0.1, 0.0)
+    a.command(1.0, 0.2)
+    for dt in (0.0, 0.05, 0.3):
+        assert a.pitch(1.0 + dt) == pytest.approx(0.2 * (1 - math.exp(-dt / 0.1)), rel=1e-15, abs=0.0)
+    a.command(1.3, 0.0)                          # from where it was
+    assert a.pitch(1.3) == pytest.approx(0.2 * (1 - math.exp(-3.0)), rel=1e-15)
+
+
+def test_rosco_holds_rated_speed_above_rated(tmp_path):
+    s = read_surface(rosco_file(NREL5MW_SURFACE))
+    wind = 16.0
+    dt, period, t_end = 0.01, 0.01, 120.0
+    ctrl = Discon(rosco_file("rosco/lib/libdiscon.so"), rosco_file("Examples/Test_Cases/NREL-5MW/DISCON.IN"),
+                  workdir=tmp_path)
+    act = PitchActuator(0.0, math.radians(10.0))
+    loop = ControllerLoop(ctrl, [N], [1.0], period, lambda t: wind, act, efficiency=0.944, torque0=VS_RTTQ)
+    aero = RotorAero(np.ones(1), s, R, RHO, lambda t: wind, act.pitch)
+    try:
+        run = integrate(np.array([[J]]), None, np.zeros((1, 1)), lambda t: np.zeros(1), [0.0], [REF / N], dt, t_end,
+                        nonlinear=aero, observe=state_rows(1, q=False, v=True),
+                        sampled=Sampled(loop.vector(), period, loop.law))
+    finally:
+        ctrl.close()
+    n = round(t_end / period)
+    assert ctrl.calls == n and np.allclose(loop.times, np.arange(n) * period, rtol=0, atol=1e-9)
+    w_gen = N * run.y[:, 0]
+    last = run.time_s >= t_end - 10.0
+    F32 = 2.0 ** -24                              # the swap array's resolution: what the controller sees
+    assert np.max(np.abs(w_gen[last] / REF - 1)) <= 4 * F32
+    assert loop.torques[-1] == pytest.approx(VS_RTTQ, rel=2 * F32)
+    beta = act.pitch(t_end)
+    assert beta > 0.0
+    # steady: the aerodynamic torque is the generator's through the ratio, to the acceleration
+    # left over the last 10 s (J times the speed's spread over 10 s) and the torque's float32
+    ld = rotor_loads(s, R, RHO, wind, run.y[-1, 0], beta)
+    left = J * np.ptp(run.y[last, 0]) / 10.0
+    assert abs(ld.torque - N * loop.torques[-1]) <= left + 2 * F32 * N * loop.torques[-1]
