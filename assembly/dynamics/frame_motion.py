@@ -1,0 +1,58 @@
+"""The housing's motion and gravity as loads on every body: d'Alembert forces of the frame.
+
+The model's coordinates are measured from the housing (the bearings' and shafts' frame), so a
+prescribed housing motion -- a nacelle's translation and rotation ``a_h(t) = [a; alpha]`` at a
+reference point ``p0`` (6 values, global axes) -- moves every mass point with it, and in the
+housing's frame each body feels the inertia load of that rigid motion:
+
+    f_z = -M_abs r a_h,   f_q = T' f_z,
+
+``r`` (n_abs x 6) the housing's rigid-body field on the absolute coordinates z (a rigid body:
+the rigid transfer from ``p0`` to its centre of mass; a flexible body: its own rigid motions
+about its centre of mass in its axes, ``rigid_local``, driven by that transfer -- for a
+Craig-Bampton superelement its master nodes moved rigidly and its fixed-interface modes 0),
+``T`` the map z = T q, so that ``f_q`` is the virtual work of ``f_z`` on q (a DOF
+held to the housing takes its share as a reaction). Gravity is the same load with ``a_h =
+[-g; 0]``: ``g`` the gravity vector in the model's axes (the shaft tilt turns it).
+
+Terms kept: the frame's translational and angular accelerations; left out: the centrifugal and
+Coriolis terms of the frame's angular *velocity* (second order in a nacelle's small rotations)
+and the frame's motion's effect on the stiffness.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..mechanics.kinematics import block_rotation, rigid_transfer
+
+
+def housing_field(model, origin=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """``r`` (n_abs x 6): every absolute coordinate's motion under a unit rigid motion of the
+    housing at ``origin`` (module notes)."""
+    r = np.zeros((model.n_abs, 6))
+    for name, body in model.bodies.items():
+        to_body = rigid_transfer(body.position, origin)     # the motion at the body's centre of mass
+        rigid_local = getattr(body, "rigid_local", None)
+        if rigid_local is None:                             # a rigid body: its 6 DOFs there, global axes
+            r[model.body_slice(name)] = to_body
+        else:                                               # its rigid motions about it, in its own axes
+            r[model.body_slice(name)] = np.asarray(rigid_local) @ (block_rotation(body.axes).T @ to_body)
+    return r
+
+
+def frame_loads(model, origin=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """``L`` (n_q x 6) with ``f_q = L a_h``: the inertia load of a housing acceleration ``a_h``
+    (module notes)."""
+    r = housing_field(model, origin)
+    return -(model.T.T @ (model.M_abs @ r))
+
+
+def gravity_load(model, g=(0.0, -9.80665, 0.0), tilt_deg: float = 0.0) -> np.ndarray:
+    """``f_q`` (n_q,) of gravity ``g`` (m/s^2, model axes) turned by the shaft ``tilt_deg`` about
+    the model's x axis (module notes: the load of a housing accelerating at ``-g``)."""
+    c, s = math.cos(math.radians(tilt_deg)), math.sin(math.radians(tilt_deg))
+    Rx = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    a = np.concatenate([-(Rx @ np.asarray(g, float)), np.zeros(3)])
+    return frame_loads(model) @ a
