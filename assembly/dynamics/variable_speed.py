@@ -21,6 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .discon import DisconOutput
+
 #: rpm -> rad/s
 RPM = math.pi / 30.0
 
@@ -118,3 +120,27 @@ def baseline_torque(law: BaselineVariableSpeed, speed: float, pitch: float = 0.0
 NREL5MW_BASELINE = BaselineVariableSpeed(cut_in=670.0 * RPM, region2_start=871.0 * RPM,
                                          rated_speed=1161.963 * RPM, rated_power=5296610.0, k=2.332287,
                                          slip=0.10, max_torque=47402.91, rgn3_pitch=math.radians(1.0))
+
+
+class TorqueLawController:
+    """A controller without a library: the generator torque from ``law`` (a
+    :class:`SimpleVariableSpeed` or :class:`BaselineVariableSpeed`) at the measured generator
+    speed, the pitch held at ``pitch`` (rad; ServoDyn with its pitch control off). It has the
+    :meth:`step` of :class:`assembly.dynamics.discon.Discon`, so
+    :class:`assembly.dynamics.turbine_loop.ControllerLoop` calls it at its sample time alike."""
+
+    def __init__(self, law, pitch: float = 0.0):
+        self.law, self.pitch = law, float(pitch)
+        self.calls, self.times = 0, []
+
+    def step(self, t, dt, generator_speed, rotor_speed, pitch, generator_torque, wind, power=0.0) -> DisconOutput:
+        if isinstance(self.law, SimpleVariableSpeed):
+            torque = simple_torque(self.law, generator_speed)
+        else:
+            torque = baseline_torque(self.law, generator_speed, self.pitch)
+        self.calls += 1
+        self.times.append(t)
+        return DisconOutput(torque, self.pitch, (self.pitch,) * 3)
+
+    def close(self) -> None:
+        pass

@@ -72,3 +72,36 @@ def test_rosco_holds_rated_speed_above_rated(tmp_path):
     ld = rotor_loads(s, R, RHO, wind, run.y[-1, 0], beta)
     left = J * np.ptp(run.y[last, 0]) / 10.0
     assert abs(ld.torque - N * loop.torques[-1]) <= left + 2 * F32 * N * loop.torques[-1]
+
+
+@pytest.mark.parametrize("wind", [6.0, 7.0, 8.0])
+def test_region_2_settles_at_the_surfaces_operating_point(wind):
+    # ServoDyn's simple law in region 2 (k = 0.0255764 N m/rpm^2, Jonkman et al. 2009) with the
+    # pitch at 0: the steady rotor speed is where the rotor's torque from the surface equals the
+    # generator's k (N Omega)^2 through the ratio -- found here by bisection on the surface
+    # itself, independently of the time step; the loop must settle there
+    from scipy.optimize import brentq
+
+    from assembly.dynamics.variable_speed import RPM, SimpleVariableSpeed, TorqueLawController
+    s = read_surface(rosco_file(NREL5MW_SURFACE))
+    k = 0.0255764 / RPM ** 2
+    law = SimpleVariableSpeed(rated_speed=1173.7 * RPM, rated_torque=43093.55, k=k, slip=0.10)
+
+    def excess(w):
+        return rotor_loads(s, R, RHO, wind, w, 0.0).torque - N * k * (N * w) ** 2
+    w_star = brentq(excess, 4.0 * wind / R, 12.0 * wind / R, xtol=1e-14, rtol=1e-15)
+    assert N * w_star < law.transition_speed                           # region 2 indeed
+    ctrl = TorqueLawController(law)
+    act = PitchActuator(0.0, 0.0)
+    dt, t_end = 0.02, 400.0
+    loop = ControllerLoop(ctrl, [N], [1.0], dt, lambda t: wind, act)
+    aero = RotorAero(np.ones(1), s, R, RHO, lambda t: wind, act.pitch)
+    run = integrate(np.array([[J]]), None, np.zeros((1, 1)), lambda t: np.zeros(1), [0.0], [0.9 * w_star], dt, t_end,
+                    nonlinear=aero, observe=state_rows(1, q=False, v=True), sampled=Sampled(loop.vector(), dt, loop.law))
+    # the speed's error decays as exp(-t / tau), tau = J / (N dT/dw - dQ/dw) at the point (the
+    # torque held a sample adds a lag of dt/2 to it), so after t_end it is 0.1 exp(-t_end / tau)
+    ld = rotor_loads(s, R, RHO, wind, w_star, 0.0)
+    tau = J / (2 * N * k * N * N * w_star - ld.dq_domega)
+    left = 0.1 * math.exp(-(t_end - dt) / (tau + dt))
+    assert run.y[-1, 0] == pytest.approx(w_star, rel=left + 1e-9)
+    assert ctrl.calls == round(t_end / dt)
