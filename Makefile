@@ -33,6 +33,7 @@ $(STAMP): pyproject.toml | sysdeps
 	@# ROSCO's package for its compiled controller and performance tables, without its toolbox's
 	@# dependencies (WISDEM, Jupyter: ~1.4 GB); the turbine's runs need it, nothing else does.
 	$(PY) -m pip install -q --no-deps 'rosco==2.9.0' || echo "note: rosco not installed; turbine runs unavailable"
+	$(PY) -m pip install -q -e '.[wind]' || echo "note: pyconturb not installed; no IEC turbulence"
 	touch $(STAMP)
 
 setup: sysdeps $(STAMP)
