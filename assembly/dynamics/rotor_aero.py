@@ -5,7 +5,10 @@ damping ``-dQ/dOmega`` acts through the surface's own slope, never added by hand
 
 In the balance ``M q'' + C q' + K q + U nu = f`` of :mod:`assembly.dynamics.transient` a driving
 torque enters as ``nu = -sense Q`` along the rotor's row ``u`` (``sense`` = +1 when the rotor
-turns in the row's positive sense), with ``d nu / d q' = -dQ/dOmega`` (u' q' = sense Omega).
+turns in the row's positive sense), with ``d nu / d q' = -dQ/dOmega`` (u' q' = sense Omega);
+the thrust, when an axial row is given, as ``nu = -T`` along it (the quasi-steady thrust reads
+the rotor's speed, not its axial motion: the rotor's axial velocity relative to the wind is
+left out).
 The Python step runs it (the compiled step knows the meshes and shaft torques only).
 """
 from __future__ import annotations
@@ -19,14 +22,17 @@ from .transient import Nonlinear
 
 
 class RotorAero(Nonlinear):
-    """The aerodynamic torque on the row ``u`` (n,) of the rotor's rotation (module notes):
-    ``surface``, ``radius`` (m), ``density`` (kg/m^3), ``wind(t)`` (m/s) and ``pitch(t)`` (rad)
-    the rotor-effective wind speed and the collective pitch; ``sense`` the rotor's turning sense
-    on ``u``. :attr:`last` holds the last :class:`assembly.dynamics.rotor_surface.RotorLoads`."""
+    """The aerodynamic torque on the row ``u`` (n,) of the rotor's rotation (module notes) and,
+    given ``axial`` (n,), the thrust along that row (the rotor's axial translation, positive
+    downwind): ``surface``, ``radius`` (m), ``density`` (kg/m^3), ``wind(t)`` (m/s) and
+    ``pitch(t)`` (rad) the rotor-effective wind speed and the collective pitch; ``sense`` the
+    rotor's turning sense on ``u``. :attr:`last` holds the last
+    :class:`assembly.dynamics.rotor_surface.RotorLoads`."""
 
     def __init__(self, u, surface: RotorSurface, radius: float, density: float, wind: Callable[[float], float],
-                 pitch: Callable[[float], float], sense: float = 1.0):
-        self.U = np.asarray(u, float).reshape(-1, 1)
+                 pitch: Callable[[float], float], sense: float = 1.0, axial=None):
+        cols = [np.asarray(u, float).ravel()] + ([] if axial is None else [np.asarray(axial, float).ravel()])
+        self.U = np.column_stack(cols)
         self.surface, self.radius, self.density = surface, radius, density
         self.wind, self.pitch, self.sense = wind, pitch, float(sense)
         self.last = None
@@ -38,7 +44,11 @@ class RotorAero(Nonlinear):
     def forces(self, t, x, xd):
         ld = self.loads(t, xd)
         self.last = ld
-        return np.array([-self.sense * ld.torque]), np.zeros(1), np.array([-ld.dq_domega])
+        if self.U.shape[1] == 1:
+            return np.array([-self.sense * ld.torque]), np.zeros(1), np.array([-ld.dq_domega])
+        # the thrust depends on the rotor's speed too: d nu_thrust / d x'_rotation = -sense dT/dOmega
+        dc = np.array([[-ld.dq_domega, 0.0], [-self.sense * ld.dt_domega, 0.0]])
+        return np.array([-self.sense * ld.torque, -ld.thrust]), np.zeros((2, 2)), dc
 
     def force_scale(self, nu):
         return np.abs(nu)

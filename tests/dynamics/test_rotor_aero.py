@@ -51,3 +51,22 @@ def test_aerodynamic_damping_is_the_surfaces_slope():
     # (h sigma)^3 / 12 a step, n of them, plus the Newton tolerance above
     end = e0 * g ** n
     assert e[-1] / e0 == pytest.approx(math.exp(sigma * n * h), rel=1.01 * n * abs(h * sigma) ** 3 / 12 + tol / end)
+
+
+def test_thrust_on_the_axial_row_settles_on_its_spring():
+    # the rotor's rotation and its axial translation on a spring k: at the operating point
+    # (generator torque = Q*) the axial spring carries the thrust from the surface, x = T / k
+    s = read_surface(rosco_file(NREL5MW_SURFACE))
+    w_star = 7.2 * V / R
+    ld = rotor_loads(s, R, RHO, V, w_star, 0.0)
+    k, m = 5.0e8, 1.1e5                                  # N/m, kg: the rotor's axial mount and mass
+    aero = RotorAero([1.0, 0.0], s, R, RHO, lambda t: V, lambda t: 0.0, axial=[0.0, 1.0])
+    c = 2 * 0.2 * math.sqrt(k * m)                        # 20 % damping: the axial swing dies out
+    h, n = 0.01, 3000
+    run = integrate(np.diag([J, m]), np.diag([0.0, c]), np.diag([0.0, k]),
+                    lambda t: np.array([-ld.torque, 0.0]), [0.0, 0.0], [w_star, 0.0], h, n * h, nonlinear=aero,
+                    observe=state_rows(2, q=True, v=True))
+    # steady: Omega stays at Omega* (torques balance from the start) and x = T / k, to the
+    # Newton tolerance (1e-10 of the forces)
+    assert run.y[-1, 2] == pytest.approx(w_star, rel=1e-9)
+    assert run.y[-1, 1] == pytest.approx(ld.thrust / k, rel=1e-9)
