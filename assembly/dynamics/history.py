@@ -23,23 +23,23 @@ from pathlib import Path
 
 import numpy as np
 
-#: Steps the integrator buffers before it hands them to the history (fewer when the rows are
-#: many: :data:`BUFFER_BYTES`); also the HDF5 chunk length of a streamed history.
+#: The HDF5 chunk length of a streamed history (fewer steps when the rows are many:
+#: :data:`BUFFER_BYTES`), and the block :func:`read_blocks` reads back.
 CHUNK_STEPS = 8192
-#: Bytes the integrator's row buffer may take.
+#: Bytes a chunk of a streamed history may take.
 BUFFER_BYTES = 16 * 2 ** 20
 #: Bytes a recorded step takes besides its values: its time (float64) and Newton count (int32).
 STEP_BYTES = 12
-#: The file attribute a streamed history carries until it is closed.
 #: HDF5 file format of a streamed history: the earliest, whose file a run killed mid-run leaves
 #: readable by any HDF5 reader ("latest" marks the file open for writing until it is closed, and
 #: such a file opens only after ``h5clear``); it keeps some 360 B of memory per chunk written.
 LIBVER = "earliest"
+#: The file attribute a streamed history carries until it is closed.
 RUNNING = "the run did not finish: it was killed, or is still running"
 
 
 def chunk_steps(rows: int) -> int:
-    """Steps of ``rows`` recorded values the integrator buffers between two appends."""
+    """Steps of ``rows`` recorded values in a chunk of a streamed history."""
     return max(1, min(CHUNK_STEPS, BUFFER_BYTES // (8 * rows + STEP_BYTES)))
 
 
@@ -54,13 +54,6 @@ class MemoryHistory:
         self._t = self._y = self._its = None
         self._blocks = []
         self.complete, self.info = False, {}
-
-    def buffers(self, rows: int) -> tuple[np.ndarray, np.ndarray]:
-        """The arrays of the rows (capacity, ``rows``) and of the iterations (capacity,) this
-        history will hold, for the integrator to fill in place: blocks appended from them are
-        not copied, so a run kept in memory holds its rows once."""
-        self._allocate(rows)
-        return self._y, self._its
 
     def reserve(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(times, rows, Newton counts): views of this history's next ``k`` rows, for the
@@ -84,7 +77,7 @@ class MemoryHistory:
             if self.n + k > self.capacity:
                 raise ValueError(f"{self.n + k} steps appended to a history of capacity {self.capacity}")
             self._t[self.n:self.n + k] = t
-            if not np.may_share_memory(y, self._y):          # else: filled in place (buffers)
+            if not np.may_share_memory(y, self._y):          # else: filled in place (reserve)
                 self._y[self.n:self.n + k] = y
             if not np.may_share_memory(iterations, self._its):
                 self._its[self.n:self.n + k] = iterations

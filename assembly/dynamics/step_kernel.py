@@ -43,6 +43,14 @@ def norm(v):
 
 
 @njit
+def settled(dxi, xi, S, ua):
+    """A Newton step ``dxi`` that ends a time step: it, or what it changes of ``U' a+``
+    (``S dxi``), is within NEWTON_RTOL of ``xi`` (the iterate after it) or of ``ua``, or it is 0."""
+    step = norm(dxi)
+    return step <= NEWTON_RTOL * norm(xi) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua)
+
+
+@njit
 def newton_matrix(T, S):
     """``I + T S``, the zero entries of ``T`` (most: a mesh couples its own two columns)
     skipped, each sum in column order (:func:`newton_matrix_rows` rounds the same)."""
@@ -163,9 +171,7 @@ def csr_into(indptr, indices, data, x, out, first, add):
     """Rows of a CSR matrix times ``x`` into ``out[first:]`` (added when ``add``), each row summed
     in its column order from 0 (SciPy's CSR product sums the same way)."""
     for i in range(indptr.shape[0] - 1):
-        s = 0.0
-        for p in range(indptr[i], indptr[i + 1]):
-            s += data[p] * x[indices[p]]
+        s = csr_row(indptr, indices, data, i, x)
         if add:
             out[first + i] += s
         else:
@@ -270,8 +276,7 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
             if have_lu:                                   # a chord step on this step's last factors
                 dxi = lu_solve(LU, piv, r)
                 trial = xi - dxi
-                step = norm(dxi)
-                if step <= NEWTON_RTOL * norm(trial) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua):
+                if settled(dxi, trial, S, ua):
                     xi[:] = trial
                     converged = True
                     break
@@ -283,8 +288,7 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
             have_lu = True
             dxi = lu_solve(LU, piv, r)
             xi -= dxi
-            step = norm(dxi)
-            if step <= NEWTON_RTOL * norm(xi) or step == 0.0 or norm(S @ dxi) <= NEWTON_RTOL * norm(ua):
+            if settled(dxi, xi, S, ua):
                 converged = True
                 break
         if not converged:

@@ -73,12 +73,14 @@ def compiled_parts(nl, observe, Z):
 def load_block(force, t_a: np.ndarray):
     """(LV, LH, direct): the loads at the times ``t_a`` as ``LV @ LH[k]`` (a force with load
     ``vectors`` and time ``histories``, e.g. :class:`assembly.dynamics.run_loads.RunLoads`), or
-    ``LH[k]`` itself (``direct``: any callable, one call a step)."""
+    ``LH[k]`` itself (``direct``: any callable, one call a step). C-ordered arrays, whatever
+    order the force keeps its vectors in (the compiled step has one signature)."""
     vecs, hist = getattr(force, "vectors", None), getattr(force, "histories", None)
     if vecs is not None and hist is not None:
         if not len(hist):
             return np.zeros((np.shape(vecs)[0], 0)), np.zeros((len(t_a), 0)), False
-        return np.asarray(vecs, float), np.column_stack([np.asarray(h(t_a), float) for h in hist]), False
+        return (np.ascontiguousarray(vecs, float), np.column_stack([np.asarray(h(t_a), float) for h in hist]),
+                False)
     return np.zeros((0, 0)), np.array([np.asarray(force(t), float) for t in t_a]), True
 
 
@@ -96,7 +98,7 @@ class CompiledSteps:
         self.model = (C(Ainv), C(M), C(Z), C(W), C(S), C(U.T))
         self.AinvL = C(AinvL)
         if meshes is not None and meshes.m:
-            self.mesh = (*(np.ascontiguousarray(x) for x in meshes.laws()), float(meshes.consistent))
+            self.mesh = (*(C(x) for x in meshes.laws()), float(meshes.consistent))
             self.mesh_state = (meshes.contact, meshes.losses, meshes.last_force)
         else:
             z = np.zeros(0)
@@ -118,7 +120,6 @@ class CompiledSteps:
         count = len(t) - 1
         af = self.scheme[1]
         LV, LH, direct = load_block(self.force, t[:-1] + (1 - af) * self.dt)
-        LV, LH = np.ascontiguousarray(LV), np.ascontiguousarray(LH)     # one compiled signature
         if self.torques is not None:
             table = np.asarray(self.torques.table(t[1:]), float)
             brake = np.asarray(self.torques.brake_torque(t[1:]), float)

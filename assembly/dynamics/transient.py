@@ -74,7 +74,6 @@ from .step_kernel import (
     DONE,
     EPS,
     MAX_ITERATIONS,
-    NEWTON_RTOL,
     NOT_CONVERGED,
     NOT_FINITE,
     ROUNDOFF,
@@ -85,6 +84,7 @@ from .step_kernel import (
     newton_matrix,
     newton_matrix_rows,
     predictor,
+    settled,
 )
 from .stretches import PREDICTOR_MAX, STRETCH_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
 
@@ -286,18 +286,17 @@ class PythonSteps:
         ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
         factor, back, jacobian = ((lu_factor, lu_solve, newton_matrix) if jit.COMPILED
                                   else (lu_factor_rows, lu_solve_rows, newton_matrix_rows))
+        converged = pick(settled)
         for k in range(len(t) - 1):
             t_a = t[k] + (1 - af) * dt
+            qp = q + dt * v + (dt * dt * (0.5 - b)) * a
+            vp = v + (dt * (1 - g)) * a
             if Z is None:
                 f_a = np.asarray(self.force(t_a), float)
-                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-                vp = v + (dt * (1 - g)) * a
                 x0 = lu.solve(am * Ma + (1 - af) * (P + dt * Kv0 + Kd) + af * F - f_a)     # K qp + C vp
             else:                                             # the compiled step's arithmetic
                 LV, LH, direct = load_block(self.force, np.array([t_a]))
                 h = LH[0]
-                qp = q + dt * v + (dt * dt * (0.5 - b)) * a
-                vp = v + (dt * (1 - g)) * a
                 x0 = predict(Z, qp, vp, a, self.AinvL, h)
                 if af != 0.0:
                     f_a = h.copy() if direct else (LV @ h if len(h) else np.zeros(len(q)))
@@ -330,17 +329,15 @@ class PythonSteps:
                 best = res
                 if factors is not None:                       # a chord step on this step's last factors
                     dxi = back(*factors, r)
-                    trial, step = xi - dxi, _norm(dxi)
-                    if step <= NEWTON_RTOL * _norm(trial) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
-                        xi = trial
+                    if converged(dxi, xi - dxi, S, ua):
+                        xi = xi - dxi
                         break
                 factors = factor(jacobian(_weighted(dk, dc, ck, cc), S))
                 dxi = back(*factors, r)
                 xi = xi - dxi
                 # converged: xi (forces along U) or what it changes, U' a+, settled to
                 # NEWTON_RTOL (x, nu: the last iterate's, that close)
-                step = _norm(dxi)
-                if step <= NEWTON_RTOL * _norm(xi) or step == 0.0 or _norm(S @ dxi) <= NEWTON_RTOL * _norm(ua):
+                if converged(dxi, xi, S, ua):
                     break
             else:
                 return k, NOT_CONVERGED, float(np.linalg.norm(r))

@@ -159,9 +159,10 @@ def test_load_case_study_scales_both_torques_and_keeps_every_statistic():
     # and the rated case's row is its run's summary: the extremes and their times number for
     # number; the mean and RMS summed block by block as the run went (no history kept) against
     # numpy's sum of the whole array, so within the rounding of a sum of N = 21 rows, N eps
+    from threadpoolctl import threadpool_limits
+
     from assembly.app.report.simulate import summary
     from assembly.dynamics.simulate import simulate
-    from threadpoolctl import threadpool_limits
     scene = load_scene("nrel5mw_transient").with_values(study.variants[-1].values)
     with threadpool_limits(1):                     # as a variant runs (one BLAS thread)
         s = summary(simulate(scene, 0.002, 1e-4, outs), scene.name)["outputs"]

@@ -13,7 +13,14 @@ import pytest
 from assembly.dynamics import jit
 from assembly.dynamics.history import MemoryHistory
 from assembly.dynamics.simulate import simulate
-from assembly.dynamics.step_kernel import lu_factor, lu_factor_rows, lu_solve, lu_solve_rows, newton_matrix, newton_matrix_rows
+from assembly.dynamics.step_kernel import (
+    lu_factor,
+    lu_factor_rows,
+    lu_solve,
+    lu_solve_rows,
+    newton_matrix,
+    newton_matrix_rows,
+)
 from assembly.dynamics.transient import Diverged
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene, scene_from_dict

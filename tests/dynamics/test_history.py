@@ -24,10 +24,9 @@ import assembly.dynamics.history as history
 from assembly.dynamics.budget import memory_budget
 from assembly.dynamics.history import RUNNING, H5History, MemoryHistory, Statistics, read_blocks
 from assembly.dynamics.simulate import simulate
-from assembly.dynamics.transient import Diverged, check_history, integrate
+from assembly.dynamics.transient import Diverged, Nonlinear, check_history, integrate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
-from assembly.dynamics.transient import Nonlinear
 from tests.dynamics.test_simulate import pair
 
 EPS = float(np.finfo(float).eps)
@@ -55,7 +54,7 @@ class Blowup(Nonlinear):
 
 @pytest.fixture
 def small_chunks(monkeypatch):
-    # 7 steps a block: a 0.01 s run at 1e-4 s is 15 blocks, the last one short
+    # HDF5 chunks of 7 steps: a 0.01 s run at 1e-4 s (101 rows) fills 15, the last one short
     monkeypatch.setattr(history, "CHUNK_STEPS", 7)
 
 
@@ -178,9 +177,10 @@ def _peak_bytes(run) -> int:
 
 
 def test_memory_is_flat_in_t_end_when_streaming(tmp_path, monkeypatch):
-    # 8-step blocks; 1000 and 4000 steps of a damped 2-DOF chain recording 3 values a step. Kept
-    # in memory, the long run ends holding its 4001 rows of 3 values + time + count (8, 8, 4 B);
-    # streamed (to a file, or to statistics alone) the buffer is the same 8 rows whatever t_end.
+    # 8-step HDF5 chunks; 1000 and 4000 steps of a damped 2-DOF chain recording 3 values a step.
+    # Kept in memory, the long run ends holding its 4001 rows of 3 values + time + count (8, 8,
+    # 4 B); streamed (to a file, or to statistics alone) the integrator's buffer is its longest
+    # stretch whatever t_end.
     # (h5py keeps a bounded cache of selections, full after about 80 blocks: both runs fill it)
     monkeypatch.setattr(history, "CHUNK_STEPS", 8)
     split = (lambda y: ({"a": y[:, 0], "b": y[:, 1], "c": y[:, 2]}, {"a": "m", "b": "m", "c": "m/s"}))
@@ -205,7 +205,7 @@ def test_memory_is_flat_in_t_end_when_streaming(tmp_path, monkeypatch):
 
 def test_the_budget_counts_the_buffer_when_streaming():
     # a history of 10 values a step over the whole budget: refused kept in memory, accepted
-    # streamed (its buffer is CHUNK_STEPS rows)
+    # streamed (its buffer is the longest stretch)
     rows, dt = 10, 1e-6
     steps = int(2 * memory_budget() / (8 * rows + history.STEP_BYTES))
     with pytest.raises(SceneError, match="t_end"):

@@ -15,10 +15,10 @@ import scipy.sparse as sp
 import assembly.dynamics.integrators as integrators
 import assembly.dynamics.run_model as run_model
 import assembly.dynamics.transient as transient
-from assembly.dynamics import jit
 from assembly.dynamics.integrators import effective_matrix, generalized_alpha, newmark
 from assembly.dynamics.simulate import simulate
-from assembly.dynamics.transient import NEWTON_RTOL, integrate
+from assembly.dynamics.step_kernel import NEWTON_RTOL
+from assembly.dynamics.transient import integrate
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene, scene_from_dict
 from tests.support.gear_pair_scene import gear_pair

@@ -78,7 +78,7 @@ MODULES = {
                                                          "integrate_linear", "effective_matrix", "_step",
                                                          "amplification"],
                     "assembly/dynamics/transient.py": ["_weighted", "integrate", "PythonSteps.run"],
-                    "assembly/dynamics/step_kernel.py": ["newton_matrix", "lu_factor", "lu_solve", "run_stretch"]},
+                    "assembly/dynamics/step_kernel.py": ["newton_matrix", "lu_factor", "lu_solve", "settled", "run_stretch"]},
                    ["tests/dynamics/test_integrators.py", "tests/dynamics/test_simulate.py",
                     "tests/dynamics/test_transient_physics.py", "tests/dynamics/test_compiled_step.py"]),
     "reaction": ({"assembly/analysis/reactions.py": ["_shift", "element_wrenches", "static_report", "support_reactions",

@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 
 from .drivetrain import machine
-from .study import worker_hwm_mb
+from .study import timed_run
 
 STUDY = "nrel5mw_load_cases"
 #: The compiled step's goal for 600 s of the rigid 5 MW drivetrain (minutes, one core) and the
@@ -27,21 +26,13 @@ GOAL_MINUTES, GOAL_MEMORY_RATIO = 4.0, 1.10
 
 
 def run_batch(t_end: float, workers: int) -> dict:
-    """The study's rows with ``t_end``, the wall time and the workers' peak memory (MB)."""
-    from ..study.engine import run_study
+    """The study's rows with ``t_end`` on a local cluster, the wall time and the workers' peak
+    memory (MB) (:func:`assembly.app.bench.study.timed_run`)."""
     from ..study.file import read_study
     study = read_study(STUDY)
-    study = dataclasses.replace(study, settings=dict(study.settings, t_end=t_end))
-    hwm: dict = {}
-
-    def tick(row):
-        m = worker_hwm_mb(row["pid"]) if "pid" in row else None
-        if m is not None:
-            hwm[row["pid"]] = max(hwm.get(row["pid"], 0.0), m)
-    t0 = time.perf_counter()
-    rows = run_study(study, mode="local", workers=workers, tick=tick)
-    return {"rows": rows, "wall": time.perf_counter() - t0, "worker_mb": max(hwm.values(), default=math.nan),
-            "workers": len(hwm), "t_end": t_end}
+    r = timed_run(dataclasses.replace(study, settings=dict(study.settings, t_end=t_end)), "local", workers, None)
+    return {"rows": r["rows"], "wall": r["wall"], "workers": r["pids"], "t_end": t_end,
+            "worker_mb": math.nan if r["worker_mb"] is None else r["worker_mb"]}
 
 
 def batch_table(seconds: float, short: float, workers: int, out) -> None:

@@ -50,25 +50,16 @@ def linear_problem(name: str):
     return _dense(M), _dense(C), _dense(K), v0, np.asarray(loads.force(0.0), float)
 
 
-class ConstantLoad:
-    """The constant force ``f`` as a run's loads are given: one load vector and its history (1),
-    so that the step applies ``A0^-1 f`` formed once, as Exudyn applies its constant load."""
-
-    def __init__(self, f):
-        self.f = np.asarray(f, float)
-        self.vectors, self.histories = self.f[:, None], (lambda t: np.ones(np.shape(t)),)
-
-    def __call__(self, t):
-        return self.f
-
-
 def flexgear_run(M, C, K, v0, f, dt: float, t_end: float) -> tuple[float, np.ndarray]:
     """(wall s, end coordinates) of flexgear's integration of the linear problem."""
     from ...dynamics.integrators import newmark
     from ...dynamics.observe_rows import state_rows
+    from ...dynamics.run_loads import RunLoads
     from ...dynamics.transient import integrate
     n = M.shape[0]
-    load = ConstantLoad(f)
+    # the constant force as a run's loads are given: one vector times a unit history, so that the
+    # step applies A0^-1 f formed once, as Exudyn applies its constant load
+    load = RunLoads(np.asarray(f, float)[:, None], (lambda t: np.ones(np.shape(t)),))
     with threadpool_limits(1):
         # once first: loading the compiled step (numba's cache) is a cost of the process, not of a run
         integrate(M, C, K, load, np.zeros(n), v0, dt, 10 * dt, newmark(), observe=state_rows(n))
