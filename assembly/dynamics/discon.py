@@ -15,13 +15,21 @@ A library keeps its state in the process (Fortran SAVE variables): each :class:`
 private copy of the library file, so two controllers in one process do not share it. A
 missing or unreadable input file is refused before the call: ROSCO's Fortran runtime ends the
 whole process on a file it cannot open.
+
+What a library prints (ROSCO's banner, its warnings and status lines) goes to the file
+``controller.log`` in its folder, not to the user's terminal: the process's standard output is
+pointed there for the length of each call, with the Fortran runtime's preconnected units
+unbuffered (``GFORTRAN_UNBUFFERED_PRECONNECTED``, read when the runtime loads) so that nothing
+it wrote is flushed after the call; :attr:`Discon.log_file` names it.
 """
 from __future__ import annotations
 
 import ctypes
 import logging
 import math
+import os
 import shutil
+import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -69,6 +77,7 @@ class Discon:
         self._tmp = Path(tempfile.mkdtemp(prefix="flexgear-discon-"))
         private = self._tmp / lib.name
         shutil.copyfile(lib, private)                       # this controller's own state
+        os.environ.setdefault("GFORTRAN_UNBUFFERED_PRECONNECTED", "y")
         try:
             # the library as installed first: the libraries it needs (a wheel's bundled Fortran
             # runtime, found relative to its own folder) are then loaded, and the private copy's
@@ -87,6 +96,8 @@ class Discon:
         # refuses a file that another instance has open
         out = Path(tempfile.mkdtemp(prefix="controller-", dir=workdir)) if workdir is not None else self._tmp
         self._outname = str(out / "controller").encode() + b"\0"
+        self.log_file = out / "controller.log"
+        self._log = os.open(self.log_file, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
         self._msg = ctypes.create_string_buffer(MESSAGE_SIZE + 1)
         self._swap = np.zeros(SWAP_SIZE, np.float32)
         self.calls = 0
@@ -117,8 +128,15 @@ class Discon:
 
     def _call(self) -> int:
         fail = ctypes.c_int(0)
-        self._fn(self._swap.ctypes.data_as(ctypes.POINTER(ctypes.c_float)), ctypes.byref(fail), self._infile,
-                 self._outname, self._msg)
+        sys.stdout.flush()
+        saved = os.dup(1)
+        os.dup2(self._log, 1)                               # the library's prints: its log (module notes)
+        try:
+            self._fn(self._swap.ctypes.data_as(ctypes.POINTER(ctypes.c_float)), ctypes.byref(fail), self._infile,
+                     self._outname, self._msg)
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
         return fail.value
 
     def _message(self) -> str:
@@ -126,7 +144,11 @@ class Discon:
 
     def close(self) -> None:
         """The last call (status -1) if the library was called, then its files removed."""
+        if self._log is None:                               # closed already
+            return
         if self.calls:
             self._swap[0] = -1.0
             self._call()
+        os.close(self._log)
+        self._log = None
         shutil.rmtree(self._tmp, ignore_errors=True)

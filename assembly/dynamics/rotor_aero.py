@@ -27,7 +27,8 @@ class RotorAero(Nonlinear):
     downwind): ``surface``, ``radius`` (m), ``density`` (kg/m^3), ``wind(t)`` (m/s) and
     ``pitch(t)`` (rad) the rotor-effective wind speed and the collective pitch; ``sense`` the
     rotor's turning sense on ``u``. :attr:`last` holds the last
-    :class:`assembly.dynamics.rotor_surface.RotorLoads`."""
+    :class:`assembly.dynamics.rotor_surface.RotorLoads`; :attr:`state` the wind speed, pitch
+    and loads of the last accepted step."""
 
     def __init__(self, u, surface: RotorSurface, radius: float, density: float, wind: Callable[[float], float],
                  pitch: Callable[[float], float], sense: float = 1.0, axial=None):
@@ -35,11 +36,14 @@ class RotorAero(Nonlinear):
         self.U = np.column_stack(cols)
         self.surface, self.radius, self.density = surface, radius, density
         self.wind, self.pitch, self.sense = wind, pitch, float(sense)
-        self.last = None
+        self.last = self.state = None
 
     def loads(self, t: float, xd: np.ndarray):
         return rotor_loads(self.surface, self.radius, self.density, float(self.wind(t)), self.sense * float(xd[0]),
                            float(self.pitch(t)))
+
+    def commit(self, t, x, xd):
+        self.state = (float(self.wind(t)), float(self.pitch(t)), self.loads(t, xd))
 
     def forces(self, t, x, xd):
         ld = self.loads(t, xd)

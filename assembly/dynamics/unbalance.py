@@ -30,15 +30,20 @@ from .transient import Nonlinear
 
 class Unbalance(Nonlinear):
     """The unbalance of the module notes on the rows ``x``, ``y`` (translations normal to the spin
-    axis) and ``theta`` (the rotation) of an ``n``-coordinate model: ``mass`` (kg), ``radius``
-    (m), ``phase`` (rad); ``dt`` the run's step (for the tangential term's acceleration)."""
+    axis) and ``theta`` (the rotation) of an ``n``-coordinate model -- each a coordinate's index or
+    a row (n,) on q -- ``mass`` (kg), ``radius`` (m), ``phase`` (rad); ``dt`` the run's step (for
+    the tangential term's acceleration)."""
 
-    def __init__(self, n: int, x: int, y: int, theta: int, mass: float, radius: float, phase: float, dt: float):
+    def __init__(self, n: int, x, y, theta, mass: float, radius: float, phase: float, dt: float):
         for name, v in (("mass", mass), ("radius", radius)):
             if not (math.isfinite(v) and v >= 0.0):
                 raise SceneError(f"unbalance.{name}", v, "must be a number >= 0")
         self.U = np.zeros((n, 3))
-        self.U[[x, y, theta], [0, 1, 2]] = 1.0
+        for j, row in enumerate((x, y, theta)):
+            if np.ndim(row) == 0:
+                self.U[int(row), j] = 1.0
+            else:
+                self.U[:, j] = np.asarray(row, float).ravel()
         self.me, self.phase, self.dt = mass * radius, phase, dt
         self.alpha, self._w = 0.0, None
 

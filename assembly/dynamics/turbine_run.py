@@ -1,0 +1,307 @@
+"""The turbine around the drivetrain in a time-domain run: the ``[turbine]`` table
+(:class:`assembly.scene.turbine.Turbine`) made into the parts :func:`assembly.dynamics.simulate.simulate`
+integrates with the drivetrain.
+
+* the rotor's aerodynamic torque and thrust (:class:`assembly.dynamics.rotor_aero.RotorAero`) on
+  the rotor body's rotation and axial rows, from the surface, radius and density, the wind
+  (:mod:`assembly.dynamics.wind`) and the actuator's pitch;
+* the controller (:mod:`assembly.dynamics.discon` or :mod:`assembly.dynamics.variable_speed`) in
+  the loop (:class:`assembly.dynamics.turbine_loop.ControllerLoop`) at its own sample time, its
+  generator torque held on the generator body's rotation row against the generator's turning
+  (ElastoDyn's sense: a positive generator torque brakes the generator); the reaction goes
+  into the housing through the bearings, as every internal torque's does;
+* gravity (turned by the shaft tilt) and the nacelle's accelerations as the housing's
+  d'Alembert loads (:mod:`assembly.dynamics.frame_motion`), load vectors times histories;
+* unbalances (:class:`assembly.dynamics.unbalance.Unbalance`) on the bodies' lateral rows.
+
+Start: every body at its share of the starting speed; the generator torque at t = 0 is the one
+that balances the aerodynamic torque there through the speeds (T_g = Q Omega / omega_g), so the
+static start holds, and the controller's first call (at t = 0) takes over from it.
+
+Outputs (``turbine:NAME``, :data:`OUTPUTS`): the wind speed, the pitch, the generator torque
+(held), the rotor speed (rad/s in its turning sense), the aerodynamic torque and thrust and the
+electrical power ``efficiency x T_g x omega_g``, each of the accepted step.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..analysis.drivetrain import chain_ends
+from ..errors import SceneError
+from ..model.probes import body_point, point_vector, spin_row
+from . import wind as wind_series
+from .frame_motion import frame_loads, gravity_load
+from .load_series import constant, file_history
+from .rosco_data import NREL5MW_SURFACE, rosco_file
+from .rotor_aero import RotorAero
+from .rotor_surface import read_surface, rotor_loads
+from .sampled import Sampled
+from .turbine_loop import ControllerLoop, PitchActuator
+from .unbalance import Unbalance
+from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
+
+log = logging.getLogger(__name__)
+
+#: The turbine's outputs and their units.
+OUTPUTS = {"turbine:wind": "m/s", "turbine:pitch": "rad", "turbine:generator_torque": "N m",
+           "turbine:rotor_speed": "rad/s", "turbine:aero_torque": "N m", "turbine:thrust": "N",
+           "turbine:power": "W"}
+#: ROSCO's compiled controller and its NREL 5 MW input in the rosco wheel.
+ROSCO_LIBRARY = "rosco/lib/libdiscon.so"
+ROSCO_INPUT = "Examples/Test_Cases/NREL-5MW/DISCON.IN"
+#: Defaults when neither the scene nor a deck gives them.
+DENSITY = 1.225
+CONTROLLER_PERIOD = 0.01
+#: Standard gravity (m/s^2).
+G = 9.80665
+_DOFS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+@dataclass(frozen=True)
+class TurbineData:
+    """What the run uses of the turbine, resolved from the scene and its deck: ``surface``
+    (path), ``radius`` m, ``density`` kg/m^3, ``hub_height`` m or None, ``tilt`` rad, the
+    controller's ``library``/``input`` paths or None and ``period`` s; ``sources`` {field:
+    where it came from}."""
+
+    surface: Path
+    radius: float
+    density: float
+    hub_height: float | None
+    tilt: float
+    library: Path | None
+    input: Path | None
+    period: float
+    sources: dict
+
+
+def turbine_data(turbine, base_dir) -> TurbineData:
+    """The :class:`TurbineData` of a ``[turbine]`` table: each field as the table gives it, else
+    from its OpenFAST deck (``openfast``), else the default; SceneError for what is missing."""
+    base_dir = Path(base_dir or ".")
+    deck = None
+    if turbine.openfast is not None:
+        from .openfast_deck import read_deck           # openfast_io is an extra: only with a deck
+        deck = read_deck(base_dir / turbine.openfast, "turbine.openfast")
+    sources = {}
+
+    def pick(name, given, deck_name=None, default=None):
+        if given is not None:
+            sources[name] = "scene"
+            return given
+        value = getattr(deck, deck_name or name, None) if deck is not None else None
+        if value is not None:
+            sources[name] = deck.sources.get(deck_name or name, "the OpenFAST deck")
+            return value
+        if default is not None:
+            sources[name] = "default"
+        return default
+
+    ctrl = turbine.controller
+    surface = pick("surface", turbine.surface)
+    if surface is None:
+        raise SceneError("turbine.surface", None, "missing: a Cp_Ct_Cq file, 'rosco', or an openfast deck")
+    surface = rosco_file(NREL5MW_SURFACE) if surface == "rosco" else Path(base_dir / surface if sources["surface"]
+                                                                         == "scene" else surface)
+    radius = pick("radius", turbine.radius)
+    if radius is None:
+        raise SceneError("turbine.radius", None, "missing: the rotor's tip radius (m), or an openfast deck")
+    density = pick("density", turbine.density, default=DENSITY)
+    hub = pick("hub_height", turbine.hub_height)
+    tilt = pick("tilt", turbine.tilt, default=0.0)
+    kind = ctrl.kind if ctrl is not None else "rosco"
+    library = inp = None
+    if kind in ("rosco", "discon"):
+        library = pick("controller.library", ctrl.library if ctrl else None, "controller_library")
+        inp = pick("controller.input", ctrl.input if ctrl else None, "controller_input")
+        if kind == "rosco" and (library is None or sources.get("controller.library") != "scene"):
+            library, sources["controller.library"] = rosco_file(ROSCO_LIBRARY), "the rosco wheel"
+        if kind == "rosco" and inp is None:
+            inp, sources["controller.input"] = rosco_file(ROSCO_INPUT), "the rosco wheel"
+        for key, p in (("library", library), ("input", inp)):
+            if p is None:
+                raise SceneError(f"turbine.controller.{key}", None, f"missing: kind {kind!r} needs the DISCON "
+                                                                    f"{key}")
+        library = Path(base_dir / library) if sources["controller.library"] == "scene" else Path(library)
+        inp = Path(base_dir / inp) if sources["controller.input"] == "scene" else Path(inp)
+    period = pick("controller.period", ctrl.period if ctrl else None, "controller_period",
+                  default=CONTROLLER_PERIOD)
+    return TurbineData(surface, float(radius), float(density), None if hub is None else float(hub), float(tilt),
+                       library, inp, float(period), sources)
+
+
+class Harmonic:
+    """``amplitude sin(2 pi frequency t + phase)``, of a float or an array of times."""
+
+    def __init__(self, amplitude: float, frequency: float, phase: float):
+        self.a, self.w, self.p = amplitude, 2.0 * math.pi * frequency, phase
+
+    def __call__(self, t):
+        return self.a * np.sin(self.w * np.asarray(t, float) + self.p)
+
+
+class TurbineObserver:
+    """``observe(q, v, a, nu)``: the drivetrain's recorded ``rows`` and then the turbine's
+    outputs ``names`` (:data:`OUTPUTS`) of the accepted step."""
+
+    def __init__(self, rows, run: "TurbineRun", names: list):
+        self.rows, self.run, self.names = rows, run, list(names)
+        self.size = getattr(rows, "size", None)
+
+    def __call__(self, q, v, a, nu):
+        r = self.run
+        wind, pitch, ld = r.aero.state
+        wg = r.loop.sense * float(r.loop.g @ v)
+        value = {"turbine:wind": wind, "turbine:pitch": pitch, "turbine:generator_torque": r.loop.torque,
+                 "turbine:rotor_speed": r.aero.sense * float(r.aero.U[:, 0] @ v), "turbine:aero_torque": ld.torque,
+                 "turbine:thrust": ld.thrust, "turbine:power": r.loop.eta * r.loop.torque * wg}
+        return np.concatenate([self.rows(q, v, a, nu), [value[k] for k in self.names]])
+
+
+class TurbineRun:
+    """The turbine's parts of one run (module notes): ``nonlinear`` (the aerodynamics and the
+    unbalances), ``sampled`` (the controller's held torque), ``vectors`` (n x k) and
+    ``histories`` (gravity and the nacelle's motion), ``start_force`` (the generator torque at
+    t = 0 on q), ``data`` (:class:`TurbineData`); :meth:`close` ends the controller."""
+
+    def __init__(self, model, scene, sim, dt: float, t_end: float, v0: np.ndarray, base_dir, phi=None):
+        tb = scene.turbine
+        n = model.K.shape[0]
+        if sim.generator is not None:
+            raise SceneError("simulation.generator", "a generator table", "the [turbine] controller sets the "
+                                                                          "generator torque; remove one of them")
+        self.data = d = turbine_data(tb, base_dir)
+        surface = read_surface(d.surface, "turbine.surface")
+        rotor, generator = chain_ends(scene, tb.rotor, tb.generator)
+        r_rot, r_gen = spin_row(model, rotor), spin_row(model, generator)
+        s_rot = float(np.sign(r_rot @ v0)) or 1.0
+        s_gen = float(np.sign(r_gen @ v0)) or (float(np.sign(r_gen @ phi)) if phi is not None else 0.0) or 1.0
+        self.wind = make_wind(tb.wind, d, t_end, base_dir)
+        ctrl = tb.controller
+        self.actuator = PitchActuator(ctrl.pitch_tau if ctrl else 0.0, tb.pitch)
+        axial = None
+        if tb.thrust:
+            w = np.zeros(6)
+            w[:3] = model.bodies[rotor].axes[:, 2]
+            axial = point_vector(model, rotor, None, w)
+            if not np.any(axial):
+                axial = None                                # a torsional rotor: no axial row
+        self.aero = RotorAero(r_rot, surface, d.radius, d.density, self.wind, self.actuator.pitch, s_rot, axial)
+        omega_r, omega_g = s_rot * float(r_rot @ v0), s_gen * float(r_gen @ v0)
+        q0 = rotor_loads(surface, d.radius, d.density, float(self.wind(0.0)), omega_r, tb.pitch)
+        torque0 = q0.torque * omega_r / omega_g if omega_g > 0.0 else 0.0
+        steps = round(d.period / dt)
+        if steps < 1 or abs(steps * dt - d.period) > 1e-9 * d.period:
+            raise SceneError("turbine.controller.period", d.period, f"must be a whole number of steps of dt = "
+                                                                    f"{dt:g} s ({d.period / dt:.6g} steps)")
+        self.controller = make_controller(ctrl, d, tb.pitch)
+        eta = ctrl.efficiency if ctrl else 0.944
+        self.loop = ControllerLoop(self.controller, r_gen, r_rot, d.period, self.wind, self.actuator, eta, s_gen,
+                                   torque0)
+        self.sampled = Sampled(self.loop.vector(), d.period, self.loop.law)
+        self.start_force = self.loop.vector()[:, 0] * torque0
+        self.torque0 = torque0
+        vecs, hist = [], []
+        if tb.gravity:
+            vecs.append(gravity_load(model, (0.0, -G, 0.0), math.degrees(d.tilt)))
+            hist.append(constant(1.0, "turbine.gravity", ""))
+        for i, nm in enumerate(tb.nacelle):
+            path = f"turbine.nacelle[{i}]"
+            vecs.append(frame_loads(model, nm.origin)[:, _DOFS.index(nm.dof)])
+            unit = "m/s^2" if nm.dof in ("x", "y", "z") else "rad/s^2"
+            s = file_history(nm, path, base_dir, unit)
+            if s is None:
+                s = Harmonic(nm.amplitude, nm.frequency, nm.phase)
+            elif s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
+                raise SceneError(f"{path}.{'table' if nm.table else 'openfast'}",
+                                 f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
+            hist.append(s)
+        self.vectors = np.array(vecs).T if vecs else np.zeros((n, 0))
+        self.histories = tuple(hist)
+        self.unbalances = [unbalance(model, u, i, dt, phi) for i, u in enumerate(tb.unbalance)]
+        self.nonlinear = [self.aero, *self.unbalances]
+
+    def observer(self, rows, names):
+        return TurbineObserver(rows, self, names)
+
+    def info(self) -> dict:
+        return {"controller_calls": len(self.loop.times), "controller_period_s": self.data.period,
+                "generator_torque_start_Nm": self.torque0,
+                "turbine_sources": {k: str(v) for k, v in self.data.sources.items()}}
+
+    def close(self) -> None:
+        self.controller.close()
+
+
+def make_wind(w, d: TurbineData, t_end: float, base_dir) -> wind_series.WindSeries:
+    """The wind series of a ``[turbine.wind]`` table over the run (0 .. ``t_end``)."""
+    f = "turbine.wind"
+    if w is None:
+        raise SceneError(f, None, "missing: a [turbine.wind] table (speed, steps, a ramp, a file or turbulence)")
+    s = file_history(w, f, base_dir, "m/s")
+    if s is not None:
+        key = f"{f}.{'table' if w.table else 'openfast'}"
+        if s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
+            raise SceneError(key, f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
+        return wind_series.WindSeries(s.time_s, s.values, key)
+    if w.steps is not None:
+        if w.speed is not None or w.turbulence is not None:
+            raise SceneError(f"{f}.steps", w.steps, "give steps alone, without speed or turbulence")
+        return wind_series.steps(w.steps, t_end, f"{f}.steps")
+    if w.speed is None:
+        raise SceneError(f"{f}.speed", None, "missing: the wind speed (m/s)")
+    if w.turbulence is not None:
+        if d.hub_height is None:
+            raise SceneError("turbine.hub_height", None, "missing: turbulence needs the hub height (m)")
+        return wind_series.iec_turbulence(w.speed, w.turbulence, d.radius, d.hub_height, t_end, w.sample, w.seed,
+                                          w.grid, f"{f}.turbulence")
+    if w.end_speed is not None or w.t_end is not None:
+        if w.end_speed is None or w.t_end is None:
+            missing = "end_speed" if w.end_speed is None else "t_end"
+            raise SceneError(f"{f}.{missing}", None, "missing: a ramp needs end_speed and t_end")
+        return wind_series.ramp(w.speed, w.end_speed, w.t_start, w.t_end, t_end, f)
+    return wind_series.constant(w.speed, t_end, f)
+
+
+def make_controller(ctrl, d: TurbineData, pitch: float):
+    """The controller of a ``[turbine.controller]`` table: a DISCON library or a torque law."""
+    kind = ctrl.kind if ctrl is not None else "rosco"
+    if kind in ("rosco", "discon"):
+        from .discon import Discon
+        return Discon(d.library, d.input, "turbine.controller")
+    if kind == "baseline":
+        return TorqueLawController(NREL5MW_BASELINE, pitch)
+    for key in ("rated_speed", "rated_torque", "region2_k", "slip"):
+        if getattr(ctrl, key) is None:
+            raise SceneError(f"turbine.controller.{key}", None, "missing: the simple law needs rated_speed, "
+                                                                "rated_torque, region2_k and slip")
+    return TorqueLawController(SimpleVariableSpeed(ctrl.rated_speed, ctrl.rated_torque, ctrl.region2_k, ctrl.slip),
+                               pitch)
+
+
+def unbalance(model, u, i: int, dt: float, phi) -> Unbalance:
+    """The :class:`Unbalance` of ``[[turbine.unbalance]]`` entry ``i`` on its body's lateral rows
+    (local x, y at its centre or interface) and rotation."""
+    path = f"turbine.unbalance[{i}]"
+    where = u.body if u.interface is None else f"{u.body}:{u.interface}"
+    body, iface = body_point(model, where, f"{path}.body", where)
+    theta = spin_row(model, body)
+    if not np.any(theta) or (phi is not None and abs(theta @ phi) <= 1e-12 * float(np.abs(phi).max())):
+        raise SceneError(f"{path}.body", u.body, "does not rotate with the drivetrain: an unbalance needs a "
+                                                 "turning body")
+    axes = model.bodies[body].axes
+    rows = []
+    for j in (0, 1):
+        w = np.zeros(6)
+        w[:3] = axes[:, j]
+        rows.append(point_vector(model, body, iface, w))
+    if not (np.any(rows[0]) and np.any(rows[1])):
+        raise SceneError(f"{path}.body", u.body, "moves about its axis only (torsional): it has no lateral "
+                                                 "motion for an unbalance to act on")
+    return Unbalance(model.K.shape[0], rows[0], rows[1], theta, u.mass, u.radius, u.phase, dt)
+
