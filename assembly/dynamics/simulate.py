@@ -38,6 +38,7 @@ from ..analysis.modal import SMALL_DENSE
 from ..model.assemble import AssembledModel, assemble, source_scene
 from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
+from .body_loads import body_loads
 from .history import H5History, Statistics, Tee, chunk_steps
 from .integrators import check_step
 from .load_series import range_warning
@@ -134,22 +135,22 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     meshes = Meshes(model, sim.consistent)
     loads = run_loads(model, scene, sim, dt, v0, base_dir, phi if reference else None)
     turbine = None
-    if scene.turbine is not None:
+    if scene.turbine is not None and scene.turbine.wind is not None:
         turbine = TurbineRun(model, scene, sim, dt, t_end, v0, base_dir, phi)
-        loads = RunLoads(np.hstack([loads.vectors, turbine.vectors]), (*loads.histories, *turbine.histories),
-                         loads.torques)
+    body = body_loads(model, scene, sim, dt, t_end, base_dir, phi, turbine.data.tilt if turbine else None)
+    loads = RunLoads(np.hstack([loads.vectors, body.vectors]), (*loads.histories, *body.histories), loads.torques)
     try:
         return _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine,
-                    history, streaming, progress)
+                    body.nonlinear, history, streaming, progress)
     finally:
         if turbine is not None:
             turbine.close()
 
 
-def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine, history,
-         streaming, progress) -> SimulationResult:
+def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine, unbalances,
+         history, streaming, progress) -> SimulationResult:
     """:func:`simulate`'s run, its parts made."""
-    nl = Stack([meshes, loads.torques, *(turbine.nonlinear if turbine else ())], n)
+    nl = Stack([meshes, loads.torques, *(turbine.nonlinear if turbine else ()), *unbalances], n)
     q0 = _start(M, K, nl, meshes, loads, sim, phi, v0, turbine.start_force if turbine else None)
     if outputs is None:                         # every named stress point and nonlinear mesh force
         outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info),
@@ -205,8 +206,9 @@ def _arguments(model, t_end, dt, outputs, simulation, base_dir, speed, progress,
     if scene.simulation is not None and scene.simulation.reference is not None:
         check.one_of("simulation.reference", scene.simulation.reference, bodies)
     for i, name in enumerate(outputs or ()):
-        if name in OUTPUTS and scene.turbine is None:
-            raise check.refuse(f"outputs[{i}]", name, "is a turbine output: the scene has no [turbine] table")
+        if name in OUTPUTS and (scene.turbine is None or scene.turbine.wind is None):
+            raise check.refuse(f"outputs[{i}]", name, "is a turbine output: the scene has no [turbine] rotor "
+                                                      "(a [turbine] table with its wind)")
         if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
             raise check.refuse(f"outputs[{i}]", name,
                                f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")

@@ -10,9 +10,8 @@ integrates with the drivetrain.
   generator torque held on the generator body's rotation row against the generator's turning
   (ElastoDyn's sense: a positive generator torque brakes the generator); the reaction goes
   into the housing through the bearings, as every internal torque's does;
-* gravity (turned by the shaft tilt) and the nacelle's accelerations as the housing's
-  d'Alembert loads (:mod:`assembly.dynamics.frame_motion`), load vectors times histories;
-* unbalances (:class:`assembly.dynamics.unbalance.Unbalance`) on the bodies' lateral rows.
+Gravity (turned by the shaft tilt, the table's or its deck's), the nacelle's motion and the
+unbalances are the run's body loads (:mod:`assembly.dynamics.body_loads`).
 
 Start: every body at its share of the starting speed; the generator torque at t = 0 is the one
 that balances the aerodynamic torque there through the speeds (T_g = Q Omega / omega_g), so the
@@ -25,7 +24,6 @@ electrical power ``efficiency x T_g x omega_g``, each of the accepted step.
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,16 +31,14 @@ import numpy as np
 
 from ..analysis.drivetrain import chain_ends
 from ..errors import SceneError
-from ..model.probes import body_point, point_vector, spin_row
+from ..model.probes import point_vector, spin_row
 from . import wind as wind_series
-from .frame_motion import frame_loads, gravity_load
-from .load_series import constant, file_history
+from .load_series import file_history
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
 from .rotor_surface import read_surface, rotor_loads
 from .sampled import Sampled
 from .turbine_loop import ControllerLoop, PitchActuator
-from .unbalance import Unbalance
 from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
 
 log = logging.getLogger(__name__)
@@ -57,9 +53,6 @@ ROSCO_INPUT = "Examples/Test_Cases/NREL-5MW/DISCON.IN"
 #: Defaults when neither the scene nor a deck gives them.
 DENSITY = 1.225
 CONTROLLER_PERIOD = 0.01
-#: Standard gravity (m/s^2).
-G = 9.80665
-_DOFS = ("x", "y", "z", "rx", "ry", "rz")
 
 
 @dataclass(frozen=True)
@@ -86,7 +79,7 @@ def turbine_data(turbine, base_dir) -> TurbineData:
     base_dir = Path(base_dir or ".")
     deck = None
     if turbine.openfast is not None:
-        from .openfast_deck import read_deck           # openfast_io is an extra: only with a deck
+        from .openfast_deck import read_deck  # openfast_io is an extra: only with a deck
         deck = read_deck(base_dir / turbine.openfast, "turbine.openfast")
     sources = {}
 
@@ -135,16 +128,6 @@ def turbine_data(turbine, base_dir) -> TurbineData:
                        library, inp, float(period), sources)
 
 
-class Harmonic:
-    """``amplitude sin(2 pi frequency t + phase)``, of a float or an array of times."""
-
-    def __init__(self, amplitude: float, frequency: float, phase: float):
-        self.a, self.w, self.p = amplitude, 2.0 * math.pi * frequency, phase
-
-    def __call__(self, t):
-        return self.a * np.sin(self.w * np.asarray(t, float) + self.p)
-
-
 class TurbineObserver:
     """``observe(q, v, a, nu)``: the drivetrain's recorded ``rows`` and then the turbine's
     outputs ``names`` (:data:`OUTPUTS`) of the accepted step."""
@@ -164,14 +147,12 @@ class TurbineObserver:
 
 
 class TurbineRun:
-    """The turbine's parts of one run (module notes): ``nonlinear`` (the aerodynamics and the
-    unbalances), ``sampled`` (the controller's held torque), ``vectors`` (n x k) and
-    ``histories`` (gravity and the nacelle's motion), ``start_force`` (the generator torque at
-    t = 0 on q), ``data`` (:class:`TurbineData`); :meth:`close` ends the controller."""
+    """The turbine's parts of one run (module notes): ``nonlinear`` (the aerodynamics),
+    ``sampled`` (the controller's held torque), ``start_force`` (the generator torque at t = 0
+    on q), ``data`` (:class:`TurbineData`); :meth:`close` ends the controller."""
 
     def __init__(self, model, scene, sim, dt: float, t_end: float, v0: np.ndarray, base_dir, phi=None):
         tb = scene.turbine
-        n = model.K.shape[0]
         if sim.generator is not None:
             raise SceneError("simulation.generator", "a generator table", "the [turbine] controller sets the "
                                                                           "generator torque; remove one of them")
@@ -206,25 +187,7 @@ class TurbineRun:
         self.sampled = Sampled(self.loop.vector(), d.period, self.loop.law)
         self.start_force = self.loop.vector()[:, 0] * torque0
         self.torque0 = torque0
-        vecs, hist = [], []
-        if tb.gravity:
-            vecs.append(gravity_load(model, (0.0, -G, 0.0), math.degrees(d.tilt)))
-            hist.append(constant(1.0, "turbine.gravity", ""))
-        for i, nm in enumerate(tb.nacelle):
-            path = f"turbine.nacelle[{i}]"
-            vecs.append(frame_loads(model, nm.origin)[:, _DOFS.index(nm.dof)])
-            unit = "m/s^2" if nm.dof in ("x", "y", "z") else "rad/s^2"
-            s = file_history(nm, path, base_dir, unit)
-            if s is None:
-                s = Harmonic(nm.amplitude, nm.frequency, nm.phase)
-            elif s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
-                raise SceneError(f"{path}.{'table' if nm.table else 'openfast'}",
-                                 f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
-            hist.append(s)
-        self.vectors = np.array(vecs).T if vecs else np.zeros((n, 0))
-        self.histories = tuple(hist)
-        self.unbalances = [unbalance(model, u, i, dt, phi) for i, u in enumerate(tb.unbalance)]
-        self.nonlinear = [self.aero, *self.unbalances]
+        self.nonlinear = [self.aero]
 
     def observer(self, rows, names):
         return TurbineObserver(rows, self, names)
@@ -282,26 +245,4 @@ def make_controller(ctrl, d: TurbineData, pitch: float):
                                                                 "rated_torque, region2_k and slip")
     return TorqueLawController(SimpleVariableSpeed(ctrl.rated_speed, ctrl.rated_torque, ctrl.region2_k, ctrl.slip),
                                pitch)
-
-
-def unbalance(model, u, i: int, dt: float, phi) -> Unbalance:
-    """The :class:`Unbalance` of ``[[turbine.unbalance]]`` entry ``i`` on its body's lateral rows
-    (local x, y at its centre or interface) and rotation."""
-    path = f"turbine.unbalance[{i}]"
-    where = u.body if u.interface is None else f"{u.body}:{u.interface}"
-    body, iface = body_point(model, where, f"{path}.body", where)
-    theta = spin_row(model, body)
-    if not np.any(theta) or (phi is not None and abs(theta @ phi) <= 1e-12 * float(np.abs(phi).max())):
-        raise SceneError(f"{path}.body", u.body, "does not rotate with the drivetrain: an unbalance needs a "
-                                                 "turning body")
-    axes = model.bodies[body].axes
-    rows = []
-    for j in (0, 1):
-        w = np.zeros(6)
-        w[:3] = axes[:, j]
-        rows.append(point_vector(model, body, iface, w))
-    if not (np.any(rows[0]) and np.any(rows[1])):
-        raise SceneError(f"{path}.body", u.body, "moves about its axis only (torsional): it has no lateral "
-                                                 "motion for an unbalance to act on")
-    return Unbalance(model.K.shape[0], rows[0], rows[1], theta, u.mass, u.radius, u.phase, dt)
 

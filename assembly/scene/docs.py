@@ -285,6 +285,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "consistent": "Add the energy-consistent mesh term -1/2 dk/dtheta delta^2 (default true).",
         "static_start": "Start in static equilibrium under the loads at t = 0 (default true).",
         "points": "Named stress points (`[[simulation.points]]`, `StressPoint` tables): outputs `stress:NAME`.",
+        "nacelle": "Prescribed housing accelerations (`[[simulation.nacelle]]`, `NacelleMotion` tables).",
+        "unbalance": "Eccentric masses on turning bodies (`[[simulation.unbalance]]`, `UnbalanceMass` tables).",
     },
     "StressPoint": {
         "name": "Output name: `stress:NAME`.",
@@ -306,10 +308,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "thrust": "Apply the thrust along the rotor's axis (default true).",
         "gravity": "Gravity (9.80665 m/s^2 along -y, turned by `tilt`) as a body load in `simulate` and "
                    "`static` (default false).",
-        "wind": "The rotor-effective wind speed (a `Wind` table).",
+        "wind": "The rotor-effective wind speed (a `Wind` table); without it, gravity and tilt only.",
         "controller": "The controller in the loop (a `Controller` table; default ROSCO's NREL 5 MW).",
-        "nacelle": "Prescribed housing accelerations (`[[turbine.nacelle]]`, `NacelleMotion` tables).",
-        "unbalance": "Eccentric masses (`[[turbine.unbalance]]`, `UnbalanceMass` tables).",
     },
     "Wind": {
         "speed": "Constant wind speed, a ramp's start, or the turbulence's mean at hub height (m/s).",

@@ -1,5 +1,5 @@
 """Scene data of the turbine around the drivetrain (``[turbine]``): the rotor's aerodynamics,
-the wind, the controller in the loop, gravity, the nacelle's motion and unbalances. Data only;
+the wind, the controller in the loop, and the turbine's frame (gravity, shaft tilt). Data only;
 the physics is in :mod:`assembly.dynamics.turbine_run` and the modules it names. SI units: m,
 kg, s, rad, m/s, m/s^2.
 """
@@ -74,41 +74,6 @@ class Controller:
 
 
 @dataclass(frozen=True)
-class NacelleMotion:
-    """``[[turbine.nacelle]]``: one component of the housing's prescribed acceleration at
-    ``origin`` (global, m): ``dof`` "x", "y", "z" (m/s^2) or "rx", "ry", "rz" (rad/s^2, about
-    the global axes), either ``amplitude`` sin(2 pi ``frequency`` t + ``phase``) (a constant
-    when ``frequency`` is 0: ``amplitude`` sin(``phase``), so give ``phase_deg = 90``) or a series
-    from ``table`` / ``openfast`` as a wind series is read."""
-
-    dof: Literal["x", "y", "z", "rx", "ry", "rz"]
-    amplitude: float = quantity("m/s^2 or rad/s^2", 0.0)
-    frequency: float = quantity("Hz", 0.0, ge=0.0)
-    phase: float = _angle(0.0)
-    origin: tuple[float, float, float] = quantity("m", (0.0, 0.0, 0.0))
-    table: Optional[str] = None
-    openfast: Optional[str] = None
-    column: Optional[str] = None
-    time_column: str = "time"
-    scale: float = quantity("", 1.0)
-    time_offset: float = quantity("s", 0.0)
-    time_window: Optional[tuple[float, float]] = quantity("s", None)
-
-
-@dataclass(frozen=True)
-class UnbalanceMass:
-    """``[[turbine.unbalance]]``: an eccentric ``mass`` (kg) at ``radius`` (m) from ``body``'s
-    axis (at ``interface`` of a flexible body), at angle ``phase`` (rad from the body's local x at
-    t = 0), turning with the body's integrated rotation."""
-
-    body: str
-    mass: float = quantity("kg", gt=0.0)
-    radius: float = quantity("m", gt=0.0)
-    phase: float = _angle(0.0)
-    interface: Optional[str] = None
-
-
-@dataclass(frozen=True)
 class Turbine:
     """``[turbine]``: the turbine around the drivetrain in ``flexgear simulate`` (and gravity in
     ``static``). ``openfast``: an OpenFAST deck (``.fst``) the rotor radius, hub height, tilt,
@@ -118,8 +83,8 @@ class Turbine:
     ``hub_height`` (m, for turbulence); ``rotor`` and ``generator``: the bodies (default those of
     role "rotor" and "generator"). ``pitch``: the blade pitch at t = 0 (rad). ``thrust``: the
     thrust acts along the rotor's axis. ``gravity``: gravity (9.80665 m/s^2, along -y) as a body
-    load, the shaft ``tilt`` (rad) turning it about x. ``wind``, ``controller``, ``nacelle``,
-    ``unbalance``: the tables above."""
+    load, the shaft ``tilt`` (rad) turning it about x. ``wind`` and ``controller``: the tables
+    above; without ``wind`` the table gives the turbine's frame only (gravity and tilt)."""
 
     openfast: Optional[str] = None
     surface: Optional[str] = None
@@ -134,10 +99,3 @@ class Turbine:
     gravity: bool = False
     wind: Optional[Wind] = None
     controller: Optional[Controller] = None
-    nacelle: tuple[NacelleMotion, ...] = ()
-    unbalance: tuple[UnbalanceMass, ...] = ()
-
-    def __post_init__(self):
-        for f in ("nacelle", "unbalance"):
-            if isinstance(getattr(self, f), list):  # Python callers may pass lists
-                object.__setattr__(self, f, tuple(getattr(self, f)))

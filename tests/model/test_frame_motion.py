@@ -1,4 +1,4 @@
-"""Gravity and the housing's motion as loads (assembly.dynamics.frame_motion) on a rigid shaft on
+"""Gravity and the housing's motion as loads (assembly.model.frame_motion) on a rigid shaft on
 two bearings.
 
 Theory. A shaft of weight W = m g, its centre of mass at c along its axis z between bearings at
@@ -16,8 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.frame_motion import frame_loads, gravity_load, housing_field
 from assembly.model.assemble import assemble
+from assembly.model.frame_motion import frame_loads, gravity_load, housing_field
 from assembly.scene.schema import scene_from_dict
 
 M_S, ZC, ZA, ZB = 100.0, 0.4, 0.0, 1.0          # kg, m

@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from ..errors import SceneError
 from ..mechanics.kinematics import block_rotation, rigid_transfer
 
 
@@ -56,3 +57,19 @@ def gravity_load(model, g=(0.0, -9.80665, 0.0), tilt_deg: float = 0.0) -> np.nda
     Rx = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
     a = np.concatenate([-(Rx @ np.asarray(g, float)), np.zeros(3)])
     return frame_loads(model) @ a
+
+
+#: Standard gravity (m/s^2).
+STANDARD_GRAVITY = 9.80665
+
+
+def scene_gravity(model, turbine) -> np.ndarray | None:
+    """The gravity load on q of a scene's ``[turbine]`` table (``gravity`` true: standard gravity
+    along -y turned by its ``tilt``), or None. A tilt left to an OpenFAST deck is refused here:
+    the deck is read by time-domain runs only (:mod:`assembly.dynamics.turbine_run`)."""
+    if turbine is None or not turbine.gravity:
+        return None
+    if turbine.tilt is None and turbine.openfast is not None:
+        raise SceneError("turbine.tilt", None, "missing: a static run takes the shaft tilt from the scene "
+                                               "(the deck's ShftTilt is read by simulate only)")
+    return gravity_load(model, (0.0, -STANDARD_GRAVITY, 0.0), math.degrees(turbine.tilt or 0.0))
