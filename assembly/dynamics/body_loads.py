@@ -27,7 +27,10 @@ DOFS = ("x", "y", "z", "rx", "ry", "rz")
 
 
 class Harmonic:
-    """``amplitude sin(2 pi frequency t + phase)`` of a float or an array of times."""
+    """``amplitude sin(2 pi frequency t + phase)`` of a float or an array of times (defined at
+    every time: no ``origin`` file to warn about)."""
+
+    origin = ""
 
     def __init__(self, amplitude: float, frequency: float, phase: float):
         self.a, self.w, self.p = amplitude, 2.0 * math.pi * frequency, phase

@@ -17,6 +17,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import SceneError
 from .rotor_surface import RotorSurface, rotor_loads
 from .transient import Nonlinear
 
@@ -39,8 +40,14 @@ class RotorAero(Nonlinear):
         self.last = self.state = None
 
     def loads(self, t: float, xd: np.ndarray):
-        return rotor_loads(self.surface, self.radius, self.density, float(self.wind(t)), self.sense * float(xd[0]),
-                           float(self.pitch(t)))
+        wind, omega, pitch = float(self.wind(t)), self.sense * float(xd[0]), float(self.pitch(t))
+        try:
+            return rotor_loads(self.surface, self.radius, self.density, wind, omega, pitch)
+        except SceneError as exc:                   # the state left the surface: name the table
+            raise SceneError("turbine.surface", self.surface.source,
+                             f"does not cover the rotor at t = {t:.6g} s (wind {wind:.4g} m/s, rotor speed "
+                             f"{omega:.4g} rad/s, pitch {pitch:.4g} rad): {exc.path} {exc.value:.4g} {exc.reason}") \
+                from None
 
     def commit(self, t, x, xd):
         self.state = (float(self.wind(t)), float(self.pitch(t)), self.loads(t, xd))

@@ -168,7 +168,7 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
     freqs, shaft_hz, side_hz = mesh_frequencies(model, scene, v0)
     warnings = (step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
                 + [w for w in (range_warning(h, check_step(dt, t_end) * dt) for h in loads.recorded) if w]
-                + brake_warnings(model, scene, sim, dt, loads.torques))
+                + brake_warnings(model, scene, sim, dt, loads.torques) + (turbine.warnings if turbine else []))
     for w in warnings:
         log.warning(w)
     try:

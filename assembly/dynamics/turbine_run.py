@@ -36,7 +36,8 @@ from . import wind as wind_series
 from .load_series import file_history
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
-from .rotor_surface import read_surface, rotor_loads
+from .rotor_surface import read_surface
+from .run_loads import polar_inertia
 from .sampled import Sampled
 from .turbine_loop import ControllerLoop, PitchActuator
 from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
@@ -60,7 +61,7 @@ class TurbineData:
     """What the run uses of the turbine, resolved from the scene and its deck: ``surface``
     (path), ``radius`` m, ``density`` kg/m^3, ``hub_height`` m or None, ``tilt`` rad, the
     controller's ``library``/``input`` paths or None and ``period`` s; ``sources`` {field:
-    where it came from}."""
+    where it came from}; ``rotor_inertia`` (kg m^2) the deck's, None without one."""
 
     surface: Path
     radius: float
@@ -71,6 +72,7 @@ class TurbineData:
     input: Path | None
     period: float
     sources: dict
+    rotor_inertia: float | None = None
 
 
 def turbine_data(turbine, base_dir) -> TurbineData:
@@ -125,7 +127,7 @@ def turbine_data(turbine, base_dir) -> TurbineData:
     period = pick("controller.period", ctrl.period if ctrl else None, "controller_period",
                   default=CONTROLLER_PERIOD)
     return TurbineData(surface, float(radius), float(density), None if hub is None else float(hub), float(tilt),
-                       library, inp, float(period), sources)
+                       library, inp, float(period), sources, deck.rotor_inertia if deck is not None else None)
 
 
 class TurbineObserver:
@@ -157,6 +159,8 @@ class TurbineRun:
             raise SceneError("simulation.generator", "a generator table", "the [turbine] controller sets the "
                                                                           "generator torque; remove one of them")
         self.data = d = turbine_data(tb, base_dir)
+        for k, v in d.sources.items():
+            log.info("turbine.%s: %s", k, v if v in ("scene", "default") else f"from {v}")
         surface = read_surface(d.surface, "turbine.surface")
         rotor, generator = chain_ends(scene, tb.rotor, tb.generator)
         r_rot, r_gen = spin_row(model, rotor), spin_row(model, generator)
@@ -174,7 +178,7 @@ class TurbineRun:
                 axial = None                                # a torsional rotor: no axial row
         self.aero = RotorAero(r_rot, surface, d.radius, d.density, self.wind, self.actuator.pitch, s_rot, axial)
         omega_r, omega_g = s_rot * float(r_rot @ v0), s_gen * float(r_gen @ v0)
-        q0 = rotor_loads(surface, d.radius, d.density, float(self.wind(0.0)), omega_r, tb.pitch)
+        q0 = self.aero.loads(0.0, np.array([s_rot * omega_r]))
         torque0 = q0.torque * omega_r / omega_g if omega_g > 0.0 else 0.0
         steps = round(d.period / dt)
         if steps < 1 or abs(steps * dt - d.period) > 1e-9 * d.period:
@@ -188,12 +192,20 @@ class TurbineRun:
         self.start_force = self.loop.vector()[:, 0] * torque0
         self.torque0 = torque0
         self.nonlinear = [self.aero]
+        self.warnings = []
+        if d.rotor_inertia is not None:                     # the deck's rotor beside the scene's
+            j = polar_inertia(model, rotor)
+            if abs(j - d.rotor_inertia) > 0.01 * d.rotor_inertia:
+                self.warnings.append(f"turbine.openfast: the deck's rotor inertia {d.rotor_inertia:.6g} kg m^2 "
+                                     f"differs from body {rotor!r}'s {j:.6g} kg m^2 by more than 1 %; the run "
+                                     f"uses the body's")
 
     def observer(self, rows, names):
         return TurbineObserver(rows, self, names)
 
     def info(self) -> dict:
         return {"controller_calls": len(self.loop.times), "controller_period_s": self.data.period,
+                "_controller_times": list(self.loop.times),
                 "generator_torque_start_Nm": self.torque0,
                 "turbine_sources": {k: str(v) for k, v in self.data.sources.items()}}
 
