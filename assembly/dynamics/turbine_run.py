@@ -51,6 +51,8 @@ OUTPUTS = {"turbine:wind": "m/s", "turbine:pitch": "rad", "turbine:generator_tor
 #: ROSCO's compiled controller and its NREL 5 MW input in the rosco wheel.
 ROSCO_LIBRARY = "rosco/lib/libdiscon.so"
 ROSCO_INPUT = "Examples/Test_Cases/NREL-5MW/DISCON.IN"
+#: The NREL 5 MW OpenFAST deck in the rosco wheel (``[turbine] openfast = "rosco"``).
+ROSCO_DECK = "Examples/Test_Cases/NREL-5MW/NREL-5MW.fst"
 #: Defaults when neither the scene nor a deck gives them.
 DENSITY = 1.225
 CONTROLLER_PERIOD = 0.01
@@ -82,7 +84,8 @@ def turbine_data(turbine, base_dir) -> TurbineData:
     deck = None
     if turbine.openfast is not None:
         from .openfast_deck import read_deck  # openfast_io is an extra: only with a deck
-        deck = read_deck(base_dir / turbine.openfast, "turbine.openfast")
+        deck = read_deck(rosco_file(ROSCO_DECK) if turbine.openfast == "rosco" else base_dir / turbine.openfast,
+                         "turbine.openfast")
     sources = {}
 
     def pick(name, given, deck_name=None, default=None):

@@ -12,7 +12,6 @@ the blades. A series is linear between its samples and refused outside them.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

@@ -50,13 +50,16 @@ def frame_loads(model, origin=(0.0, 0.0, 0.0)) -> np.ndarray:
     return -(model.T.T @ (model.M_abs @ r))
 
 
+def tilted(g, tilt_deg: float) -> np.ndarray:
+    """Gravity ``g`` (m/s^2, model axes) turned by the shaft ``tilt_deg`` about the model's x axis."""
+    c, s = math.cos(math.radians(tilt_deg)), math.sin(math.radians(tilt_deg))
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]) @ np.asarray(g, float)
+
+
 def gravity_load(model, g=(0.0, -9.80665, 0.0), tilt_deg: float = 0.0) -> np.ndarray:
     """``f_q`` (n_q,) of gravity ``g`` (m/s^2, model axes) turned by the shaft ``tilt_deg`` about
     the model's x axis (module notes: the load of a housing accelerating at ``-g``)."""
-    c, s = math.cos(math.radians(tilt_deg)), math.sin(math.radians(tilt_deg))
-    Rx = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-    a = np.concatenate([-(Rx @ np.asarray(g, float)), np.zeros(3)])
-    return frame_loads(model) @ a
+    return frame_loads(model) @ np.concatenate([-tilted(g, tilt_deg), np.zeros(3)])
 
 
 #: Standard gravity (m/s^2).
@@ -73,3 +76,25 @@ def scene_gravity(model, turbine) -> np.ndarray | None:
         raise SceneError("turbine.tilt", None, "missing: a static run takes the shaft tilt from the scene "
                                                "(the deck's ShftTilt is read by simulate only)")
     return gravity_load(model, (0.0, -STANDARD_GRAVITY, 0.0), math.degrees(turbine.tilt or 0.0))
+
+
+def body_weights(model, turbine) -> list:
+    """[(body, centre of mass (3,), wrench (6,) N, N m there)]: the resultant of the scene's
+    gravity load (:func:`scene_gravity`; [] without) on each body's coordinates -- its mass
+    matrix's, so a beam shaft's mass lumped on the bodies it joins is in it -- for the static
+    report's applied loads and equilibrium check. A body held to the housing in every direction
+    is left out: its weight goes into the housing, not into the model."""
+    if scene_gravity(model, turbine) is None:
+        return []
+    g = tilted((0.0, -STANDARD_GRAVITY, 0.0), math.degrees(turbine.tilt or 0.0))
+    Fz = -(model.M_abs @ (housing_field(model) @ np.concatenate([-g, np.zeros(3)])))
+    T = model.T
+    out = []
+    for name, body in model.bodies.items():
+        sl = model.body_slice(name)
+        if np.count_nonzero(T[sl].toarray() if hasattr(T, "toarray") else T[sl]) == 0:
+            continue
+        rigid_local = getattr(body, "rigid_local", None)
+        w = Fz[sl] if rigid_local is None else block_rotation(body.axes) @ (np.asarray(rigid_local).T @ Fz[sl])
+        out.append((name, np.asarray(body.position, float), np.asarray(w, float)))
+    return out

@@ -295,7 +295,8 @@ FIELDS: dict[str, dict[str, str]] = {
     },
     "Turbine": {
         "openfast": "An OpenFAST deck (.fst): radius, hub height, tilt, air density, controller library, "
-                    "DISCON.IN and surface are read from it when not given here (the `wind` extra).",
+                    "DISCON.IN and surface are read from it when not given here; 'rosco': the NREL 5 MW deck of the "
+                    "installed rosco wheel.",
         "surface": "A ROSCO `Cp_Ct_Cq` file (relative to the scene file), or 'rosco': the NREL 5 MW "
                    "surface of the installed rosco wheel (default from the deck's DISCON.IN).",
         "radius": "Rotor (tip) radius (m).",

@@ -78,7 +78,7 @@ class Turbine:
     """``[turbine]``: the turbine around the drivetrain in ``flexgear simulate`` (and gravity in
     ``static``). ``openfast``: an OpenFAST deck (``.fst``) the rotor radius, hub height, tilt,
     air density, controller library, ``DISCON.IN`` and performance surface are read from when
-    not given here. ``surface``: a ROSCO ``Cp_Ct_Cq`` file ("rosco": the NREL 5 MW surface of
+    not given here ("rosco": the NREL 5 MW deck of the installed ``rosco`` wheel). ``surface``: a ROSCO ``Cp_Ct_Cq`` file ("rosco": the NREL 5 MW surface of
     the installed ``rosco`` wheel); ``radius`` (m), ``density`` (kg/m^3, default 1.225),
     ``hub_height`` (m, for turbulence); ``rotor`` and ``generator``: the bodies (default those of
     role "rotor" and "generator"). ``pitch``: the blade pitch at t = 0 (rad). ``thrust``: the

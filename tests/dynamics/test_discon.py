@@ -11,7 +11,6 @@ from __future__ import annotations
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from assembly.dynamics.discon import Discon
