@@ -166,7 +166,7 @@ class TurbineRun:
             log.info("turbine.%s: %s", k, v if v in ("scene", "default") else f"from {v}")
         surface = read_surface(d.surface, "turbine.surface")
         rotor, generator = chain_ends(scene, tb.rotor, tb.generator)
-        r_rot, r_gen = spin_row(model, rotor), spin_row(model, generator)
+        r_rot, r_gen = spin_row(model, rotor), tb.generator_ratio * spin_row(model, generator)
         s_rot = float(np.sign(r_rot @ v0)) or 1.0
         s_gen = float(np.sign(r_gen @ v0)) or (float(np.sign(r_gen @ phi)) if phi is not None else 0.0) or 1.0
         self.wind = make_wind(tb.wind, d, t_end, base_dir)

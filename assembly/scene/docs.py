@@ -305,6 +305,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "tilt": "Shaft tilt (rad): gravity turned about x by it (default 0).",
         "rotor": "Body the aerodynamic torque and thrust act on (default the body of role 'rotor').",
         "generator": "Body the generator torque acts on (default the body of role 'generator').",
+        "generator_ratio": "Generator speed per unit speed of that body (default 1; a two-mass model's "
+                           "low-speed-side generator: the gear ratio, as ElastoDyn's GBRatio).",
         "pitch": "Collective blade pitch at t = 0 (rad).",
         "thrust": "Apply the thrust along the rotor's axis (default true).",
         "gravity": "Gravity (9.80665 m/s^2 along -y, turned by `tilt`) as a body load in `simulate` and "

@@ -857,9 +857,15 @@ def with_simulation(scene: Scene, simulation) -> Scene:
     """Copy of ``scene`` with ``simulation`` (a :class:`Simulation` table, or None) as its
     ``[simulation]`` table, checked against the scene as a new scene is (the other tables as
     the user gave them)."""
+    return with_tables(scene, simulation=simulation)
+
+
+def with_tables(scene: Scene, **tables) -> Scene:
+    """Copy of ``scene`` with the top-level ``tables`` given (e.g. ``turbine=...``), checked
+    against the scene as a new scene is (the other tables as the user gave them)."""
     scene_argument("scene", scene)
-    return dataclasses.replace(scene, simulation=simulation,
-                               **{key: scene.as_given(key) for key in scene.__dict__.get("_given", {})})
+    given = {key: scene.as_given(key) for key in scene.__dict__.get("_given", {}) if key not in tables}
+    return dataclasses.replace(scene, **tables, **given)
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:

@@ -81,7 +81,10 @@ class Turbine:
     not given here ("rosco": the NREL 5 MW deck of the installed ``rosco`` wheel). ``surface``: a ROSCO ``Cp_Ct_Cq`` file ("rosco": the NREL 5 MW surface of
     the installed ``rosco`` wheel); ``radius`` (m), ``density`` (kg/m^3, default 1.225),
     ``hub_height`` (m, for turbulence); ``rotor`` and ``generator``: the bodies (default those of
-    role "rotor" and "generator"). ``pitch``: the blade pitch at t = 0 (rad). ``thrust``: the
+    role "rotor" and "generator"); ``generator_ratio``: the generator's speed per unit speed of
+    that body (1: the body is the generator; N: a two-mass model's generator on the low-speed
+    side, as ElastoDyn's GBRatio, so the controller sees and sets the high-speed shaft's speed
+    and torque). ``pitch``: the blade pitch at t = 0 (rad). ``thrust``: the
     thrust acts along the rotor's axis. ``gravity``: gravity (9.80665 m/s^2, along -y) as a body
     load, the shaft ``tilt`` (rad) turning it about x. ``wind`` and ``controller``: the tables
     above; without ``wind`` the table gives the turbine's frame only (gravity and tilt)."""
@@ -94,6 +97,7 @@ class Turbine:
     tilt: Optional[float] = _angle(None, ge=-0.5, le=0.5)
     rotor: Optional[str] = None
     generator: Optional[str] = None
+    generator_ratio: float = quantity("", 1.0, gt=0.0)
     pitch: float = _angle(0.0, ge=-0.2, le=1.6)
     thrust: bool = True
     gravity: bool = False
