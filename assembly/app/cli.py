@@ -41,7 +41,8 @@ log = logging.getLogger("flexgear")
 BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "flex": "assembly.app.bench.flex",
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
-              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream"}
+              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream",
+              "turbine": "assembly.app.bench.turbine"}
 
 
 def _raise_terminated(signum, frame):

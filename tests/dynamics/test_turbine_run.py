@@ -376,3 +376,30 @@ def test_a_turbine_output_needs_a_turbine():
     with pytest.raises(SceneError) as exc:
         simulate(_shaft(), 0.01, 1e-3, outputs=["turbine:wind"])
     assert exc.value.path == "outputs[0]"
+
+
+def test_a_wind_table_is_read_as_given_and_must_cover_the_run(tmp_path):
+    # a CSV wind series: the run's wind is it, linear between its rows
+    (tmp_path / "wind.csv").write_text("time,V\n0.0,15.0\n0.05,17.0\n0.1,16.0\n")
+    scene = _two_mass(12.1 * RPM, 0.2, 16.0, 0.0, (0.02, 0.04), 0.01, RATED_TQ * RATIO)
+    d = _dict(scene)
+    d["turbine"] = {"surface": "rosco", "radius": RADIUS, "pitch": 0.2, "wind": {"table": "wind.csv", "column": "V"},
+                    "controller": {"kind": "baseline", "period": 0.01}}
+    run = simulate(scene_from_dict(d), 0.1, 0.01, outputs=["turbine:wind"], base_dir=tmp_path)
+    np.testing.assert_allclose(run.outputs["turbine:wind"], np.interp(run.time_s, [0.0, 0.05, 0.1],
+                                                                       [15.0, 17.0, 16.0]), rtol=1e-15)
+    with pytest.raises(SceneError) as exc:
+        simulate(scene_from_dict(d), 0.2, 0.01, base_dir=tmp_path)
+    assert exc.value.path == "turbine.wind.table"
+
+
+def test_the_command_line_refuses_a_bad_turbine_in_one_line(tmp_path, capsys):
+    from assembly.app.cli import main
+    f = tmp_path / "bad.toml"
+    f.write_text('extends = "nrel5mw.toml"\nname = "bad"\n[set.turbine]\nradius = -63.0\nsurface = "rosco"\n'
+                 'wind = { speed = 16.0 }\n')
+    out = tmp_path / "out"
+    assert main(["simulate", str(f), "--t-end", "0.1", "--dt", "0.01", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "turbine.radius" in err[0] and "-63" in err[0]
+    assert not out.exists()
