@@ -21,6 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..errors import SceneError
+
 from .discon import DisconOutput
 
 #: rpm -> rad/s
@@ -36,6 +38,16 @@ class SimpleVariableSpeed:
     rated_torque: float
     k: float
     slip: float
+
+    def __post_init__(self):
+        # ServoDyn's rule: region 2's k omega^2 meets the slip line below rated, so the torque
+        # rises to the rated torque without a jump (VS_Rgn2K VS_RtGnSp^2 < VS_RtTq, and the
+        # crossing exists: its discriminant m (m - 4 k w_sync) >= 0)
+        m, ws = self.slope, self.sync_speed
+        if not (self.k * self.rated_speed ** 2 < self.rated_torque and m * (m - 4.0 * self.k * ws) >= 0.0):
+            raise SceneError("turbine.controller.region2_k", self.k,
+                             f"k x rated_speed^2 = {self.k * self.rated_speed ** 2:.6g} N m must stay below the rated "
+                             f"torque {self.rated_torque:.6g} N m and meet the slip line (ServoDyn's simple law)")
 
     @property
     def sync_speed(self) -> float:
