@@ -13,8 +13,9 @@ generator torque demand (N m).
 
 A library keeps its state in the process (Fortran SAVE variables): each :class:`Discon` loads a
 private copy of the library file, so two controllers in one process do not share it. A
-missing or unreadable input file is refused before the call: ROSCO's Fortran runtime ends the
-whole process on a file it cannot open.
+missing or unreadable input file is refused before the call, and so is a file the input names
+that is not there (ROSCO's ``PerfFileName``, and ``OL_Filename`` when ``OL_Mode`` reads it): ROSCO's
+Fortran runtime ends the whole process on a file it cannot open.
 
 What a library prints (ROSCO's banner, its warnings and status lines) goes to the file
 ``controller.log`` in its folder, not to the user's terminal: the process's standard output is
@@ -28,6 +29,7 @@ import ctypes
 import logging
 import math
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -43,6 +45,30 @@ log = logging.getLogger(__name__)
 #: Size of the swap array (ServoDyn's default is enough for ROSCO's records up to 1018)
 SWAP_SIZE = 3000
 MESSAGE_SIZE = 1024
+
+
+#: ROSCO's input keys that name a file it opens (relative to the input file), with the mode key
+#: that makes it read the file (None: always).
+INPUT_FILES = {"PerfFileName": None, "OL_Filename": "OL_Mode"}
+
+
+def named_files(text: str) -> dict:
+    """{key: file name} of the files a ROSCO-style input names and will open (module notes):
+    ``"name"  ! Key`` lines of :data:`INPUT_FILES`, those of a mode key set to 0 or "unused" left out."""
+    values = {}
+    for line in text.splitlines():
+        m = re.match(r'\s*("([^"]*)"|\S+)\s*!\s*(\w+)', line)
+        if m:
+            values[m.group(3)] = m.group(2) if m.group(2) is not None else m.group(1)
+    out = {}
+    for key, mode in INPUT_FILES.items():
+        name = values.get(key)
+        if name is None or name.strip().lower() in ("", "unused"):
+            continue
+        if mode is not None and values.get(mode, "0").strip() in ("0", "0.0"):
+            continue
+        out[key] = name
+    return out
 
 
 class ControllerError(SceneError):
@@ -71,9 +97,14 @@ class Discon:
             if not p.is_file():
                 raise SceneError(f"{field}.{name}", str(p), "is not a file")
         try:
-            inp.read_bytes()
+            text = inp.read_bytes().decode("latin-1")
         except OSError as exc:
             raise SceneError(f"{field}.input", str(inp), f"cannot be read ({exc.strerror})") from None
+        for key, name in named_files(text).items():
+            if not (inp.parent / name).is_file():
+                raise SceneError(f"{field}.input", str(inp), f"names {key} = {name!r}, which is not a file "
+                                                             f"({inp.parent / name}); the library would end the "
+                                                             f"process on it")
         self._tmp = Path(tempfile.mkdtemp(prefix="flexgear-discon-"))
         private = self._tmp / lib.name
         shutil.copyfile(lib, private)                       # this controller's own state

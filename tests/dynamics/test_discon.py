@@ -78,3 +78,12 @@ def test_rosco_ends_the_process_on_an_unreadable_input_which_is_why_it_is_checke
             "print('returned')\n")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert r.returncode != 0 and "returned" not in r.stdout
+
+
+def test_an_input_naming_a_missing_file_is_refused_before_the_library_runs(tmp_path):
+    # ROSCO's Fortran runtime ends the process on a file it cannot open: the bridge looks first
+    text = rosco_file(INFILE).read_text().replace('"Cp_Ct_Cq.NREL5MW.txt"', '"missing_surface.txt"')
+    (tmp_path / "DISCON.IN").write_text(text)
+    with pytest.raises(SceneError) as exc:
+        Discon(rosco_file(LIB), tmp_path / "DISCON.IN")
+    assert exc.value.path == "turbine.controller.input" and "PerfFileName" in exc.value.reason
