@@ -13,10 +13,16 @@ on the model against the generator's turning (``f = -sense T_g g`` along its row
 
 Pitch actuator (:class:`PitchActuator`): first order, ``beta' = (beta_c - beta) / tau``, the
 demand held over a sample, so between samples ``beta(t) = beta_c + (beta_j - beta_c)
-exp(-(t - t_j) / tau)`` exactly; ``tau = 0``: the demand itself.
+exp(-(t - t_j) / tau)`` exactly; ``tau = 0``: the demand itself. Second order
+(:class:`SecondOrderPitch`, OpenFAST's and ROSCO's usual actuator model): ``beta'' + 2 zeta w
+beta' + w^2 beta = w^2 beta_c``; with ``x = beta - beta_c`` and the roots ``l1, l2 = w (-zeta +-
+sqrt(zeta^2 - 1))`` of its characteristic equation, between samples exactly ``x(s) = ((l2 x_j -
+x'_j) e^{l1 s} - (l1 x_j - x'_j) e^{l2 s}) / (l2 - l1)`` (complex roots when zeta < 1; ``zeta =
+1``: ``x(s) = (x_j + (x'_j + w x_j) s) e^{-w s}``), ``s = t - t_j``, rate and angle continuous.
 """
 from __future__ import annotations
 
+import cmath
 import math
 from typing import Callable
 
@@ -42,6 +48,41 @@ class PitchActuator:
     def command(self, t: float, demand: float) -> None:
         """A new demand from ``t`` on."""
         self.start, self.t0, self.demand = self.pitch(t), t, demand
+
+
+class SecondOrderPitch:
+    """A second-order pitch actuator of natural frequency ``omega`` (rad/s) and damping ratio
+    ``zeta`` from ``pitch0`` (rad) at rest (module notes); :meth:`pitch` and :meth:`command` as
+    :class:`PitchActuator`'s."""
+
+    def __init__(self, omega: float, zeta: float, pitch0: float = 0.0):
+        if not (math.isfinite(omega) and omega > 0.0):
+            raise SceneError("turbine.controller.pitch_omega", omega, "must be a frequency > 0 rad/s")
+        if not (math.isfinite(zeta) and zeta > 0.0):
+            raise SceneError("turbine.controller.pitch_zeta", zeta, "must be a damping ratio > 0")
+        self.w, self.zeta = omega, zeta
+        root = cmath.sqrt(zeta * zeta - 1.0)
+        self.l1, self.l2 = omega * (-zeta + root), omega * (-zeta - root)
+        self.t0, self.x0, self.v0, self.demand = 0.0, 0.0, 0.0, pitch0
+
+    def _state(self, t: float) -> tuple[float, float]:
+        """(beta - demand, beta') at ``t``."""
+        s, x0, v0 = t - self.t0, self.x0, self.v0
+        if self.zeta == 1.0:
+            e = math.exp(-self.w * s)
+            return (x0 + (v0 + self.w * x0) * s) * e, (v0 - self.w * (v0 + self.w * x0) * s) * e
+        l1, l2 = self.l1, self.l2
+        a, b = (l2 * x0 - v0) / (l2 - l1), (l1 * x0 - v0) / (l2 - l1)
+        e1, e2 = cmath.exp(l1 * s), cmath.exp(l2 * s)
+        return (a * e1 - b * e2).real, (a * l1 * e1 - b * l2 * e2).real
+
+    def pitch(self, t: float) -> float:
+        return self.demand + self._state(t)[0]
+
+    def command(self, t: float, demand: float) -> None:
+        x, v = self._state(t)
+        self.x0, self.v0, self.t0 = self.demand + x - demand, v, t
+        self.demand = demand
 
 
 class ControllerLoop:

@@ -39,7 +39,7 @@ from .rotor_aero import RotorAero
 from .rotor_surface import read_surface
 from .run_loads import polar_inertia
 from .sampled import Sampled
-from .turbine_loop import ControllerLoop, PitchActuator
+from .turbine_loop import ControllerLoop, PitchActuator, SecondOrderPitch
 from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
 
 log = logging.getLogger(__name__)
@@ -171,7 +171,13 @@ class TurbineRun:
         s_gen = float(np.sign(r_gen @ v0)) or (float(np.sign(r_gen @ phi)) if phi is not None else 0.0) or 1.0
         self.wind = make_wind(tb.wind, d, t_end, base_dir)
         ctrl = tb.controller
-        self.actuator = PitchActuator(ctrl.pitch_tau if ctrl else 0.0, tb.pitch)
+        if ctrl is not None and ctrl.pitch_omega is not None:
+            if ctrl.pitch_tau:
+                raise SceneError("turbine.controller.pitch_tau", ctrl.pitch_tau, "give pitch_tau (first order) or "
+                                                                                "pitch_omega (second order), not both")
+            self.actuator = SecondOrderPitch(ctrl.pitch_omega, ctrl.pitch_zeta, tb.pitch)
+        else:
+            self.actuator = PitchActuator(ctrl.pitch_tau if ctrl else 0.0, tb.pitch)
         axial = None
         if tb.thrust:
             w = np.zeros(6)

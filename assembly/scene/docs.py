@@ -335,6 +335,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "input": "The library's input file (DISCON.IN; default for 'rosco': its NREL 5 MW file).",
         "period": "Sample time (s): a whole number of the run's steps (default the deck's DLL_DT, else 0.01).",
         "pitch_tau": "Time constant of the first-order pitch actuator (s; 0: none).",
+        "pitch_omega": "Natural frequency of a second-order pitch actuator instead (rad/s).",
+        "pitch_zeta": "Its damping ratio (default 0.7).",
         "efficiency": "Generator efficiency for the electrical power (default 0.944).",
         "rated_speed": "'simple': the generator's rated speed (rad/s; VS_RtGnSp).",
         "rated_torque": "'simple': the rated generator torque (N m; VS_RtTq).",

@@ -58,7 +58,9 @@ class Controller:
     ``input`` file), "simple" (ServoDyn's simple variable-speed law: ``rated_speed`` rad/s and
     ``rated_torque`` N m of the generator, ``region2_k`` N m s^2/rad^2, ``slip`` fraction;
     pitch held) or "baseline" (the NREL 5 MW baseline torque law, pitch held). The pitch demand
-    drives a first-order actuator of time constant ``pitch_tau`` (s; 0: the demand itself).
+    drives a first-order actuator of time constant ``pitch_tau`` (s; 0: the demand itself), or,
+    given ``pitch_omega`` (rad/s), a second-order one of that natural frequency and damping
+    ratio ``pitch_zeta``.
     ``efficiency``: the generator's, for the electrical power reported and measured."""
 
     kind: Literal["rosco", "discon", "simple", "baseline"] = "rosco"
@@ -66,6 +68,8 @@ class Controller:
     input: Optional[str] = None
     period: Optional[float] = quantity("s", None, gt=0.0)
     pitch_tau: float = quantity("s", 0.0, ge=0.0)
+    pitch_omega: Optional[float] = quantity("rad/s", None, gt=0.0)
+    pitch_zeta: float = quantity("", 0.7, gt=0.0, le=10.0)
     efficiency: float = quantity("", 0.944, gt=0.0, le=1.0)
     rated_speed: Optional[float] = quantity("rad/s", None, gt=0.0)
     rated_torque: Optional[float] = quantity("N m", None, gt=0.0)

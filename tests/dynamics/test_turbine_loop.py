@@ -105,3 +105,25 @@ def test_region_2_settles_at_the_surfaces_operating_point(wind):
     left = 0.1 * math.exp(-(t_end - dt) / (tau + dt))
     assert run.y[-1, 0] == pytest.approx(w_star, rel=left + 1e-9)
     assert ctrl.calls == round(t_end / dt)
+
+
+@pytest.mark.parametrize("zeta", [0.3, 1.0, 2.0])
+def test_second_order_pitch_actuator_is_its_ode_between_samples(zeta):
+    # beta'' + 2 zeta w beta' + w^2 beta = w^2 beta_c, the demand held: integrated here by the
+    # matrix exponential of its first-order form, which is exact (to round-off, ~1e-15 x the step)
+    from scipy.linalg import expm
+
+    from assembly.dynamics.turbine_loop import SecondOrderPitch
+    w = 2 * math.pi * 1.6                        # rad/s (a typical pitch bandwidth)
+    a = SecondOrderPitch(w, zeta, 0.05)
+    A = np.array([[0.0, 1.0], [-w * w, -2 * zeta * w]])
+    x = np.array([0.0, 0.0])                     # (beta - demand, beta'), at rest on 0.05
+    demand, t0 = 0.05, 0.0
+    for tj, new in ((0.0, 0.2), (0.3, 0.1), (0.35, 0.25)):
+        x = expm(A * (tj - t0)) @ x
+        x = np.array([x[0] + demand - new, x[1]])  # angle and rate continuous across a new demand
+        a.command(tj, new)
+        demand, t0 = new, tj
+        for s in (0.0, 0.01, 0.04, 0.2):
+            want = demand + (expm(A * s) @ x)[0]
+            assert a.pitch(tj + s) == pytest.approx(want, abs=1e-12)
