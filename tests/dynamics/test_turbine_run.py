@@ -403,3 +403,23 @@ def test_the_command_line_refuses_a_bad_turbine_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "turbine.radius" in err[0] and "-63" in err[0]
     assert not out.exists()
+
+
+def test_a_wind_from_an_openfast_channel_is_that_channel_in_m_per_s():
+    from assembly.dynamics.load_series import read_openfast_out
+    from tests.support.openfast_files import DATA
+    f = DATA / "FASTOutBin.outb"                     # SNL SWiFT, Wind1VelX in m/s, 0 .. 1 s every 5 ms
+    want = read_openfast_out(f, "Wind1VelX", "test", expect="m/s")
+    scene = _two_mass(5.0 * RPM, 0.0, 7.2, 0.0, (0.5, 0.6), 0.005, RATED_TQ * RATIO)
+    d = _dict(scene)
+    d["turbine"] = {"surface": "rosco", "radius": RADIUS, "pitch": 0.0,
+                    "wind": {"openfast": str(f), "column": "Wind1VelX"},
+                    "controller": {"kind": "baseline", "period": 0.005}}
+    run = simulate(scene_from_dict(d), 1.0, 0.005, outputs=["turbine:wind"])
+    np.testing.assert_allclose(run.outputs["turbine:wind"], np.interp(run.time_s, want.time_s, want.values),
+                               rtol=1e-14)
+    # a channel that is not a speed is refused by its unit
+    d["turbine"]["wind"]["column"] = "RotSpeed"
+    with pytest.raises(SceneError) as exc:
+        simulate(scene_from_dict(d), 1.0, 0.005)
+    assert exc.value.path.startswith("turbine.wind")
