@@ -22,11 +22,18 @@ import math
 from dataclasses import dataclass
 
 from ..errors import SceneError
-
 from .discon import DisconOutput
 
 #: rpm -> rad/s
 RPM = math.pi / 30.0
+
+
+def meeting_speed(k: float, slope: float, sync: float) -> float:
+    """The speed where region 2's ``k w^2`` meets the slip line ``slope (w - sync)``: the lower
+    root of ``k w^2 - slope w + slope sync = 0`` (``sync`` when k = 0)."""
+    if k == 0.0:
+        return sync
+    return (slope - math.sqrt(slope * (slope - 4.0 * k * sync))) / (2.0 * k)
 
 
 @dataclass(frozen=True)
@@ -60,10 +67,7 @@ class SimpleVariableSpeed:
     @property
     def transition_speed(self) -> float:
         """Where ``k w^2`` meets the slip line (ServoDyn's ``VS_TrGnSp``)."""
-        m, ws = self.slope, self.sync_speed
-        if self.k == 0.0:
-            return ws
-        return (m - math.sqrt(m * (m - 4.0 * self.k * ws))) / (2.0 * self.k)
+        return meeting_speed(self.k, self.slope, self.sync_speed)
 
 
 def simple_torque(law: SimpleVariableSpeed, speed: float) -> float:
@@ -104,10 +108,7 @@ class BaselineVariableSpeed:
 
     @property
     def transition_speed(self) -> float:
-        m, ws = self.slope25, self.sync_speed
-        if self.k == 0.0:
-            return ws
-        return (m - math.sqrt(m * (m - 4.0 * self.k * ws))) / (2.0 * self.k)
+        return meeting_speed(self.k, self.slope25, self.sync_speed)
 
 
 def baseline_torque(law: BaselineVariableSpeed, speed: float, pitch: float = 0.0) -> float:

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
-from tests.support.fuzz import examples
+from tests.support.fuzz import examples, tree_paths
 
 RPM = math.pi / 30.0
 BASE = {
@@ -37,17 +37,6 @@ JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**6), st.text(m
                                   "generator", "housing"]))
 
 
-def _paths(node, prefix=()):
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield prefix + (k,)
-            yield from _paths(v, prefix + (k,))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield prefix + (i,)
-            yield from _paths(v, prefix + (i,))
-
-
 @st.composite
 def mutated(draw):
     tree = copy.deepcopy(BASE)
@@ -57,7 +46,7 @@ def mutated(draw):
         node = tree
         for k in root:
             node = node[k]
-        paths = [root + p for p in _paths(node)]
+        paths = [root + p for p in tree_paths(node)]
         path = draw(st.sampled_from(paths))
         parent = tree
         for p in path[:-1]:
