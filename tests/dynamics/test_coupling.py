@@ -25,6 +25,8 @@ from assembly.dynamics.rotor_surface import read_surface, rotor_loads
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
 
+pytest.importorskip("rosco", reason="the rosco package (its NREL 5 MW surface) is not installed")
+
 pytestmark = pytest.mark.usefixtures("step_path")
 
 RPM = math.pi / 30.0

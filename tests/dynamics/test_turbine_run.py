@@ -40,6 +40,8 @@ from assembly.errors import SceneError
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene, scene_from_dict
 
+pytest.importorskip("rosco", reason="the rosco package (its NREL 5 MW surface) is not installed")
+
 pytestmark = pytest.mark.usefixtures("step_path")
 
 RPM = math.pi / 30.0

@@ -6,6 +6,7 @@ import copy
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -13,6 +14,8 @@ from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
 from tests.support.fuzz import examples, tree_paths
+
+pytest.importorskip("rosco", reason="the rosco package (its NREL 5 MW surface) is not installed")
 
 RPM = math.pi / 30.0
 BASE = {
