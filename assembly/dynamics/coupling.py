@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import arguments as check
 from ..analysis.classify import classify_modes
 from ..analysis.energy import strain_by_element
 from ..analysis.modal import solve_modes
@@ -38,6 +39,7 @@ from ..scene.schema import scene_from_dict, to_dict
 from ..scene.tables import Scene, with_fidelity, with_tables
 from ..scene.time_domain import Generator, TimeLoad
 from ..scene.turbine import Turbine
+from .run_outputs import recorded_channels
 from .simulate import simulate
 
 #: Spectral densities further apart than this (dB) at a peak: the runs differ there.
@@ -101,12 +103,18 @@ def compare_coupling(scene: Scene, t_end: float, dt: float, tooth_force: str | N
         if not axial:
             raise SceneError("bearing_axial", None, "missing: no bearing of the scene has an axial spring")
         bearing_axial = f"force:{axial[0]}:z"
-    t_skip = 0.1 * t_end if t_skip is None else t_skip
-    if not (0.0 <= t_skip and t_end - t_skip >= 2.0 * segment):
+    t_end, dt = check.number("t_end", t_end, "s", gt=0.0), check.number("dt", dt, "s", gt=0.0)
+    segment = check.number("segment", segment, "s", gt=0.0)
+    t_skip = 0.1 * t_end if t_skip is None else check.number("t_skip", t_skip, "s", ge=0.0)
+    model = assemble(scene)
+    for arg, name in (("tooth_force", tooth_force), ("bearing_axial", bearing_axial)):
+        check.text(arg, name)
+        recorded_channels(model, (), [name], arg)              # a name the model has, else SceneError at arg
+    if not (t_end - t_skip >= 2.0 * segment):
         raise SceneError("t_skip", t_skip, f"must leave at least two segments of {segment:g} s of the "
                                            f"{t_end:g} s run for the spectra")
     channels = {"rotor torque": "turbine:aero_torque", "tooth force": tooth_force, "bearing axial": bearing_axial}
-    coupled = simulate(scene, t_end, dt, ["turbine:aero_torque", tooth_force, bearing_axial, "turbine:rotor_speed"],
+    coupled = simulate(model, t_end, dt, ["turbine:aero_torque", tooth_force, bearing_axial, "turbine:rotor_speed"],
                        base_dir=base_dir, progress=progress)
     tm = two_mass(scene)
     tm_scene = two_mass_scene(scene, tm)
@@ -128,7 +136,7 @@ def compare_coupling(scene: Scene, t_end: float, dt: float, tooth_force: str | N
         _, b = density(one.time_s[keep], one_out[name][keep], segment)
         rms = {"coupled": float(np.std(coupled.outputs[name][keep])), "one-way": float(np.std(one_out[name][keep]))}
         spectra.append(Spectrum(label, name, coupled.units[name], f, a, b, rms))
-    modes = detailed_modes(scene)
+    modes = detailed_modes(model)
     peaks = [p for s in spectra for p in spectrum_peaks(s, modes)]
     return Comparison(coupled, two, one, spectra, peaks, verdicts(spectra, peaks), tm, (t_skip, t_end), modes)
 
@@ -185,10 +193,10 @@ def density(t: np.ndarray, y: np.ndarray, segment: float) -> tuple[np.ndarray, n
     return f, np.sqrt(p)
 
 
-def detailed_modes(scene: Scene) -> list:
-    """[(Hz, class label, ((element, strain share), ...) top three)] of the scene's elastic
-    modes in its band."""
-    res = solve_modes(assemble(scene))
+def detailed_modes(model) -> list:
+    """[(Hz, class label, ((element, strain share), ...) top three)] of the model's elastic
+    modes."""
+    res = solve_modes(model)
     info = classify_modes(res, nodal_diameters=False)
     shares = strain_by_element(res)
     names = [el.name for el in res.model.elements]
