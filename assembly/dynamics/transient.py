@@ -380,7 +380,9 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,) (a force with
     load ``vectors`` and ``histories``, :class:`assembly.dynamics.run_loads.RunLoads`, is
     evaluated a stretch at a time). ``observe(q, v, a, nu)`` -> 1-D array recorded at every
-    step (default ``q``); ``progress(step, n_steps, t)`` is called about 200 times a run.
+    step (default ``q``; rows with ``held``, :class:`assembly.dynamics.observe_rows.Rows`: it
+    fills each block of rows made, the first row's too); ``progress(step, n_steps, t)`` is
+    called about 200 times a run.
     ``history``: where the rows go (:mod:`assembly.dynamics.history`: ``append`` a block,
     ``close``; default :class:`~assembly.dynamics.history.MemoryHistory`). ``sampled``: loads
     a law sets from the state at its own sample times and holds in between
@@ -390,7 +392,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     The steps run in stretches (:mod:`assembly.dynamics.stretches`): compiled
     (:mod:`assembly.dynamics.step_kernel`) when numba is installed and switched on
     (:data:`assembly.dynamics.jit.ENABLED`), the model dense (the kept inverse), the nonlinear
-    forces the meshes and shaft torques and ``observe`` rows
+    forces the meshes, shaft torques and the rotor's aerodynamics and ``observe`` rows
     (:class:`assembly.dynamics.observe_rows.Rows`); else by :class:`PythonSteps`, the same
     numbers to round-off. :class:`Diverged` (with the partial result) when a state is not
     finite or a step's Newton iterations do not converge; its message names the time and the
@@ -420,6 +422,10 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     a = Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
+    held = getattr(observe, "held", None)                          # values held over a stretch
+    if held is not None:
+        first = np.asarray(first, float)
+        held(first[None, :])
     check_history(dt, t_end, len(first), n, U.shape[1], streaming=history is not None)
     history = history if history is not None else MemoryHistory(n_steps + 1)
     history.append(np.zeros(1), np.asarray(first, float)[None, :], np.zeros(1, np.int32))
@@ -450,6 +456,8 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
         if reserve is not None:
             _, Y, its = reserve(count)
         done, why, value = steps.run(t, Y[:count], its[:count])
+        if done and held is not None:
+            held(Y[:done])
         if done:
             history.append(t[1:done + 1], Y[:done], its[:done])
             its_sum += int(its[:done].sum())
