@@ -451,15 +451,16 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
     stretches = plan(n_steps, report, every, parts is not None)
     # a history in memory lends its own rows for the steps to be written into (held once); any
-    # other gets the rows of consecutive stretches gathered into blocks of the longest stretch, at
-    # least STRETCH_MIN steps (a controller sampled every step makes stretches of one step: a file
-    # write and flush each)
+    # other gets them in blocks of the longest stretch, or, where sample times cut the stretches
+    # below STRETCH_MIN steps (a controller sampled every step: a file write and flush a step),
+    # gathered into blocks of up to STRETCH_MAX steps, a compiled stretch's
     gathered = None
     if isinstance(history, MemoryHistory) and history.capacity:
         sink = history
     else:
         longest = max(c for _, c in stretches)
-        sink = gathered = Gathered(history, max(longest, min(n_steps, STRETCH_MIN)), len(first))
+        size = longest if longest >= STRETCH_MIN else min(n_steps, STRETCH_MAX)
+        sink = gathered = Gathered(history, size, len(first))
     its_sum = 0
     try:
         for i0, count in stretches:
