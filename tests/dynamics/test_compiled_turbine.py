@@ -10,7 +10,8 @@ stops both with the same refusal, naming turbine.surface.
 
 Scenes (tests/support/turbine_scenes.py): the two-mass torsional drivetrain with ElastoDyn's
 NREL 5 MW numbers, a torque doublet on the generator and a wind ramp, its controller every step
-(stretches of one step) and every 10 steps; the rotor and generator as rigid bodies on their
+(stretches of one step) and every 10 steps, and with a brake and the gearbox's friction (the
+shaft torques' columns before the rotor's); the rotor and generator as rigid bodies on their
 bearings, the thrust on the rotor's axial row; and the rotor on an axial spring under a pitch
 controller whose first-order actuator moves the pitch between samples.
 """
@@ -68,13 +69,23 @@ def _agree(runs, names) -> None:
         assert np.max(np.abs(c.outputs[name] - ref)) <= AGREE * np.max(np.abs(ref)), name
 
 
+#: the shaft torques beside the rotor's columns (theirs first): ElastoDyn's HSS brake ramping in
+#: at 0.5 s (a tenth of the rated torque, on the low-speed side here) and its gearbox efficiency
+#: 94.4 % (Jonkman et al. 2009)
+TORQUES = {"simulation.brake": {"torque": 0.1 * TQ, "deploy_time": 0.5, "ramp_time": 0.1},
+           "simulation.gearbox_efficiency": 0.944}
+
+
 @needs_numba
-@pytest.mark.parametrize("every", [1, 10])
-def test_a_two_mass_turbine_runs_the_same_on_both_steps(every, monkeypatch):
+@pytest.mark.parametrize("every, torques", [(1, False), (10, False), (1, True)])
+def test_a_two_mass_turbine_runs_the_same_on_both_steps(every, torques, monkeypatch):
     dt = 2e-3
     scene = two_mass(OMEGA0, PITCH0, RAMP, 0.05 * TQ, (0.2, 0.4), dt, TQ, period=every * dt)
+    if torques:
+        scene = scene.with_values(TORQUES)
     names = ["torque:shaft", "speed:rotor", *OUTPUTS]
     runs = _both(lambda: simulate(scene, 1.0, dt, outputs=names), monkeypatch)
+    assert runs["compiled"].info["rank"] == (5 if torques else 1)   # + generator, brake, 2 shaft rows
     _agree(runs, names)
     out = runs["compiled"].outputs
     # what was compared moves: the wind ramps, the rotor answers it and the doublet
