@@ -17,7 +17,8 @@ table and the power is ``Q Omega``: ROSCO's NREL 5 MW table has its Cq computed 
 it differs from Cp / lambda by 0.1 % near rated (0.4 % at the table's corner), so taking the
 power from Cp would not be the work the torque does on the rotor. A point outside the table is
 refused (:class:`assembly.errors.SceneError` naming the quantity): the surface says nothing
-there.
+there. The lookup and the loads are the plain functions of :mod:`assembly.dynamics.rotor_laws`,
+the time step's (Python's and the compiled one's) too.
 """
 from __future__ import annotations
 
