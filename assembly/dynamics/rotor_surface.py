@@ -17,7 +17,8 @@ table and the power is ``Q Omega``: ROSCO's NREL 5 MW table has its Cq computed 
 it differs from Cp / lambda by 0.1 % near rated (0.4 % at the table's corner), so taking the
 power from Cp would not be the work the torque does on the rotor. A point outside the table is
 refused (:class:`assembly.errors.SceneError` naming the quantity): the surface says nothing
-there.
+there. The lookup and the loads are the plain functions of :mod:`assembly.dynamics.rotor_laws`,
+the time step's (Python's and the compiled one's) too.
 """
 from __future__ import annotations
 
@@ -29,6 +30,23 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SceneError
+from .jit import pick
+from .rotor_laws import (
+    DQ_DOMEGA,
+    DQ_DPITCH,
+    DQ_DWIND,
+    DT_DOMEGA,
+    DT_DWIND,
+    N_OUT,
+    PITCH_OUTSIDE,
+    THRUST,
+    TORQUE,
+    TSR,
+    TSR_OUTSIDE,
+    bilinear,
+    cell,
+    rotor_law,
+)
 
 #: The three blocks of a ROSCO performance file, in their order
 BLOCKS = ("power", "thrust", "torque")
@@ -107,24 +125,22 @@ def read_surface(path, field: str = "turbine.surface") -> RotorSurface:
 
 def _cell(grid: np.ndarray, x: float, what: str, source: str) -> tuple[int, float]:
     """(i, u): ``x`` lies in [grid[i], grid[i+1]] at fraction u; SceneError outside the grid."""
-    if not (grid[0] <= x <= grid[-1]):
+    i, u = pick(cell)(np.asarray(grid, float), float(x))
+    if i < 0:
         raise SceneError(what, x, f"outside the rotor surface's {grid[0]:.6g} .. {grid[-1]:.6g} ({source})")
-    i = min(int(np.searchsorted(grid, x, side="right")) - 1, len(grid) - 2)
-    return i, (x - grid[i]) / (grid[i + 1] - grid[i])
+    return i, u
 
 
 def coefficients(s: RotorSurface, tsr: float, pitch: float) -> dict:
     """Bilinear ``cp``, ``ct``, ``cq`` at (``tsr``, ``pitch`` rad) and their slopes ``d*_dtsr``,
-    ``d*_dpitch`` (per rad) inside the cell (module notes)."""
+    ``d*_dpitch`` (per rad) inside the cell (module notes; :func:`assembly.dynamics.rotor_laws.bilinear`)."""
     i, u = _cell(s.tsr, float(tsr), "tip-speed ratio", s.source)
     j, w = _cell(s.pitch, float(pitch), "blade pitch (rad)", s.source)
     h, k = s.tsr[i + 1] - s.tsr[i], s.pitch[j + 1] - s.pitch[j]
     out = {}
     for name, C in (("cp", s.cp), ("ct", s.ct), ("cq", s.cq)):
-        c00, c01, c10, c11 = C[i, j], C[i, j + 1], C[i + 1, j], C[i + 1, j + 1]
-        out[name] = (1 - u) * (1 - w) * c00 + (1 - u) * w * c01 + u * (1 - w) * c10 + u * w * c11
-        out[f"d{name}_dtsr"] = ((1 - w) * (c10 - c00) + w * (c11 - c01)) / h
-        out[f"d{name}_dpitch"] = ((1 - u) * (c01 - c00) + u * (c11 - c10)) / k
+        out[name], out[f"d{name}_dtsr"], out[f"d{name}_dpitch"] = pick(bilinear)(np.asarray(C, float), i, j, u, w,
+                                                                                 float(h), float(k))
     return out
 
 
@@ -148,20 +164,24 @@ class RotorLoads:
 def rotor_loads(s: RotorSurface, radius: float, density: float, wind: float, omega: float,
                 pitch: float) -> RotorLoads:
     """The :class:`RotorLoads` at wind speed ``wind`` (m/s), rotor speed ``omega`` (rad/s) and
-    pitch (rad) of a rotor of ``radius`` (m) in air of ``density`` (kg/m^3) (module notes)."""
+    pitch (rad) of a rotor of ``radius`` (m) in air of ``density`` (kg/m^3) (module notes): the
+    law the time step calls (:func:`assembly.dynamics.rotor_laws.rotor_law`), its refusals named."""
     for name, x in (("turbine.radius", radius), ("turbine.air_density", density), ("wind speed", wind)):
         if not (math.isfinite(x) and x > 0.0):
             raise SceneError(name, x, "must be a positive number")
-    lam = omega * radius / wind
-    c = coefficients(s, lam, pitch)
-    qd = 0.5 * density * math.pi * radius ** 2 * wind ** 2
-    Q, T = qd * radius * c["cq"], qd * c["ct"]
-    dlam_domega, dlam_dwind = radius / wind, -lam / wind
-    # d(q_dyn)/dV = 2 q_dyn / V
-    return RotorLoads(
-        torque=Q, thrust=T, power=Q * omega, tsr=lam,
-        dq_domega=qd * radius * c["dcq_dtsr"] * dlam_domega,
-        dq_dwind=2 * Q / wind + qd * radius * c["dcq_dtsr"] * dlam_dwind,
-        dq_dpitch=qd * radius * c["dcq_dpitch"],
-        dt_domega=qd * c["dct_dtsr"] * dlam_domega,
-        dt_dwind=2 * T / wind + qd * c["dct_dtsr"] * dlam_dwind)
+    out = np.zeros(N_OUT)
+    status = pick(rotor_law)(*surface_arrays(s), float(radius), float(density), float(wind), float(omega),
+                             float(pitch), out)
+    if status == TSR_OUTSIDE:
+        _cell(s.tsr, out[TSR], "tip-speed ratio", s.source)
+    if status == PITCH_OUTSIDE:
+        _cell(s.pitch, float(pitch), "blade pitch (rad)", s.source)
+    return RotorLoads(torque=out[TORQUE], thrust=out[THRUST], power=out[TORQUE] * omega, tsr=out[TSR],
+                      dq_domega=out[DQ_DOMEGA], dq_dwind=out[DQ_DWIND], dq_dpitch=out[DQ_DPITCH],
+                      dt_domega=out[DT_DOMEGA], dt_dwind=out[DT_DWIND])
+
+
+def surface_arrays(s: RotorSurface) -> tuple:
+    """(tsr, pitch, cq, ct): the arrays the law reads (:func:`assembly.dynamics.rotor_laws.rotor_law`),
+    C-ordered floats (one compiled signature)."""
+    return tuple(np.ascontiguousarray(x, float) for x in (s.tsr, s.pitch, s.cq, s.ct))

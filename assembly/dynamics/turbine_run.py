@@ -23,6 +23,7 @@ electrical power ``efficiency x T_g x omega_g``, each of the accepted step.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +37,7 @@ from . import wind as wind_series
 from .load_series import file_history
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
+from .rotor_laws import AERO_THRUST, AERO_TORQUE, PITCH, WIND
 from .rotor_surface import read_surface
 from .run_loads import polar_inertia
 from .sampled import Sampled
@@ -133,22 +135,21 @@ def turbine_data(turbine, base_dir) -> TurbineData:
                        library, inp, float(period), sources, deck.rotor_inertia if deck is not None else None)
 
 
-class TurbineObserver:
-    """``observe(q, v, a, nu)``: the drivetrain's recorded ``rows`` and then the turbine's
-    outputs ``names`` (:data:`OUTPUTS`) of the accepted step."""
+class HeldOutputs:
+    """``held(Y)`` of the turbine's rows (:class:`assembly.dynamics.observe_rows.Rows`): the
+    generator torque the controller holds over the stretch into the column ``torque``, and the
+    column ``power`` (the generator's speed) times ``efficiency x T_g``; None for a column not
+    recorded."""
 
-    def __init__(self, rows, run: "TurbineRun", names: list):
-        self.rows, self.run, self.names = rows, run, list(names)
-        self.size = getattr(rows, "size", None)
+    def __init__(self, loop, torque, power):
+        self.loop, self.torque, self.power = loop, torque, power
 
-    def __call__(self, q, v, a, nu):
-        r = self.run
-        wind, pitch, ld = r.aero.state
-        wg = r.loop.sense * float(r.loop.g @ v)
-        value = {"turbine:wind": wind, "turbine:pitch": pitch, "turbine:generator_torque": r.loop.torque,
-                 "turbine:rotor_speed": r.aero.sense * float(r.aero.U[:, 0] @ v), "turbine:aero_torque": ld.torque,
-                 "turbine:thrust": ld.thrust, "turbine:power": r.loop.eta * r.loop.torque * wg}
-        return np.concatenate([self.rows(q, v, a, nu), [value[k] for k in self.names]])
+    def __call__(self, Y):
+        T = self.loop.torque
+        if self.torque is not None:
+            Y[:, self.torque] = T
+        if self.power is not None:
+            Y[:, self.power] *= self.loop.eta * T
 
 
 class TurbineRun:
@@ -210,7 +211,21 @@ class TurbineRun:
                                      f"uses the body's")
 
     def observer(self, rows, names):
-        return TurbineObserver(rows, self, names)
+        """The drivetrain's ``rows`` (:class:`assembly.dynamics.observe_rows.Rows`) and then the
+        turbine's outputs ``names`` (:data:`OUTPUTS`) of the accepted step, as rows too: the
+        rotor's speed and the generator's (for the power) rows on v, the wind speed, pitch,
+        aerodynamic torque and thrust picked from the rotor's state, the held generator torque
+        and the power filled in for each stretch (:class:`HeldOutputs`)."""
+        aero, loop = self.aero, self.loop
+        base, n = rows.size, rows.Sv.shape[1]
+        picked = {"turbine:wind": WIND, "turbine:pitch": PITCH, "turbine:aero_torque": AERO_TORQUE,
+                  "turbine:thrust": AERO_THRUST}
+        on_v = {"turbine:rotor_speed": aero.sense * aero.U[:, 0], "turbine:power": loop.sense * loop.g}
+        Sv = np.vstack([rows.Sv, *(on_v.get(k, np.zeros(n)) for k in names)]).reshape(-1, n)
+        picks = tuple((base + i, picked[k]) for i, k in enumerate(names) if k in picked)
+        col = {k: base + i for i, k in enumerate(names)}
+        held = HeldOutputs(loop, col.get("turbine:generator_torque"), col.get("turbine:power"))
+        return dataclasses.replace(rows, Sv=Sv, picks=rows.picks + picks, values=aero, held=held)
 
     def info(self) -> dict:
         return {"controller_calls": len(self.loop.times), "controller_period_s": self.data.period,

@@ -39,17 +39,12 @@ from assembly.dynamics.turbine_run import ROSCO_INPUT, ROSCO_LIBRARY
 from assembly.errors import SceneError
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene, scene_from_dict
+from tests.support.turbine_scenes import J_GEN, J_ROTOR, K_SHAFT, RADIUS, RATED_TQ, RATIO, RPM, two_mass
 
 pytest.importorskip("rosco", reason="the rosco package (its NREL 5 MW surface) is not installed")
 
 pytestmark = pytest.mark.usefixtures("step_path")
 
-RPM = math.pi / 30.0
-# NREL 5 MW (Jonkman, Butterfield, Musial & Scott, NREL/TP-500-38060, 2009): rotor inertia, the
-# generator's on the high-speed side, gear ratio, ElastoDyn's drivetrain spring, rated torque and
-# speed of the generator, tip radius
-J_ROTOR, J_GEN, RATIO, K_SHAFT = 38_759_236.0, 534.116, 97.0, 867_637_000.0
-RATED_TQ, RATED_GEN_RPM, RADIUS = 43_093.55, 1161.963, 63.0
 RHO = 1.225
 
 
@@ -151,32 +146,12 @@ def test_a_stiff_gearbox_turns_as_the_one_mass_rotor_generator_model(tmp_path):
 
 # ---- aerodynamic damping: the coupled run is the linearised two-mass model --------------------
 
-def _two_mass(speed, pitch, wind, pulse, t_pulse, dt, tq):
-    lss_rated = RATED_GEN_RPM * RPM / RATIO
-    return scene_from_dict({
-        "name": "two-mass drivetrain", "fidelity": "torsional",
-        "bodies": [{"name": "rotor", "role": "rotor", "mass": 1.0, "polar_inertia": J_ROTOR,
-                    "position": [0.0, 0.0, 0.0]},
-                   {"name": "generator", "role": "generator", "mass": 1.0, "polar_inertia": J_GEN * RATIO ** 2,
-                    "position": [0.0, 0.0, 5.0]}],
-        "shafts": [{"name": "shaft", "body1": "rotor", "body2": "generator", "k_torsion": K_SHAFT}],
-        "simulation": {"speed": speed, "loads": [
-            {"body": "generator", "value": 0.0, "end_value": pulse, "t_start": t_pulse[0], "t_end": t_pulse[0] + dt},
-            {"body": "generator", "value": 0.0, "end_value": -pulse, "t_start": t_pulse[1],
-             "t_end": t_pulse[1] + dt}]},
-        "turbine": {"surface": "rosco", "radius": RADIUS, "pitch": pitch, "wind": {"speed": wind},
-                    # ServoDyn's simple law referred to the low-speed side: above rated speed the
-                    # rated torque, whatever the speed
-                    "controller": {"kind": "simple", "period": dt, "rated_speed": lss_rated,
-                                   "rated_torque": tq, "region2_k": 2.332287 * RATIO ** 3, "slip": 0.1}}})
-
-
 def test_aerodynamic_damping_is_the_surface_slope_in_the_two_mass_model():
     wind, omega0, dt, t_end = 16.0, 12.1 * RPM, 2e-3, 4.0
     tq = RATED_TQ * RATIO
     pitch = _trim_pitch(wind, omega0, tq)
     pulse, t_pulse = 0.05 * tq, (0.2, 0.4)          # a torque pulse on the generator, along its turning
-    scene = _two_mass(omega0, pitch, wind, pulse, t_pulse, dt, tq)
+    scene = two_mass(omega0, pitch, wind, pulse, t_pulse, dt, tq)
     run = simulate(scene, t_end, dt, outputs=["torque:shaft", "speed:rotor", "turbine:aero_torque"])
     # the surface's slope in this cell, from the table's numbers
     s = _surface()
@@ -329,7 +304,7 @@ def test_bad_turbine_input_is_refused_naming_the_field(tmp_path, turbine, field)
           "controller": {"kind": "baseline", "period": 0.01}}
     tb.update(turbine)
     tb = {k: v for k, v in tb.items() if v is not None}
-    scene = _two_mass(12.1 * RPM, 0.2, 16.0, 0.0, (0.1, 0.2), 0.01, 1.0)
+    scene = two_mass(12.1 * RPM, 0.2, 16.0, 0.0, (0.1, 0.2), 0.01, 1.0)
     scene = scene_from_dict({**_dict(scene), "turbine": tb})
     before = sorted(tmp_path.iterdir())
     with pytest.raises(SceneError) as exc:
