@@ -337,8 +337,8 @@ def test_bad_turbine_numbers_are_refused_when_the_scene_is_read(table, field):
 
 def test_an_unbalance_needs_a_turning_body():
     # a cover on its own bearings, held against turning: nothing spins it
-    scene = _shaft(simulation={"speed": 10.0, "unbalance": [{"body": "cover", "mass": 1.0, "radius": 0.1}]})
-    d = _dict(scene)
+    d = _dict(_shaft())
+    d["simulation"] = {"speed": 10.0, "unbalance": [{"body": "cover", "mass": 1.0, "radius": 0.1}]}
     for b in d["bearings"]:
         b["k_torsion"] = 0.0                                     # the shaft turns freely
     d["bodies"].append({"name": "cover", "mass": 10.0, "polar_inertia": 1.0, "position": [0.0, 0.0, 2.0]})
@@ -358,7 +358,7 @@ def test_a_turbine_output_needs_a_turbine():
 def test_a_wind_table_is_read_as_given_and_must_cover_the_run(tmp_path):
     # a CSV wind series: the run's wind is it, linear between its rows
     (tmp_path / "wind.csv").write_text("time,V\n0.0,15.0\n0.05,17.0\n0.1,16.0\n")
-    scene = _two_mass(12.1 * RPM, 0.2, 16.0, 0.0, (0.02, 0.04), 0.01, RATED_TQ * RATIO)
+    scene = two_mass(12.1 * RPM, 0.2, 16.0, 0.0, (0.02, 0.04), 0.01, RATED_TQ * RATIO)
     d = _dict(scene)
     d["turbine"] = {"surface": "rosco", "radius": RADIUS, "pitch": 0.2, "wind": {"table": "wind.csv", "column": "V"},
                     "controller": {"kind": "baseline", "period": 0.01}}
@@ -387,7 +387,7 @@ def test_a_wind_from_an_openfast_channel_is_that_channel_in_m_per_s():
     from tests.support.openfast_files import DATA
     f = DATA / "FASTOutBin.outb"                     # SNL SWiFT, Wind1VelX in m/s, 0 .. 1 s every 5 ms
     want = read_openfast_out(f, "Wind1VelX", "test", expect="m/s")
-    scene = _two_mass(5.0 * RPM, 0.0, 7.2, 0.0, (0.5, 0.6), 0.005, RATED_TQ * RATIO)
+    scene = two_mass(5.0 * RPM, 0.0, 7.2, 0.0, (0.5, 0.6), 0.005, RATED_TQ * RATIO)
     d = _dict(scene)
     d["turbine"] = {"surface": "rosco", "radius": RADIUS, "pitch": 0.0,
                     "wind": {"openfast": str(f), "column": "Wind1VelX"},
