@@ -9,7 +9,8 @@ integrates with the drivetrain.
   the loop (:class:`assembly.dynamics.turbine_loop.ControllerLoop`) at its own sample time, its
   generator torque held on the generator body's rotation row against the generator's turning
   (ElastoDyn's sense: a positive generator torque brakes the generator); the reaction goes
-  into the housing through the bearings, as every internal torque's does;
+  into the housing through the bearings, as every internal torque's does.
+
 Gravity (turned by the shaft tilt, the table's or its deck's), the nacelle's motion and the
 unbalances are the run's body loads (:mod:`assembly.dynamics.body_loads`).
 
