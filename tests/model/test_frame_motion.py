@@ -25,12 +25,12 @@ KR, KA, KT = 1.0e8, 1.0e8, 1.0e6                 # N/m, N/m, N m/rad
 G = 9.80665
 
 
-def _shaft(zc=ZC):
+def _shaft(zc=ZC, c_radial=0.0):
     return assemble(scene_from_dict({
         "name": "shaft on two bearings", "fidelity": "rigid",
         "bodies": [{"name": "shaft", "mass": M_S, "polar_inertia": 2.0, "position": [0.0, 0.0, zc]}],
         "bearings": [{"body": "shaft", "position": [0.0, 0.0, z], "k_radial": KR, "k_axial": KA, "k_tilt": 0.0,
-                      "k_torsion": KT} for z in (ZA, ZB)]}))
+                      "k_torsion": KT, "c_radial": c_radial} for z in (ZA, ZB)]}))
 
 
 def _bearing_forces(model, q):
@@ -94,3 +94,21 @@ def test_a_flexible_bodys_field_is_its_rigid_motion():
             np.testing.assert_allclose(rb[list(idx)], want, rtol=0, atol=1e-12 * np.abs(want).max())
         Kb = np.asarray(body.K.toarray() if hasattr(body.K, "toarray") else body.K)
         assert np.abs(Kb @ rb).max() <= len(Kb) * np.finfo(float).eps * np.abs(Kb).max() * np.abs(rb).max()
+
+
+@pytest.mark.parametrize("ratio", [0.5, 1.0, 2.0])
+def test_a_housing_acceleration_through_damped_bearings_gives_the_transmissibility(ratio):
+    # base excitation of a damped single DOF: |X_abs / X_base| = |(k + i c w) / (k - m w^2 + i c w)|;
+    # the housing's load -M r a on the motion relative to it, its dampers on the relative velocity
+    from assembly.model.damping import damping_matrix
+    c = 0.1 * 2 * math.sqrt(2 * KR * M_S)                 # 10 % of critical in x (two bearings)
+    model = _shaft((ZA + ZB) / 2, c_radial=c / 2)
+    K, M, C = model.K.toarray(), model.M.toarray(), damping_matrix(model).toarray()
+    w = ratio * math.sqrt(2 * KR / M_S)
+    a = np.zeros(6)
+    a[0] = 1.0
+    rel = np.linalg.solve(K + 1j * w * C - w ** 2 * M, frame_loads(model) @ a)
+    base = (housing_field(model) @ a)[0] * (-1.0 / w ** 2)   # the housing's own x: -a / w^2
+    x_abs = (model.T @ rel)[0] + base
+    want = (2 * KR + 1j * w * c) / (2 * KR - M_S * w ** 2 + 1j * w * c)
+    assert x_abs / base == pytest.approx(want, rel=1e-12)
