@@ -30,6 +30,10 @@ $(STAMP): pyproject.toml | sysdeps
 	$(PY) -m pip install -q -e '.[fast]' || echo "note: scikit-sparse not installed; using SciPy solvers"
 	@# Optional compiled time step (numba): flexgear falls back to its Python step if it does not install.
 	$(PY) -m pip install -q -e '.[speed]' || echo "note: numba not installed; time-domain runs use the Python step"
+	@# ROSCO's package for its compiled controller and performance tables, without its toolbox's
+	@# dependencies (WISDEM, Jupyter: ~1.4 GB); the turbine's runs need it, nothing else does.
+	$(PY) -m pip install -q --no-deps 'rosco==2.9.0' || echo "note: rosco not installed; turbine runs unavailable"
+	$(PY) -m pip install -q -e '.[wind]' || echo "note: pyconturb not installed; no IEC turbulence"
 	touch $(STAMP)
 
 setup: sysdeps $(STAMP)

@@ -34,9 +34,10 @@ import numpy as np
 from .. import arguments
 from ..mechanics.kinematics import block_rotation
 from ..model.constraints import constrained_dofs
+from ..model.frame_motion import body_weights
 from ..model.probes import load_point
 from ..scene.tables import DOF_NAMES, HOUSING
-from .load_cases import applied_loads, speed_ratio
+from .load_cases import Applied, applied_loads, speed_ratio
 from .static import StaticResult
 
 _FORCE = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")
@@ -125,7 +126,8 @@ def static_report(st) -> StaticReport:
             R = block_rotation(model.bodies[el.bodies[0]].axes)
             shafts.append(dict(shaft=el.name, body1=el.bodies[0], body2=el.bodies[1],
                                **dict(zip(_SECTION, (-(R.T @ wr[0])).tolist()))))
-    applied = applied_loads(model, load)
+    applied = applied_loads(model, load) + [Applied(b, p, w, None, f"weight of {b}")
+                                            for b, p, w in body_weights(model, sc.turbine)]
     for a in applied:
         totals[a.body] += _shift(a.wrench, a.point, refs[a.body])
     supports = support_reactions(st)

@@ -24,6 +24,7 @@ from .. import arguments
 from ..errors import MechanismError, SceneError
 from ..mechanics.nullity import STRUCT_RTOL
 from ..model.assemble import model_of, source_scene
+from ..model.frame_motion import scene_gravity
 from ..scene.tables import LoadCase
 from .load_cases import free_motions, held_directions, load_vector
 from .modal import DENSE_MAX
@@ -78,6 +79,7 @@ def solve_static_cases(model, cases=None) -> list:
             arguments.instance(f"cases[{i}]", c[1], LoadCase, "a (name, LoadCase) pair")
     m = model_of("model", model)
     cases = list(scene.load_cases() if cases is None else cases)
+    gravity = scene_gravity(m, scene.turbine)           # every case's body load, when the scene asks
     out, solvers = [], {}
     for path, load in cases:
         held = held_directions(m, load)
@@ -89,6 +91,8 @@ def solve_static_cases(model, cases=None) -> list:
             solvers[key] = (C, N, _factor((N.T @ m.K @ N).tocsr()))
         C, N, solve = solvers[key]
         Fq = np.asarray(m.T.T @ load_vector(m, load)).ravel()
+        if gravity is not None:
+            Fq = Fq + gravity
         q = np.asarray(N @ solve(np.asarray(N.T @ Fq).ravel())).ravel()
         lam = np.linalg.solve(C @ C.T, C @ (m.K @ q - Fq)) if len(held) else np.zeros(0)
         out.append(StaticResult(m, np.asarray(m.T @ q).ravel(), load, q, held, path, lam))

@@ -181,6 +181,26 @@ def add_simulate(sub, func) -> None:
     p.set_defaults(func=func)
 
 
+def add_coupling(sub, func) -> None:
+    p = sub.add_parser("coupling", help="the drivetrain coupled in its turbine against one-way (load series from "
+                                        "the two-mass drivetrain's turbine run): spectra and where they differ")
+    p.add_argument("scene", help=SCENE_HELP + " (with a [turbine] table and its wind)")
+    p.add_argument("--t-end", type=float, required=True, metavar="T", help="end time, s")
+    p.add_argument("--dt", type=float, required=True, metavar="DT", help="time step, s")
+    p.add_argument("--tooth-force", default=None, metavar="OUT",
+                   help="tooth force output (default the first mesh's force:MESH)")
+    p.add_argument("--bearing-axial", default=None, metavar="OUT",
+                   help="bearing load output (default force:BEARING:z of the first bearing with an axial spring)")
+    p.add_argument("--skip", type=float, default=None, metavar="T0",
+                   help="start left out of the spectra, s (default 10 %% of --t-end)")
+    p.add_argument("--segment", type=float, default=10.0, metavar="S",
+                   help="Welch segment, s (default 10; frequency resolution 1/S)")
+    p.add_argument("--fidelity", choices=("torsional", "rigid", "flexible"), default=None,
+                   help="fidelity of the detailed drivetrain (default the scene's)")
+    add_out_json(p, "index.html, coupling.json, peaks.csv, spectrum_NN.png")
+    p.set_defaults(func=func)
+
+
 def add_out_json(p, files: str) -> None:
     """``--out DIR`` (writing ``files``), ``--json`` and ``--quiet`` of an analysis command."""
     p.add_argument("--out", default=None, metavar="DIR", help=f"{OUT_HELP} ({files})")

@@ -20,6 +20,7 @@ from .args import (
     SCENE_HELP,
     Parser,
     add_campbell,
+    add_coupling,
     add_export,
     add_frf,
     add_part,
@@ -40,7 +41,8 @@ log = logging.getLogger("flexgear")
 BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "flex": "assembly.app.bench.flex",
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
-              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream"}
+              "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream",
+              "turbine": "assembly.app.bench.turbine"}
 
 
 def _raise_terminated(signum, frame):
@@ -308,6 +310,32 @@ def cmd_simulate(args) -> int:
                          lambda: summary_text(r, scene.name), indent=None)
 
 
+def cmd_coupling(args) -> int:
+    """``flexgear coupling``: the coupled run against the one-way runs
+    (:func:`assembly.dynamics.coupling.compare_coupling`): the verdicts, ``--json`` or the files
+    of :mod:`assembly.app.report.coupling` in ``--out``."""
+    from ..dynamics.coupling import compare_coupling
+    from ..scene.schema import load_scene
+    from .output import check_output_dir, staged_output, writing
+    from .report.coupling import coupling_files, coupling_json
+
+    path = scene_file(args)
+    scene = load_scene(path)
+    with holding_out(args):
+        with api_flags({"dt": "--dt", "t_end": "--t-end", "tooth_force": "--tooth-force",
+                        "bearing_axial": "--bearing-axial", "t_skip": "--skip", "segment": "--segment"}):
+            c = compare_coupling(scene, args.t_end, args.dt, args.tooth_force, args.bearing_axial,
+                                 Path(path).parent, args.skip, args.segment, fidelity=args.fidelity)
+
+        def to_dir():
+            out = Path(args.out).absolute()
+            check_output_dir(out)
+            with staged_output(out) as work, writing(out, work, "coupling results"):
+                coupling_files(c, work, scene.name, scene.band)
+        return _emit(args, to_dir, lambda: coupling_json(c, scene.name),
+                     f"{scene.name}: coupled against one-way, {len(c.peaks)} peaks", lambda: "\n".join(c.verdicts))
+
+
 def _stopped(args, exc, scene_name: str, path: str, work=None) -> int:
     """A run that stopped (``exc``: :class:`~assembly.dynamics.transient.Diverged`): its
     partial result into ``--out`` as a complete one would go, marked partial
@@ -424,6 +452,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_campbell(sub, cmd_campbell)
     add_frf(sub, cmd_frf)
     add_simulate(sub, cmd_simulate)
+    add_coupling(sub, cmd_coupling)
     add_export(sub, cmd_export_elastodyn, cmd_export_superelement)
     add_part(sub, cmd_part)
     m = sub.add_parser("modes", help="eigenfrequencies and mode table of a scene")

@@ -241,3 +241,28 @@ def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = 
         ax.set_title(title, fontsize=10)
         ax.set_xlim(0, top)
     return Path(path)
+
+
+def plot_spectra_pair(frequency_hz, first, second, path, labels=("coupled", "one-way"), title: str = "",
+                      ylabel: str = "", modes_hz=(), f_max: float | None = None) -> Path:
+    """Two spectral densities over one frequency axis (log scale), the model's natural
+    frequencies ``modes_hz`` as thin grey lines."""
+    f = np.asarray(frequency_hz, float)
+    top = f_max if f_max is not None else (f.max() if len(f) else 1.0)
+    with plot_figure(path, (8.0, 3.8)) as (fig, ax):
+        for a, label, style in ((first, labels[0], dict(lw=1.0)), (second, labels[1], dict(lw=0.9, ls="--"))):
+            a = np.asarray(a, float)
+            ax.plot(f, np.where(a > 0, a, np.nan), label=label, **style)
+        for i, fm in enumerate(m for m in modes_hz if 0 < m <= top):
+            ax.axvline(fm, color="0.6", lw=0.5, ls=":", label="natural frequencies" if i == 0 else None)
+        ax.set_yscale("log")
+        ax.set_xlim(0, top)
+        shown = np.concatenate([np.asarray(a, float)[(f > 0) & (f <= top)] for a in (first, second)])
+        shown = shown[shown > 0]
+        if len(shown):
+            ax.set_ylim(0.5 * shown.min(), 2.0 * shown.max())
+        ax.legend(fontsize=7, loc="upper right")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel(f"spectral density [{ylabel}/sqrt(Hz)]" if ylabel else "spectral density")
+        ax.set_title(title, fontsize=10)
+    return Path(path)

@@ -10,7 +10,10 @@ buffer, reused for the next one: a history copies what it keeps.
   readable file with every step flushed so far, marked incomplete (layout in docs/output.md);
 * :class:`Statistics`: per output its mean, RMS, min, max and peak |value| with its time,
   accumulated block by block (never the whole history);
-* :class:`Tee`: several of them at once.
+* :class:`Tee`: several of them at once;
+* :class:`Gathered`: any of them fed through a buffer that gathers the blocks of consecutive
+  stretches into one (a stretch of one step -- a controller sampled every step -- would
+  otherwise cost a file write and flush a step).
 
 ``split(y) -> ({name: (k,) history}, {name: unit})`` turns recorded rows into outputs
 (:meth:`assembly.dynamics.run_outputs.Recorder.histories`, row by row, so it applies to a
@@ -236,6 +239,47 @@ class Tee:
     def close(self, complete: bool, info: dict) -> None:
         for h in self.histories:
             h.close(complete, info)
+
+
+class Gathered:
+    """``history`` fed through a buffer of ``steps`` rows of ``rows`` values: the integrator
+    writes its steps into :meth:`reserve`'s views and appends them (:meth:`append`, as to
+    :meth:`MemoryHistory.reserve`'s); the buffer goes to
+    ``history`` as one block when the next reservation would not fit, at :meth:`flush` and at
+    :meth:`close`."""
+
+    def __init__(self, history, steps: int, rows: int):
+        self.history = history
+        self.t, self.y, self.its = np.empty(steps), np.empty((steps, rows)), np.zeros(steps, np.int32)
+        self.n = 0
+
+    def reserve(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(times, rows, Newton counts): views of the buffer's next ``k`` rows (at most its
+        length; the buffer handed over first if they do not fit)."""
+        if self.n + k > len(self.t):
+            self.flush()
+        a, b = self.n, self.n + k
+        return self.t[a:b], self.y[a:b], self.its[a:b]
+
+    def append(self, t: np.ndarray, y: np.ndarray, iterations: np.ndarray) -> None:
+        """The first ``len(t)`` rows of the last reservation, at times ``t``, done."""
+        k = len(t)
+        self.t[self.n:self.n + k] = t
+        if not np.may_share_memory(y, self.y):                  # else: written in place (reserve)
+            self.y[self.n:self.n + k] = y
+        if not np.may_share_memory(iterations, self.its):
+            self.its[self.n:self.n + k] = iterations
+        self.n += k
+
+    def flush(self) -> None:
+        """Hand the gathered rows to the history as one block."""
+        if self.n:
+            self.history.append(self.t[:self.n], self.y[:self.n], self.its[:self.n])
+            self.n = 0
+
+    def close(self, complete: bool, info: dict) -> None:
+        self.flush()
+        self.history.close(complete, info)
 
 
 def read_blocks(path, name: str, block: int = CHUNK_STEPS):

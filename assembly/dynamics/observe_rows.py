@@ -1,7 +1,12 @@
 """What a time-domain run records at each step, as rows on its state: ``Ok q + Oc v`` (a
 nonlinear mesh's force, ``swap`` (row, mesh): its contact force plus ``Os v``), then ``Oa a``
 and ``Sv v`` -- arrays that the Python step and the compiled step
-(:mod:`assembly.dynamics.step_kernel`) read alike.
+(:mod:`assembly.dynamics.step_kernel`) read alike. A row may instead be picked from the state of
+the rotor's aerodynamics at the accepted step (``picks`` (row, j): ``values.s[j]``, the wind
+speed, pitch, aerodynamic torque or thrust, :mod:`assembly.dynamics.rotor_laws`), and ``held``
+fills, after each stretch of steps, the rows of values held over it (a sampled load's: the
+controller's generator torque), both steps' rows alike
+(:func:`assembly.dynamics.transient.integrate` calls it).
 
 Both read them as compressed sparse rows (:attr:`Rows.sparse`): an output row touches the few
 coordinates of the bodies it is on (a mesh force two gears', a recorded coordinate one), so a
@@ -21,7 +26,10 @@ import scipy.sparse as sp
 class Rows:
     """The recorded rows (module notes); ``meshes``: the run's
     :class:`assembly.dynamics.mesh_contact.Meshes` whose ``last_force`` the swaps read (None
-    without swaps). Called as ``observe(q, v, a, nu)``."""
+    without swaps); ``values``: the :class:`assembly.dynamics.rotor_aero.RotorAero` whose state
+    ``s`` the ``picks`` read (None without picks); ``held(Y)``: fills a block of rows ``Y`` with
+    the values held over its stretch, or None. Called as ``observe(q, v, a, nu)`` (the rows
+    before ``held``)."""
 
     Ok: np.ndarray
     Oc: np.ndarray
@@ -30,6 +38,9 @@ class Rows:
     Os: np.ndarray | None = None
     swap: tuple = ()
     meshes: object = None
+    picks: tuple = ()
+    values: object = None
+    held: object = None
 
     def __post_init__(self):
         Os = self.Os if self.Os is not None else np.zeros_like(self.Ok)
@@ -49,7 +60,10 @@ class Rows:
             ys = Os @ v
             for i, j in self.swap:
                 y[i] = self.meshes.last_force[j] + ys[i]
-        return np.concatenate([y, Oa @ a, Sv @ v])
+        out = np.concatenate([y, Oa @ a, Sv @ v])
+        for i, j in self.picks:
+            out[i] = self.values.s[j]
+        return out
 
 
 def csr(X) -> sp.csr_matrix:

@@ -59,17 +59,20 @@ def mesh_frequencies(model, scene, v0: np.ndarray):
 
 def step_warnings(dt: float, freqs: dict, meshes, band_hz: float) -> list:
     """Warnings when ``dt`` gives fewer than :data:`STEPS_PER_PERIOD` steps per period of a
-    mesh's highest harmonic kept or of the band (Hz)."""
+    nonlinear mesh's highest harmonic kept or of the band (Hz); a linear mesh (constant
+    stiffness, no backlash) excites nothing at its mesh frequency."""
     out = []
     harmonics = {}
     for mi in meshes.info:
         key = mi.name.split(".")[0] if mi.name.split(".")[0] in freqs else mi.name
         harmonics[key] = max(harmonics.get(key, 1), mi.harmonics or 1)
     for src, f in freqs.items():
-        top = f * harmonics.get(src, 1)
+        if src not in harmonics:
+            continue
+        top = f * harmonics[src]
         if top > 0 and 1.0 / (dt * top) < STEPS_PER_PERIOD:
             out.append(f"dt = {dt:g} s gives {1 / (dt * top):.1f} steps per period of {src}'s mesh harmonic "
-                       f"{harmonics.get(src, 1)} ({top:.4g} Hz): below {STEPS_PER_PERIOD}, the period error "
+                       f"{harmonics[src]} ({top:.4g} Hz): below {STEPS_PER_PERIOD}, the period error "
                        f"exceeds {100 * (2 * math.pi / STEPS_PER_PERIOD) ** 2 / 12:.1f} %")
     if 1.0 / (dt * band_hz) < STEPS_PER_PERIOD:
         out.append(f"dt = {dt:g} s gives {1 / (dt * band_hz):.1f} steps per period at the band's top "

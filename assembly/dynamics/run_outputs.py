@@ -36,11 +36,13 @@ class Recorder:
     swap: tuple
     chans: list
     speed_names: list
+    extra: tuple = ()
 
     @property
     def size(self) -> int:
-        """Values recorded a step."""
-        return len(self.chans) + len(self.speed_names)
+        """Values recorded a step (``extra``: ((name, unit), ...) of values an observer appends after
+        the rows, e.g. the turbine's)."""
+        return len(self.chans) + len(self.speed_names) + len(self.extra)
 
     def observe(self, meshes) -> Rows:
         """``observe(q, v, a, nu)`` for :func:`assembly.dynamics.transient.integrate` (the
@@ -49,13 +51,18 @@ class Recorder:
 
     def histories(self, Y: np.ndarray):
         """{name: history} and {name: unit} of the recorded rows ``Y`` (:func:`collect`)."""
-        return collect(Y, self.chans, self.speed_names)
+        values, units = collect(Y, self.chans, self.speed_names)
+        base = len(self.chans) + len(self.speed_names)
+        for k, (name, unit) in enumerate(self.extra):
+            values[name], units[name] = Y[:, base + k], unit
+        return values, units
 
 
-def recorder(model, points, names, G, meshes) -> Recorder:
+def recorder(model, points, names, G, meshes, extra: tuple = ()) -> Recorder:
     """The :class:`Recorder` of the outputs ``names`` (``points``: ``[[simulation.points]]``;
     ``G``: the section loads' share of the scene damping, :func:`scene_share`; ``meshes``:
-    the run's nonlinear meshes, whose ``force:`` outputs are their contact forces)."""
+    the run's nonlinear meshes, whose ``force:`` outputs are their contact forces; ``extra``:
+    ((name, unit), ...) of the values an observer appends)."""
     n = model.K.shape[0]
     chans, speed_rows = recorded_channels(model, points, names)
     Ok, Oc = output_rows(chans) if chans else (np.zeros((0, n)), np.zeros((0, n)))
@@ -66,7 +73,7 @@ def recorder(model, points, names, G, meshes) -> Recorder:
     mesh_idx = {f"force:{mi.name}": j for j, mi in enumerate(meshes.info)}
     swap = tuple((i, mesh_idx[c.name]) for i, c in enumerate(chans) if c.name in mesh_idx)
     Sv = np.array(list(speed_rows.values())).reshape(len(speed_rows), n)
-    return Recorder(Ok, Oc, Os, Oa, Sv, swap, chans, list(speed_rows))
+    return Recorder(Ok, Oc, Os, Oa, Sv, swap, chans, list(speed_rows), tuple(extra))
 
 
 def recorded_channels(model, points, names, arg: str = "outputs") -> tuple[list, dict]:

@@ -38,16 +38,18 @@ from ..analysis.modal import SMALL_DENSE
 from ..model.assemble import AssembledModel, assemble, source_scene
 from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
+from .body_loads import body_loads
 from .history import H5History, Statistics, Tee, chunk_steps
 from .integrators import check_step
 from .load_series import range_warning
 from .mesh_contact import Meshes
 from .run_checks import brake_warnings, mesh_frequencies, step_warnings, undamped_band
-from .run_loads import run_loads
+from .run_loads import RunLoads, run_loads
 from .run_model import model_matrices, scheme_of
 from .run_outputs import recorder
 from .run_start import GAP_SLOPE, start_velocity, static_start
 from .transient import Diverged, Stack, check_history, integrate
+from .turbine_run import OUTPUTS, TurbineRun
 
 log = logging.getLogger(__name__)
 
@@ -132,11 +134,33 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     v0, phi, reference = start_velocity(model, scene, sim, speed)
     meshes = Meshes(model, sim.consistent)
     loads = run_loads(model, scene, sim, dt, v0, base_dir, phi if reference else None)
-    nl = Stack([meshes, loads.torques], n)
-    q0 = _start(M, K, nl, meshes, loads, sim, phi, v0)
+    turbine = None
+    if scene.turbine is not None and scene.turbine.wind is not None:
+        turbine = TurbineRun(model, scene, sim, dt, t_end, v0, base_dir, phi)
+    body = body_loads(model, scene, sim, dt, t_end, base_dir, phi, turbine.data.tilt if turbine else None)
+    loads = RunLoads(np.hstack([loads.vectors, body.vectors]), (*loads.histories, *body.histories), loads.torques)
+    try:
+        return _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine,
+                    body.nonlinear, history, streaming, progress)
+    finally:
+        if turbine is not None:
+            turbine.close()
+
+
+def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine, unbalances,
+         history, streaming, progress) -> SimulationResult:
+    """:func:`simulate`'s run, its parts made."""
+    nl = Stack([meshes, loads.torques, *(turbine.nonlinear if turbine else ()), *unbalances], n)
+    q0 = _start(M, K, nl, meshes, loads, sim, phi, v0, turbine.start_force if turbine else None)
     if outputs is None:                         # every named stress point and nonlinear mesh force
-        outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info)]
-    rec = recorder(model, sim.points, list(dict.fromkeys(outputs)), G, meshes)
+        outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info),
+                   *(OUTPUTS if turbine else ())]
+    outputs = list(dict.fromkeys(outputs))
+    extra = [(k, OUTPUTS[k]) for k in outputs if k in OUTPUTS]
+    rec = recorder(model, sim.points, [k for k in outputs if k not in OUTPUTS], G, meshes, tuple(extra))
+    observe = rec.observe(meshes)
+    if turbine is not None:
+        observe = turbine.observer(observe, [k for k, _ in extra])
     check_history(dt, t_end, rec.size, n, nl.U.shape[1], streaming=streaming)   # before it starts
     stats = Statistics(rec.histories)
     sink = None if not streaming else stats if history is None else Tee(
@@ -144,19 +168,19 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     freqs, shaft_hz, side_hz = mesh_frequencies(model, scene, v0)
     warnings = (step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
                 + [w for w in (range_warning(h, check_step(dt, t_end) * dt) for h in loads.recorded) if w]
-                + brake_warnings(model, scene, sim, dt, loads.torques))
+                + brake_warnings(model, scene, sim, dt, loads.torques) + (turbine.warnings if turbine else []))
     for w in warnings:
         log.warning(w)
     try:
         # one BLAS thread for small models: threads cost more than products of this size
         with threadpool_limits(1 if n <= SMALL_DENSE else None):
-            run = integrate(M, C, K, loads, q0, v0, dt, t_end, scheme_of(sim), nl, rec.observe(meshes),
-                            progress, model.dof_names, history=sink)
+            run = integrate(M, C, K, loads, q0, v0, dt, t_end, scheme_of(sim), nl, observe,
+                            progress, model.dof_names, history=sink, sampled=turbine.sampled if turbine else None)
         stopped = None
     except Diverged as exc:
         run, stopped = exc.partial, exc
     result = _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
-                     stopped is None)
+                     stopped is None, turbine.info() if turbine else {})
     if stopped is not None:
         raise Diverged(str(stopped), result)
     return result
@@ -182,29 +206,34 @@ def _arguments(model, t_end, dt, outputs, simulation, base_dir, speed, progress,
     if scene.simulation is not None and scene.simulation.reference is not None:
         check.one_of("simulation.reference", scene.simulation.reference, bodies)
     for i, name in enumerate(outputs or ()):
+        if name in OUTPUTS and (scene.turbine is None or scene.turbine.wind is None):
+            raise check.refuse(f"outputs[{i}]", name, "is a turbine output: the scene has no [turbine] rotor "
+                                                      "(a [turbine] table with its wind)")
         if name.startswith("speed:") and (body := name[6:].split(":")[0]) not in bodies:
             raise check.refuse(f"outputs[{i}]", name,
                                f"no body {body!r}; have {bodies}{check.nearest(body, bodies)}")
     return scene, t_end, dt, outputs, speed
 
 
-def _start(M, K, nl, meshes, loads, sim, phi, v0) -> np.ndarray:
+def _start(M, K, nl, meshes, loads, sim, phi, v0, extra=None) -> np.ndarray:
     """q0: the static start (:func:`assembly.dynamics.run_start.static_start`) when the table
-    asks for it and anything loads the model, else rest."""
+    asks for it and anything loads the model, else rest (``extra``: a load at t = 0 besides
+    ``loads``, the controller's starting torque)."""
     U = nl.U
     if not (sim.static_start and (loads.histories or U.shape[1])):
         return np.zeros(K.shape[0])
+    f0 = loads.force(0.0) if extra is None else loads.force(0.0) + extra
     meshes.gap_slope = GAP_SLOPE
     closing = np.nan_to_num(meshes.k0 * meshes.backlash)
     pad = np.zeros(U.shape[1] - meshes.U.shape[1])          # the meshes' columns come first
-    q0 = static_start(M, K, U, nl, loads.force(0.0), phi, U.T @ v0, float(closing.max(initial=0.0)),
+    q0 = static_start(M, K, U, nl, f0, phi, U.T @ v0, float(closing.max(initial=0.0)),
                       lambda x: np.concatenate([meshes.coast_preload(x[:meshes.U.shape[1]]), pad]))
     meshes.gap_slope = 0.0
     return q0
 
 
 def _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
-            complete) -> SimulationResult:
+            complete, more: dict) -> SimulationResult:
     """The :class:`SimulationResult` of a run (whole, or stopped: ``complete`` False):
     ``stats`` accumulated as it went, or now from the arrays when they are in memory."""
     units = rec.histories(np.zeros((0, rec.size)))[1]
@@ -217,7 +246,7 @@ def _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, sid
     info = dict(run.info)
     info.setdefault("steps", len(run.time_s) - 1 if run.time_s is not None else 0)
     info.update({"dt_s": dt, "t_end_s": t_end, "scheme": run.scheme.name, "dofs": n,
-                 "losses_total": int(meshes.losses.sum())})
+                 "losses_total": int(meshes.losses.sum()), **more})
     return SimulationResult(time_s, values, units,
                             [{"name": mi.name, "path": mi.path, "teeth": mi.teeth, "backlash_m": None if
                               math.isnan(mi.backlash) else mi.backlash, "harmonics": mi.harmonics,

@@ -1,15 +1,18 @@
 """The steps of :func:`assembly.dynamics.transient.integrate` on a dense reduced model, as one
 function on arrays that numba compiles (:mod:`assembly.dynamics.jit`): a stretch of steps
 between two visits of Python, whose loads, generator torque table and brake torque Python
-evaluated before (module notes of :mod:`assembly.dynamics.transient` derive the step; this is
-the same step: predictor, the constant inverse ``A0^-1``, Newton on the m-rank Woodbury
-system with its convergence, round-off floor and step-halving tests, the corrector, the
-meshes' and shaft torques' laws of :mod:`assembly.dynamics.mesh_laws` and
-:mod:`assembly.dynamics.torque_laws`, the contact-loss counts, and the recorded rows).
+evaluated before, and the wind speed and pitch the rotor's aerodynamics read (module notes of
+:mod:`assembly.dynamics.transient` derive the step; this is the same step: predictor, the
+constant inverse ``A0^-1``, Newton on the m-rank Woodbury system with its convergence, round-off
+floor and step-halving tests, the corrector, the meshes', shaft torques' and rotor's laws of
+:mod:`assembly.dynamics.mesh_laws`, :mod:`assembly.dynamics.torque_laws` and
+:mod:`assembly.dynamics.rotor_laws`, the contact-loss counts, and the recorded rows).
 
-The state (q, v, a, M a, the averaged force F, Newton's xi and its last value, the meshes'
-contact flags, loss counts and last contact forces, the torques' state array) is updated in
-place, so a stretch continues where the last one stopped.
+The columns of ``U`` are the meshes' (2 a mesh), then the shaft torques' from ``t0``, then the
+rotor's from ``r0`` (its rotation, and its axial translation when it has thrust). The state (q,
+v, a, M a, the averaged force F, Newton's xi and its last value, the meshes' contact flags, loss
+counts and last contact forces, the torques' and the rotor's state arrays) is updated in place,
+so a stretch continues where the last one stopped.
 """
 from __future__ import annotations
 
@@ -19,6 +22,7 @@ import numpy as np
 
 from .jit import njit
 from .mesh_laws import mesh_commit, mesh_forces
+from .rotor_laws import INSIDE, N_OUT, rotor_commit, rotor_forces
 from .torque_laws import shaft_commit, shaft_forces
 
 #: Newton iterations (and halved steps) of one step before it is declared not converging.
@@ -32,8 +36,9 @@ NEWTON_RTOL = 1e-10
 #: can lower it further.
 ROUNDOFF = 4
 EPS = float(np.finfo(float).eps)
-#: What a stretch ends with: every step done, Newton did not converge, a state not finite.
-DONE, NOT_CONVERGED, NOT_FINITE = 0, 1, 2
+#: What a stretch ends with: every step done, Newton did not converge, a state not finite, the
+#: rotor's state outside its aerodynamic surface (:meth:`assembly.dynamics.rotor_aero.RotorAero.refuse`).
+DONE, NOT_CONVERGED, NOT_FINITE, OFF_SURFACE = 0, 1, 2, 3
 
 
 @njit
@@ -208,21 +213,25 @@ def predictor(Z, qp, vp, a, AinvL, h):
 
 @njit
 def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
-                mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, p, ps, table, brake, has_torques,
-                kp, ki, kd, cp, ci, cd, sp_, si, sd, ap, ai, ad, vp_, vi, vd, swap_i, swap_j,
+                mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, p, ps, table, brake, has_torques, t0,
+                rp, rtsr, rpitch, rcq, rct, rs, wind, beta, has_rotor, r0,
+                kp, ki, kd, cp, ci, cd, sp_, si, sd, ap, ai, ad, vp_, vi, vd, swap_i, swap_j, pick_i, pick_j,
                 q, v, a, Ma, F, xi, xi_prev, contact, losses, last_force, Y, its):
     """``count`` steps from ``t[0]`` (``t``: the count + 1 step times); ``scheme``: (alpha_m,
     alpha_f, beta, gamma, dt); ``Z`` the predictor's map (:func:`predictor`). Loads at ``t[k] +
     (1 - alpha_f) dt``: ``LV @ LH[k]`` (or ``LH[k]`` itself if ``direct``), ``AinvL = A0^-1 LV``
     (or ``A0^-1``); ``M a`` and the averaged force ``F`` are kept only when alpha_f != 0;
     ``table``, ``brake`` (count,): the generator's recorded torque and the brake torque at
-    ``t[k + 1]``. Rows into ``Y[k]`` and Newton counts into
-    ``its[k]``. Returns (steps done, :data:`DONE` / :data:`NOT_CONVERGED` / :data:`NOT_FINITE`,
-    the residual or the coordinate that is not finite)."""
+    ``t[k + 1]``, the torques' columns from ``t0``; ``rp``, the surface's ``rtsr``, ``rpitch``,
+    ``rcq``, ``rct`` and the state ``rs``: the rotor's (:mod:`assembly.dynamics.rotor_laws`), its
+    columns from ``r0``, ``wind``, ``beta`` (count,) the wind speed and pitch at ``t[k + 1]``.
+    Rows into ``Y[k]`` (``pick_i[s]``: the rotor's state ``rs[pick_j[s]]``) and Newton counts
+    into ``its[k]``. Returns (steps done, :data:`DONE` / :data:`NOT_CONVERGED` /
+    :data:`NOT_FINITE` / :data:`OFF_SURFACE`, the residual, the coordinate that is not finite or
+    the rotor row's speed the surface does not cover)."""
     am, af, b, g, dt = scheme[0], scheme[1], scheme[2], scheme[3], scheme[4]
     mm = UT.shape[0]
     m = mk0.shape[0]
-    off = 2 * m
     nu, dc, scale = np.zeros(mm), np.zeros(mm), np.zeros(mm)
     Kt = np.zeros((mm, mm))
     Tw = np.zeros((mm, mm))
@@ -233,6 +242,9 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
     ck, cc = (1 - af) * b * dt * dt, (1 - af) * g * dt
     n_k, n_a = kp.shape[0] - 1, ap.shape[0] - 1
     f_a = np.zeros(q.shape[0])
+    rout = np.zeros(N_OUT)
+    cross = 0.0
+    axial = has_rotor and mm - r0 > 1
     for k in range(count):
         h = LH[k]
         qp = q + dt * v + (dt * dt * (0.5 - b)) * a
@@ -258,8 +270,14 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
                 mesh_forces(x, xd, mk0, mc, mA, mcP, msP, mphase, mlin, mgap, con, 0.0, nu, Kt, dc, scale,
                             force, slope)
             if has_torques:
-                shaft_forces(p, ps, table[k], brake[k], xd[off:], nu[off:], dc[off:])
-                scale[off:] = np.abs(nu[off:])
+                shaft_forces(p, ps, table[k], brake[k], xd[t0:r0], nu[t0:r0], dc[t0:r0])
+                scale[t0:r0] = np.abs(nu[t0:r0])
+            if has_rotor:
+                status, cross = rotor_forces(rp, rtsr, rpitch, rcq, rct, wind[k], beta[k], xd[r0:], nu[r0:],
+                                             dc[r0:], rout)
+                if status != INSIDE:
+                    return k, OFF_SURFACE, xd[r0]
+                scale[r0:] = np.abs(nu[r0:])
             r = xi + (1 - af) * nu
             if mm == 0:
                 converged = True
@@ -284,6 +302,8 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
                 for j in range(mm):
                     Tw[i, j] = ck * Kt[i, j]
                 Tw[i, i] += cc * dc[i]
+            if axial:                                     # the thrust's tangent in the rotor's speed
+                Tw[r0 + 1, r0] += cc * cross
             LU, piv = lu_factor(newton_matrix(Tw, S))
             have_lu = True
             dxi = lu_solve(LU, piv, r)
@@ -312,7 +332,9 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
             mesh_commit(contact, losses, slope)
             last_force[:] = force
         if has_torques:
-            shaft_commit(p, ps, table[k], brake[k], x[off:], xd[off:])
+            shaft_commit(p, ps, table[k], brake[k], x[t0:r0], xd[t0:r0])
+        if has_rotor:
+            rotor_commit(rp, rtsr, rpitch, rcq, rct, wind[k], beta[k], xd[r0:], rs, rout)
         row = Y[k]
         csr_into(kp, ki, kd, q, row, 0, False)           # Ok q + Oc v (observe_rows: CSR rows)
         csr_into(cp, ci, cd, v, row, 0, True)
@@ -320,4 +342,6 @@ def run_stretch(count, t, scheme, Ainv, M, Z, W, S, UT, LV, AinvL, LH, direct,
             row[swap_i[s]] = last_force[swap_j[s]] + csr_row(sp_, si, sd, swap_i[s], v)
         csr_into(ap, ai, ad, a, row, n_k, False)         # Oa a
         csr_into(vp_, vi, vd, v, row, n_k + n_a, False)  # Sv v
+        for s in range(pick_i.shape[0]):
+            row[pick_i[s]] = rs[pick_j[s]]
     return count, DONE, 0.0

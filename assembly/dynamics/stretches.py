@@ -6,15 +6,16 @@ A compiled stretch spans :data:`STRETCH_MAX` steps (a few tens of ms of compiled
 progress calls it passed are made after it); a stretch of the Python step ends at a multiple
 of the progress period and spans at least :data:`STRETCH_MIN` steps. Python evaluates what
 depends on time alone for the whole stretch at once (the external loads at the steps' ``t_i +
-(1 - alpha_f) dt``, the generator's recorded torque and the brake torque at ``t_{i+1}``), then
-one call runs it. A sampled load's times end stretches too (:mod:`assembly.dynamics.sampled`).
+(1 - alpha_f) dt``, the generator's recorded torque, the brake torque, the wind speed and the
+pitch at ``t_{i+1}``), then one call runs it. A sampled load's times end stretches too
+(:mod:`assembly.dynamics.sampled`).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from . import jit
-from .step_kernel import run_stretch
+from .step_kernel import OFF_SURFACE, run_stretch
 
 #: Dense models up to this size keep the predictor's map Z (n x 2n, 3n with alpha_m) and run compiled.
 PREDICTOR_MAX = 1500
@@ -50,24 +51,31 @@ def plan(n_steps: int, report: int, sample: int = 0, compiled: bool = False):
     return [(a, b - a) for a, b in zip(ends[:-1], ends[1:])]
 
 
+#: The nonlinear parts the compiled step knows (their ``compiled``), in the order of their columns.
+KINDS = ("meshes", "torques", "rotor")
+
+
 def compiled_parts(nl, observe, Z):
-    """(meshes, torques) of a run the compiled step can take, or None: a dense model, rows
-    to record (:class:`assembly.dynamics.observe_rows.Rows`), and nonlinear parts that are the
-    meshes (first, exact tangents) and the shaft torques (module notes); ``Z``: the
-    predictor's map of a dense model (:func:`predictor_map`) or None."""
+    """(meshes, torques, rotor) of a run the compiled step can take (None for a part it does not
+    have), or None: a dense model, rows to record (:class:`assembly.dynamics.observe_rows.Rows`,
+    whose picks read the rotor's state), and nonlinear parts that are the meshes (exact
+    tangents), the shaft torques and the rotor's aerodynamics, each at most once and in that
+    order (module notes); ``Z``: the predictor's map of a dense model (:func:`predictor_map`) or
+    None."""
     if not (jit.ENABLED and jit.COMPILED) or Z is None:
         return None
     if not all(hasattr(observe, k) for k in ("sparse", "swap")):
         return None
     parts = list(getattr(nl, "parts", [nl]))
     kinds = [getattr(p, "compiled", None) for p in parts]
-    if kinds not in ([], ["meshes"], ["torques"], ["meshes", "torques"]):
+    if not all(k in KINDS for k in kinds) or kinds != sorted(set(kinds), key=KINDS.index):
         return None
-    meshes = parts[0] if kinds[:1] == ["meshes"] else None
-    torques = parts[-1] if kinds[-1:] == ["torques"] else None
+    meshes, torques, rotor = (parts[kinds.index(k)] if k in kinds else None for k in KINDS)
     if meshes is not None and meshes.gap_slope != 0.0:
         return None
-    return meshes, torques
+    if getattr(observe, "picks", ()) and getattr(observe, "values", None) is not rotor:
+        return None
+    return meshes, torques, rotor
 
 
 def load_block(force, t_a: np.ndarray):
@@ -91,8 +99,8 @@ class CompiledSteps:
     and the state ``(q, v, a, Ma, F, xi, xi_prev)`` (updated in place)."""
 
     def __init__(self, parts, M, Ainv, Z, AinvL, W, S, U, scheme, dt, observe, force, state):
-        meshes, torques = parts
-        self.dt, self.force, self.torques = dt, force, torques
+        meshes, torques, rotor = parts
+        self.dt, self.force, self.torques, self.rotor = dt, force, torques, rotor
         self.scheme = np.array([scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma, dt])
         C = np.ascontiguousarray                 # one layout for every run: one compiled signature
         self.model = (C(Ainv), C(M), C(Z), C(W), C(S), C(U.T))
@@ -105,9 +113,19 @@ class CompiledSteps:
             self.mesh = (z, z, np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0)), z, z, z, 0.0)
             self.mesh_state = (np.zeros(0, bool), np.zeros(0, np.int64), z)
         self.torque = (torques.p, torques.s) if torques is not None else (np.zeros(0), np.zeros(0))
+        t0 = 2 * meshes.m if meshes is not None else 0          # the parts' first columns (U's order)
+        r0 = t0 + (torques.U.shape[1] if torques is not None else 0)
+        self.offsets = (t0, r0)
+        if rotor is not None:
+            self.aero = (rotor.p, *rotor.tables, rotor.s)
+        else:
+            z = np.zeros(0)
+            self.aero = (z, z, z, np.zeros((0, 0)), np.zeros((0, 0)), z)
         swap = np.array(observe.swap, np.int64).reshape(-1, 2)
+        picks = np.array(getattr(observe, "picks", ()), np.int64).reshape(-1, 2)
         parts = [(X.indptr.astype(np.int64), X.indices.astype(np.int64), X.data) for X in observe.sparse]
-        self.rows = (*(a for p in parts for a in p), swap[:, 0].copy(), swap[:, 1].copy())
+        self.rows = (*(a for p in parts for a in p), swap[:, 0].copy(), swap[:, 1].copy(), picks[:, 0].copy(),
+                     picks[:, 1].copy())
         self.state = state
 
     def now(self):
@@ -116,7 +134,9 @@ class CompiledSteps:
 
     def run(self, t: np.ndarray, Y: np.ndarray, its: np.ndarray):
         """The ``len(t) - 1`` steps from ``t[0]`` (rows into ``Y``, counts into ``its``):
-        (steps done, why it stopped or DONE, the residual or the coordinate)."""
+        (steps done, why it stopped or DONE, the residual or the coordinate); a rotor state the
+        surface does not cover raises its SceneError, as the Python step does
+        (:meth:`assembly.dynamics.rotor_aero.RotorAero.refuse`)."""
         count = len(t) - 1
         af = self.scheme[1]
         LV, LH, direct = load_block(self.force, t[:-1] + (1 - af) * self.dt)
@@ -125,8 +145,13 @@ class CompiledSteps:
             brake = np.asarray(self.torques.brake_torque(t[1:]), float)
         else:
             table = brake = np.zeros(count)
+        wind, beta = self.rotor.inputs(t[1:]) if self.rotor is not None else (np.zeros(count), np.zeros(count))
+        t0, r0 = self.offsets
         done, why, value = run_stretch(count, t, self.scheme, *self.model, LV, self.AinvL, LH, direct, *self.mesh,
-                                       *self.torque, table, brake, self.torques is not None, *self.rows,
-                                       *self.state, *self.mesh_state, Y, its)
+                                       *self.torque, table, brake, self.torques is not None, t0, *self.aero, wind,
+                                       beta, self.rotor is not None, r0, *self.rows, *self.state, *self.mesh_state,
+                                       Y, its)
+        if why == OFF_SURFACE:
+            self.rotor.refuse(t[done + 1], value)
         return done, why, value
 

@@ -66,7 +66,7 @@ import scipy.sparse as sp
 from ..errors import SceneError
 from . import jit
 from .budget import check_memory
-from .history import STEP_BYTES, MemoryHistory
+from .history import STEP_BYTES, Gathered, MemoryHistory
 from .integrators import DENSE_INVERSE_MAX, Scheme, Solver, check_step, effective_matrix, newmark
 from .jit import pick
 from .sampled import HeldForce, sample_steps
@@ -86,7 +86,16 @@ from .step_kernel import (
     predictor,
     settled,
 )
-from .stretches import PREDICTOR_MAX, STRETCH_MAX, CompiledSteps, compiled_parts, load_block, plan, predictor_map
+from .stretches import (
+    PREDICTOR_MAX,
+    STRETCH_MAX,
+    STRETCH_MIN,
+    CompiledSteps,
+    compiled_parts,
+    load_block,
+    plan,
+    predictor_map,
+)
 
 log = logging.getLogger(__name__)
 
@@ -380,7 +389,9 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     with fixed step ``dt`` (s). ``force(t)``: the external load vector (n,) (a force with
     load ``vectors`` and ``histories``, :class:`assembly.dynamics.run_loads.RunLoads`, is
     evaluated a stretch at a time). ``observe(q, v, a, nu)`` -> 1-D array recorded at every
-    step (default ``q``); ``progress(step, n_steps, t)`` is called about 200 times a run.
+    step (default ``q``; rows with ``held``, :class:`assembly.dynamics.observe_rows.Rows`: it
+    fills each block of rows made, the first row's too); ``progress(step, n_steps, t)`` is
+    called about 200 times a run.
     ``history``: where the rows go (:mod:`assembly.dynamics.history`: ``append`` a block,
     ``close``; default :class:`~assembly.dynamics.history.MemoryHistory`). ``sampled``: loads
     a law sets from the state at its own sample times and holds in between
@@ -390,7 +401,7 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     The steps run in stretches (:mod:`assembly.dynamics.stretches`): compiled
     (:mod:`assembly.dynamics.step_kernel`) when numba is installed and switched on
     (:data:`assembly.dynamics.jit.ENABLED`), the model dense (the kept inverse), the nonlinear
-    forces the meshes and shaft torques and ``observe`` rows
+    forces the meshes, shaft torques and the rotor's aerodynamics and ``observe`` rows
     (:class:`assembly.dynamics.observe_rows.Rows`); else by :class:`PythonSteps`, the same
     numbers to round-off. :class:`Diverged` (with the partial result) when a state is not
     finite or a step's Newton iterations do not converge; its message names the time and the
@@ -420,6 +431,10 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     a = Solver(M).solve(np.asarray(force(0.0), float) - F)      # the starting acceleration
     t_factor = _time.perf_counter() - t0                           # both factorisations
     first = observe(q, v, a, nu)
+    held = getattr(observe, "held", None)                          # values held over a stretch
+    if held is not None:
+        first = np.asarray(first, float)
+        held(first[None, :])
     check_history(dt, t_end, len(first), n, U.shape[1], streaming=history is not None)
     history = history if history is not None else MemoryHistory(n_steps + 1)
     history.append(np.zeros(1), np.asarray(first, float)[None, :], np.zeros(1, np.int32))
@@ -435,42 +450,54 @@ def integrate(M, C, K, force: Callable[[float], np.ndarray], q0, v0, dt: float, 
     steps = (CompiledSteps(parts, M, lu.inverse, Z, AinvL, W, S, U, s, dt, observe, force, state)
              if parts is not None else PythonSteps(M, C, K, lu, W, S, U, s, dt, nl, observe, force, state, Z, AinvL))
     stretches = plan(n_steps, report, every, parts is not None)
-    # a history in memory lends its own rows for the steps to be written into (held once)
-    reserve = history.reserve if isinstance(history, MemoryHistory) and history.capacity else None
+    # a history in memory lends its own rows for the steps to be written into (held once); any
+    # other gets them in blocks of the longest stretch, or, where sample times cut the stretches
+    # below STRETCH_MIN steps (a controller sampled every step: a file write and flush a step),
+    # gathered into blocks of up to STRETCH_MAX steps, a compiled stretch's
+    gathered = None
+    if isinstance(history, MemoryHistory) and history.capacity:
+        sink = history
+    else:
+        longest = max(c for _, c in stretches)
+        size = longest if longest >= STRETCH_MIN else min(n_steps, STRETCH_MAX)
+        sink = gathered = Gathered(history, size, len(first))
     its_sum = 0
-    if reserve is None:
-        Y = np.empty((max(c for _, c in stretches), len(first)))
-        its = np.zeros(len(Y), np.int32)
-    for i0, count in stretches:
-        t = np.arange(i0, i0 + count + 1, dtype=float)
-        t *= dt                                                    # the steps' times, i dt
-        if every and i0 and i0 % every == 0 and not force.sample(t[0], *steps.now()):
-            _stop(history, s, f"the sampled load at t = {t[0]:.6g} s is not finite ({force.u.tolist()})",
-                  parts is not None, i0)
-        if reserve is not None:
-            _, Y, its = reserve(count)
-        done, why, value = steps.run(t, Y[:count], its[:count])
-        if done:
-            history.append(t[1:done + 1], Y[:done], its[:done])
-            its_sum += int(its[:done].sum())
-        if progress is not None:
-            for j in range(i0 + 1, i0 + done + 1):
-                if j % report == 0 or j == n_steps:
-                    progress(j, n_steps, t[j - i0])
-        if why == NOT_CONVERGED:
-            _stop(history, s, f"step to t = {t[done + 1]:.6g} s: Newton's iterations did not converge in "
-                              f"{MAX_ITERATIONS} (residual {value:.3g}); try a smaller dt", parts is not None,
-                  i0 + done)
-        if why != DONE:
-            bad = int(value)
-            name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
-            _stop(history, s, f"the run diverged at t = {t[done + 1]:.6g} s ({name} is not finite)", parts is not None,
-                  i0 + done)
+    try:
+        for i0, count in stretches:
+            t = np.arange(i0, i0 + count + 1, dtype=float)
+            t *= dt                                                # the steps' times, i dt
+            if every and i0 and i0 % every == 0 and not force.sample(t[0], *steps.now()):
+                _stop(sink, history, s, f"the sampled load at t = {t[0]:.6g} s is not finite "
+                                        f"({force.u.tolist()})", parts is not None, i0)
+            _, Y, its = sink.reserve(count)
+            done, why, value = steps.run(t, Y, its)
+            if done and held is not None:
+                held(Y[:done])
+            if done:
+                sink.append(t[1:done + 1], Y[:done], its[:done])
+                its_sum += int(its[:done].sum())
+            if progress is not None:
+                for j in range(i0 + 1, i0 + done + 1):
+                    if j % report == 0 or j == n_steps:
+                        progress(j, n_steps, t[j - i0])
+            if why == NOT_CONVERGED:
+                _stop(sink, history, s, f"step to t = {t[done + 1]:.6g} s: Newton's iterations did not converge in "
+                                        f"{MAX_ITERATIONS} (residual {value:.3g}); try a smaller dt",
+                      parts is not None, i0 + done)
+            if why != DONE:
+                bad = int(value)
+                name = dof_names[bad] if dof_names is not None else f"coordinate {bad}"
+                _stop(sink, history, s, f"the run diverged at t = {t[done + 1]:.6g} s ({name} is not finite)",
+                      parts is not None, i0 + done)
+    except BaseException:
+        if gathered is not None:          # the steps done so far to the history (a refusal, an interrupt)
+            gathered.flush()
+        raise
     wall = _time.perf_counter() - t0
     info = {"steps": n_steps, "dofs": n, "rank": U.shape[1], "solver": lu.kind, "factor_s": t_factor,
             "wall_s": wall, "steps_per_s": n_steps / max(wall - t_factor, 1e-12),
             "compiled": parts is not None, "mean_iterations": its_sum / n_steps if n_steps else 0.0}
-    history.close(True, info)
+    sink.close(True, info)
     log.info("%s: %d steps of %.3g s, %d DOFs, rank %d, %.0f steps/s, %.2f iterations/step%s", s.name, n_steps,
              dt, n, U.shape[1], info["steps_per_s"], info["mean_iterations"], " (compiled)" if parts else "")
     return _result(history, s, info, True)
@@ -484,9 +511,9 @@ def _result(history, scheme: Scheme, info: dict, complete: bool) -> Transient:
     return Transient(None, None, None, scheme, info, complete, history)
 
 
-def _stop(history, scheme: Scheme, why: str, compiled: bool, steps: int):
-    """Close the history as incomplete (``steps`` done) and raise :class:`Diverged` with what it
-    holds."""
+def _stop(sink, history, scheme: Scheme, why: str, compiled: bool, steps: int):
+    """Close the history as incomplete (``steps`` done; through ``sink``, the history or what
+    gathers its blocks) and raise :class:`Diverged` with what it holds."""
     info = {"stopped": why, "steps": steps, "compiled": compiled}
-    history.close(False, info)
+    sink.close(False, info)
     raise Diverged(why, _result(history, scheme, info, False))

@@ -36,7 +36,8 @@ def body_references(scene):
     """``(path, name, housing allowed)`` of every field of ``scene`` that names a body:
     bodies' and bearings' frames, bearings, meshes, shafts, fixed DOFs, stages placed
     coaxial with a body, the static load cases (input, output, point loads, supports) and
-    the ``[simulation]`` table (reference, loads, generator, brake, stress points)."""
+    the ``[turbine]`` table (rotor, generator) and the ``[simulation]`` table (reference, loads,
+    generator, brake, stress points, unbalances)."""
     for i, b in enumerate(scene.bodies):
         yield f"bodies[{i}].frame", b.frame, True
     for i, br in enumerate(scene.bearings):
@@ -62,6 +63,11 @@ def body_references(scene):
             yield f"{path}.forces[{j}].body", pl.body, False
         for j, su in enumerate(lc.supports):
             yield f"{path}.supports[{j}].body", su.body, False
+    tb = scene.turbine
+    if tb is not None:
+        for key in ("rotor", "generator"):
+            if getattr(tb, key) is not None:
+                yield f"turbine.{key}", getattr(tb, key), False
     sim = scene.simulation
     if sim is None:
         return
@@ -75,6 +81,8 @@ def body_references(scene):
             yield f"simulation.{key}.body", table.body, False
     for j, p in enumerate(sim.points):
         yield f"simulation.points[{j}].body", p.body, False
+    for j, u in enumerate(sim.unbalance):
+        yield f"simulation.unbalance[{j}].body", u.body, False
 
 
 def nearest(name: str, names) -> str | None:

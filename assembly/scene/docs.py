@@ -56,6 +56,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "damping": "Scene-level damping: modal ratios or Rayleigh (`[damping]`); element dampers are "
                    "the `c_*` fields.",
         "simulation": "Settings of `flexgear simulate` (`[simulation]`, a `Simulation` table).",
+        "turbine": "The turbine around the drivetrain in `flexgear simulate`: rotor aerodynamics, wind, "
+                   "controller, gravity, nacelle motion, unbalance (`[turbine]`, a `Turbine` table).",
     },
     "Damping": {
         "modal_ratio": "Damping ratio zeta of every elastic mode, in [0, 1).",
@@ -283,11 +285,78 @@ FIELDS: dict[str, dict[str, str]] = {
         "consistent": "Add the energy-consistent mesh term -1/2 dk/dtheta delta^2 (default true).",
         "static_start": "Start in static equilibrium under the loads at t = 0 (default true).",
         "points": "Named stress points (`[[simulation.points]]`, `StressPoint` tables): outputs `stress:NAME`.",
+        "nacelle": "Prescribed housing accelerations (`[[simulation.nacelle]]`, `NacelleMotion` tables).",
+        "unbalance": "Eccentric masses on turning bodies (`[[simulation.unbalance]]`, `UnbalanceMass` tables).",
     },
     "StressPoint": {
         "name": "Output name: `stress:NAME`.",
         "body": "The flexible body.",
         "point": "Global point (m); the stress is the von Mises stress at the nearest FE stress node.",
+    },
+    "Turbine": {
+        "openfast": "An OpenFAST deck (.fst): radius, hub height, tilt, air density, controller library, "
+                    "DISCON.IN and surface are read from it when not given here; 'rosco': the NREL 5 MW deck of the "
+                    "installed rosco wheel.",
+        "surface": "A ROSCO `Cp_Ct_Cq` file (relative to the scene file), or 'rosco': the NREL 5 MW "
+                   "surface of the installed rosco wheel (default from the deck's DISCON.IN).",
+        "radius": "Rotor (tip) radius (m).",
+        "density": "Air density (kg/m^3, default 1.225).",
+        "hub_height": "Hub height (m; the turbulence's reference height, default 90).",
+        "tilt": "Shaft tilt (rad): gravity turned about x by it (default 0).",
+        "rotor": "Body the aerodynamic torque and thrust act on (default the body of role 'rotor').",
+        "generator": "Body the generator torque acts on (default the body of role 'generator').",
+        "generator_ratio": "Generator speed per unit speed of that body (default 1; a two-mass model's "
+                           "low-speed-side generator: the gear ratio, as ElastoDyn's GBRatio).",
+        "pitch": "Collective blade pitch at t = 0 (rad).",
+        "thrust": "Apply the thrust along the rotor's axis (default true).",
+        "gravity": "Gravity (9.80665 m/s^2 along -y, turned by `tilt`) as a body load in `simulate` and "
+                   "`static` (default false).",
+        "wind": "The rotor-effective wind speed (a `Wind` table); without it, gravity and tilt only.",
+        "controller": "The controller in the loop (a `Controller` table; default ROSCO's NREL 5 MW).",
+    },
+    "Wind": {
+        "speed": "Constant wind speed, a ramp's start, or the turbulence's mean at hub height (m/s).",
+        "end_speed": "A ramp's end speed (m/s, with `t_end`).",
+        "t_start": "Ramp start (s, default 0).",
+        "t_end": "Ramp end (s).",
+        "steps": "[[t, V], ...]: V from t on (m/s; the first from t = 0).",
+        "turbulence": "IEC 61400-1 turbulence class 'A', 'B' or 'C' about `speed` (pyconturb, the `wind` extra).",
+        "seed": "Random seed of the turbulence (the same seed, the same wind).",
+        "grid": "Points per side of the square grid over the rotor; those inside the disc are averaged "
+                "(default 7).",
+        "sample": "Time step of the generated turbulence (s, default 0.05); linear in between.",
+        **{k: v.replace("(e.g. `RtAeroMxh`)", "(e.g. `RtVAvgxh`, in m/s)") for k, v in _FILE_HISTORY.items()},
+    },
+    "Controller": {
+        "kind": "'rosco' (default: the rosco wheel's compiled controller), 'discon' (any DISCON "
+                "library), 'simple' (ServoDyn's simple variable-speed law) or 'baseline' (the NREL 5 MW "
+                "baseline torque law); the last two hold the pitch.",
+        "library": "The DISCON library (.so/.dll; kind 'discon').",
+        "input": "The library's input file (DISCON.IN; default for 'rosco': its NREL 5 MW file).",
+        "period": "Sample time (s): a whole number of the run's steps (default the deck's DLL_DT, else 0.01).",
+        "pitch_tau": "Time constant of the first-order pitch actuator (s; 0: none).",
+        "pitch_omega": "Natural frequency of a second-order pitch actuator instead (rad/s).",
+        "pitch_zeta": "Its damping ratio (default 0.7).",
+        "efficiency": "Generator efficiency for the electrical power (default 0.944).",
+        "rated_speed": "'simple': the generator's rated speed (rad/s; VS_RtGnSp).",
+        "rated_torque": "'simple': the rated generator torque (N m; VS_RtTq).",
+        "region2_k": "'simple': region 2's k in k omega^2 (N m s^2/rad^2; VS_Rgn2K).",
+        "slip": "'simple': the rated slip as a fraction (VS_SlPc / 100).",
+    },
+    "NacelleMotion": {
+        "dof": "'x', 'y', 'z' (m/s^2) or 'rx', 'ry', 'rz' (rad/s^2, about the global axes).",
+        "amplitude": "Amplitude of the harmonic acceleration (m/s^2 or rad/s^2).",
+        "frequency": "Its frequency (Hz; 0: a constant amplitude sin(phase)).",
+        "phase": "Its phase (rad).",
+        "origin": "The point the acceleration is given at (global, m; default the origin).",
+        **_FILE_HISTORY,
+    },
+    "UnbalanceMass": {
+        "body": "The rotating body that carries the mass.",
+        "mass": "Eccentric mass (kg).",
+        "radius": "Its distance from the body's axis (m).",
+        "phase": "Its angle from the body's local x at t = 0 (rad).",
+        "interface": "Interface master node of a flexible body the mass sits at.",
     },
     "TimeLoad": {
         "body": "Body loaded (a body or stage member name).",

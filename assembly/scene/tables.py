@@ -37,6 +37,7 @@ from fe_components.sizes import FACE_WIDTH, GEAR_RADIUS, MODULE, SHAFT_DIAMETER
 from .. import arguments
 from ..errors import SceneError
 from .time_domain import MeshVariation, Simulation
+from .turbine import Turbine
 
 HOUSING = "housing"
 #: Band of interest (Hz) when a scene does not give ``band_hz``.
@@ -687,7 +688,8 @@ class Scene:
     body, stage member and planets table that does not give its own (default "rigid").
     ``damping``: scene-level damping (:class:`Damping`); element dampers are the ``c_*``
     fields of bearings, meshes, shafts and stages. ``simulation``: the settings of time-domain
-    runs (:class:`assembly.scene.time_domain.Simulation`).
+    runs (:class:`assembly.scene.time_domain.Simulation`); ``turbine``: the turbine around the
+    drivetrain (:class:`assembly.scene.turbine.Turbine`).
     Construction first derives the gear numbers from teeth and places the bodies meshes
     place (:func:`assembly.scene.gears.resolve`), then validates everything (``SceneError``
     on bad input); the scene then holds the derived numbers.
@@ -707,6 +709,7 @@ class Scene:
     fidelity: Optional[Fidelity] = None
     damping: Optional[Damping] = None
     simulation: Optional[Simulation] = None
+    turbine: Optional[Turbine] = None
 
     def __post_init__(self):
         for f in ("bodies", "bearings", "meshes", "shafts", "fixed", "stages", "loads"):
@@ -854,9 +857,15 @@ def with_simulation(scene: Scene, simulation) -> Scene:
     """Copy of ``scene`` with ``simulation`` (a :class:`Simulation` table, or None) as its
     ``[simulation]`` table, checked against the scene as a new scene is (the other tables as
     the user gave them)."""
+    return with_tables(scene, simulation=simulation)
+
+
+def with_tables(scene: Scene, **tables) -> Scene:
+    """Copy of ``scene`` with the top-level ``tables`` given (e.g. ``turbine=...``), checked
+    against the scene as a new scene is (the other tables as the user gave them)."""
     scene_argument("scene", scene)
-    return dataclasses.replace(scene, simulation=simulation,
-                               **{key: scene.as_given(key) for key in scene.__dict__.get("_given", {})})
+    given = {key: scene.as_given(key) for key in scene.__dict__.get("_given", {}) if key not in tables}
+    return dataclasses.replace(scene, **tables, **given)
 
 
 def scale_bearings(scene: Scene, factor: float, directions=("k_radial", "k_axial", "k_tilt")) -> Scene:

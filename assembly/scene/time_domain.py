@@ -147,6 +147,41 @@ class StressPoint:
 
 
 @dataclass(frozen=True)
+class NacelleMotion:
+    """``[[simulation.nacelle]]``: one component of the housing's prescribed acceleration at
+    ``origin`` (global, m): ``dof`` "x", "y", "z" (m/s^2) or "rx", "ry", "rz" (rad/s^2, about
+    the global axes), either ``amplitude`` sin(2 pi ``frequency`` t + ``phase``) (a constant
+    when ``frequency`` is 0: ``amplitude`` sin(``phase``), so give ``phase_deg = 90``) or a series
+    from ``table`` / ``openfast`` as a wind series is read."""
+
+    dof: Literal["x", "y", "z", "rx", "ry", "rz"]
+    amplitude: float = quantity("m/s^2 or rad/s^2", 0.0)
+    frequency: float = quantity("Hz", 0.0, ge=0.0)
+    phase: float = _angle(0.0)
+    origin: tuple[float, float, float] = quantity("m", (0.0, 0.0, 0.0))
+    table: Optional[str] = None
+    openfast: Optional[str] = None
+    column: Optional[str] = None
+    time_column: str = "time"
+    scale: float = quantity("", 1.0)
+    time_offset: float = quantity("s", 0.0)
+    time_window: Optional[tuple[float, float]] = quantity("s", None)
+
+
+@dataclass(frozen=True)
+class UnbalanceMass:
+    """``[[simulation.unbalance]]``: an eccentric ``mass`` (kg) at ``radius`` (m) from ``body``'s
+    axis (at ``interface`` of a flexible body), at angle ``phase`` (rad from the body's local x at
+    t = 0), turning with the body's integrated rotation."""
+
+    body: str
+    mass: float = quantity("kg", gt=0.0)
+    radius: float = quantity("m", gt=0.0)
+    phase: float = _angle(0.0)
+    interface: Optional[str] = None
+
+
+@dataclass(frozen=True)
 class Simulation:
     """``[simulation]``: the settings of ``flexgear simulate``.
 
@@ -160,7 +195,10 @@ class Simulation:
     "newmark" (average acceleration), "hht" (``alpha``) or "generalized-alpha"
     (``rho_inf``). ``consistent``: add the energy-consistent mesh term -1/2 dk/dtheta delta^2
     (Oh, Grosh & Barber 2005). ``points``: named stress points (:class:`StressPoint`); a run
-    without outputs named records each point's stress and each nonlinear mesh's force."""
+    without outputs named records each point's stress and each nonlinear mesh's force.
+    ``nacelle``: the housing's prescribed accelerations (:class:`NacelleMotion`), loading every
+    body with its inertia; ``unbalance``: eccentric masses on turning bodies
+    (:class:`UnbalanceMass`)."""
 
     speed: float = quantity("rad/s", 0.0)
     reference: Optional[str] = None
@@ -175,8 +213,10 @@ class Simulation:
     consistent: bool = True
     static_start: bool = True
     points: tuple[StressPoint, ...] = ()
+    nacelle: tuple[NacelleMotion, ...] = ()
+    unbalance: tuple[UnbalanceMass, ...] = ()
 
     def __post_init__(self):
-        for f in ("loads", "points"):
+        for f in ("loads", "points", "nacelle", "unbalance"):
             if isinstance(getattr(self, f), list):  # Python callers may pass lists
                 object.__setattr__(self, f, tuple(getattr(self, f)))

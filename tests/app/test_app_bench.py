@@ -147,3 +147,15 @@ def test_bench_study_prints_the_overhead_table_with_identical_results(capsys):
     assert any(line.startswith("Result columns, local vs serial: identical (max abs diff of frequencies 0 Hz)")
                for line in lines)
     assert not any(line.startswith("| engine | workers (processes) |") for line in lines)   # no flexible table
+
+
+def test_bench_turbine_prints_the_cost_beside_the_drivetrain_alone(capsys):
+    pytest.importorskip("rosco", reason="the rosco package is not installed")
+    pytest.importorskip("pyconturb", reason="the wind extra is not installed")
+    from assembly.app.bench.turbine import main
+    assert main(["--t-end", "0.05", "--bases", "nrel5mw"]) == 0
+    rows = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("| nrel5mw |")]
+    assert len(rows) == 1
+    cells = [c.strip() for c in rows[0].strip("|").split("|")]
+    # 0.05 s of the deck's 0.00625 s steps, the controller called at each; a ratio of two times
+    assert cells[2] == "8" and cells[6] == "8" and float(cells[-1]) > 0.0

@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -19,6 +20,17 @@ NUMBERS = ["nan", "inf", "-inf", "0", "-1", "1e308", "abc", ""]
 NAMES = ["", "nope", "rotr"]
 S = "SCENE"
 P = "PART"
+T = "TURBINE"          # the pair in a small turbine (the scene fixture writes it beside the pair)
+TURBINE = """
+[turbine]
+surface = "rosco"
+radius = 2.0
+pitch_deg = 0.0
+wind = { speed = 4.0 }
+controller = { kind = "baseline", period = 1e-3 }
+"""
+COUPLING = ["coupling", T, "--t-end", "0.02", "--dt", "1e-3", "--segment", "0.005", "--tooth-force", "force:m",
+            "--bearing-axial", "force:m"]
 
 #: (subcommand and its valid arguments, flag, values tried, the values that are valid there).
 #: A flag's value replaces the base one; "-inf" is passed as --flag=-inf (else argparse takes it
@@ -65,6 +77,13 @@ OPTIONS = [
     (["part", P, "--units", "m"], "--mesh-size", NUMBERS + ["0.01"], set()),
     (["part", P, "--units", "m"], "--modes", NUMBERS + ["101", "3"], {"3"}),
     (["modes", S, "--cache-dir"], "", [""], set()),
+    (COUPLING, "--t-end", NUMBERS + ["0.03"], {"0.03"}),
+    (COUPLING, "--dt", NUMBERS + ["5e-4"], {"5e-4"}),
+    (COUPLING, "--segment", NUMBERS + ["0.004"], {"0.004"}),
+    (COUPLING, "--skip", NUMBERS + ["0.002"], {"0", "0.002"}),
+    (COUPLING, "--tooth-force", ["", "force:mm", "torque:nope", "force:m"], {"force:m"}),
+    (COUPLING, "--bearing-axial", ["", "force:mm", "speed:rotor", "force:m"], {"force:m", "speed:rotor"}),
+    (COUPLING, "--fidelity", ["", "stiff", "torsional"], {"torsional"}),
 ]
 #: what a flag's value feeds when the error is the analysis' own (--fmin 0 Hz on a free chain)
 FEEDS = {"--fmin": "frequency_hz"}
@@ -76,7 +95,9 @@ CASES = [(i, v) for i, (_, _, values, _) in enumerate(OPTIONS) for v in values]
 
 @pytest.fixture(scope="module")
 def scene(tmp_path_factory):
-    return pair_file(tmp_path_factory.mktemp("cli"))
+    path = pair_file(tmp_path_factory.mktemp("cli"))
+    Path(path).with_name("turbine.toml").write_text(Path(path).read_text() + TURBINE, encoding="utf-8")
+    return path
 
 
 @pytest.fixture(scope="module")
@@ -92,7 +113,8 @@ def part(tmp_path_factory):
 
 def _argv(i: int, value: str, scene: str, out: str, part: str = "") -> list:
     base, flag, _, _ = OPTIONS[i]
-    argv = [scene if a == S else out if a == "OUT" else part if a == P else a for a in base]
+    turbine = str(Path(scene).with_name("turbine.toml"))
+    argv = [scene if a == S else turbine if a == T else out if a == "OUT" else part if a == P else a for a in base]
     if not flag:                                    # a positional value (the scene) or a value-only option
         return argv + [value] if argv[-1] != "--cache-dir" else [argv[-1], value, *argv[:-1]]
     if flag in argv and flag not in ("--output",):

@@ -31,6 +31,15 @@ from tests.support.fuzz import examples
 
 #: Field names that hold the name of a body (or the housing) in any scene table.
 BODY_FIELDS = {"body", "body1", "body2", "gear1", "gear2", "frame", "input", "output", "reference"}
+#: ... and in the [turbine] table (its other tables' fields of these names are not bodies)
+TURBINE_BODY_FIELDS = {"rotor", "generator"}
+
+
+def _names_body(path: str, key: str) -> bool:
+    """Whether the field ``key`` at ``path`` (its table's path) names a body."""
+    if path.split(".")[0].split("[")[0] == "turbine":
+        return path == "turbine" and key in TURBINE_BODY_FIELDS
+    return key in BODY_FIELDS
 
 
 def naming_scene() -> dict:
@@ -50,7 +59,9 @@ def naming_scene() -> dict:
                           "loads": [{"body": "pinion", "value": 100.0}],
                           "generator": {"body": "planetary.carrier", "torque": 400.0},
                           "brake": {"body": "planetary.carrier", "torque": 500.0},
-                          "points": [{"name": "web", "body": "wheel", "point": [0.27, 0.1, 0.0]}]}
+                          "points": [{"name": "web", "body": "wheel", "point": [0.27, 0.1, 0.0]}],
+                          "unbalance": [{"body": "wheel", "mass": 0.01, "radius": 0.05}]}
+    tree["turbine"] = {"rotor": "pinion", "generator": "planetary.carrier"}
     return tree
 
 
@@ -62,7 +73,7 @@ def _leaves(node, prefix=""):
     if isinstance(node, dict):
         for k, v in node.items():
             p = f"{prefix}.{k}" if prefix else k
-            if k in BODY_FIELDS and isinstance(v, str):
+            if _names_body(prefix, k) and isinstance(v, str):
                 yield p, v
             else:
                 yield from _leaves(v, p)
@@ -141,8 +152,9 @@ def test_base_scene_is_valid_and_names_every_kind_of_field():
             for sub in inner:
                 if sub is not cls:
                     visit(sub, f"{path}.{f.name}" if path else f.name)
-            if f.name in BODY_FIELDS and path.split(".")[0] in ("bodies", "bearings", "meshes", "shafts", "fixed",
-                                                                 "load", "loads", "simulation"):
+            if _names_body(path, f.name) and path.split(".")[0] in ("bodies", "bearings", "meshes", "shafts",
+                                                                     "fixed", "load", "loads", "simulation",
+                                                                     "turbine"):
                 want.add(f"{path}.{f.name}")
     visit(Scene, "")
     want = {w.replace("load.", "loads.", 1) if w.startswith("load.") else w for w in want}

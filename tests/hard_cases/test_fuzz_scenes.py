@@ -5,14 +5,13 @@ import copy
 import math
 import tomllib
 
-import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from assembly.errors import SceneError
 from assembly.scene.schema import SCENE_DIR, scene_from_dict
 from fe_components.errors import GeometryError
-from tests.support.fuzz import examples
+from tests.support.fuzz import examples, tree_paths
 
 BASES = {name: tomllib.loads((SCENE_DIR / name).read_text())
          for name in ("kahraman_beta20.toml", "lin_parker_n3.toml", "hs_parallel_stage.toml",
@@ -23,18 +22,6 @@ JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10**12, 10**12), st.text
                  st.dictionaries(st.text(max_size=5), st.integers(), max_size=2),
                  st.sampled_from([0.0, -1.0, 1e300, -1e-300, 1e-320, math.inf, -math.inf, math.nan, "1.0",
                                   "housing", "", "x" * 50, "x" * 300, "a\x00b", "a/b", "a\nb"]))
-
-
-def _paths(node, prefix=()):
-    """Every (path tuple) to a leaf or table of a TOML tree."""
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield prefix + (k,)
-            yield from _paths(v, prefix + (k,))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield prefix + (i,)
-            yield from _paths(v, prefix + (i,))
 
 
 def _set(tree, path, value, delete=False):
@@ -52,7 +39,7 @@ def mutated(draw):
     name = draw(st.sampled_from(sorted(BASES)))
     tree = copy.deepcopy(BASES[name])
     for _ in range(draw(st.integers(1, 3))):
-        paths = list(_paths(tree))
+        paths = list(tree_paths(tree))
         if not paths:
             break
         path = draw(st.sampled_from(paths))

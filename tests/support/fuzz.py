@@ -27,3 +27,15 @@ def at(tree, path):
     for step in path:
         tree = tree[step]
     return tree
+
+
+def tree_paths(node, prefix=()):
+    """Every path (tuple of keys and indices) to a leaf or table of a TOML tree."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield prefix + (k,)
+            yield from tree_paths(v, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield prefix + (i,)
+            yield from tree_paths(v, prefix + (i,))

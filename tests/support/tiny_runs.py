@@ -39,11 +39,11 @@ def stop_after(steps: int, calls: list | None = None):
     call is appended to ``calls``."""
     from assembly.dynamics.transient import Diverged, integrate
 
-    def stops(*args, history=None):
+    def stops(*args, history=None, **options):
         if calls is not None:
             calls.append(args[7])
         held = None if history is None else SimpleNamespace(append=history.append, close=lambda *a: None)
-        full = integrate(*args[:7], steps * args[6], *args[8:], history=held)
+        full = integrate(*args[:7], steps * args[6], *args[8:], history=held, **options)
         info = {"stopped": STOP_REASON, "steps": steps}
         if history is not None:
             history.close(False, info)

@@ -182,6 +182,10 @@ def summary_text(r: SimulationResult, scene: str) -> str:
     lost = [m for m in r.meshes if m["contact_losses"]]
     losses = ", ".join(f"{m['name']} {m['contact_losses']}" for m in lost) or "none"
     lines.append(f"  contact losses: {losses}")
+    lines += [f"  turbine: {k} {v if v in ('scene', 'default') else 'from ' + v}"
+              for k, v in r.info.get("turbine_sources", {}).items()]
+    if "controller_calls" in r.info:
+        lines.append(f"  controller: {r.info['controller_calls']} calls, every {r.info['controller_period_s']:g} s")
     lines += [f"  warning: {w}" for w in r.warnings]
     return "\n".join(lines)
 
@@ -234,6 +238,10 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
             f"<th>peak at [s]</th></tr>{rows}</table>"
             + (f"<h2>Nonlinear meshes</h2><table border=1><tr><th>mesh</th><th>backlash [m]</th><th>harmonics"
                f"</th><th>contact losses</th></tr>{meshes}</table>" if r.meshes else "")
+            + (f"<h2>The turbine</h2><p>Controller: {r.info['controller_calls']} calls, every "
+               f"{r.info['controller_period_s']:g} s.</p><table border=1><tr><th>value</th><th>from</th></tr>"
+               + "".join(f"<tr><td>{e(k)}</td><td>{e(str(v))}</td></tr>" for k, v in r.info["turbine_sources"].items())
+               + "</table>" if "turbine_sources" in r.info else "")
             + (f"<h2>Warnings</h2><ul>{warn}</ul>" if warn else "")
             + f"<p>Spectra: mesh harmonics (red) and sidebands (green dotted) at the starting speed.</p>\n"
             f"{figs}\n</body></html>\n")
