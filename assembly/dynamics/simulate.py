@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
 from .. import arguments as check
@@ -48,6 +49,7 @@ from .run_loads import RunLoads, run_loads
 from .run_model import model_matrices, scheme_of
 from .run_outputs import recorder
 from .run_start import GAP_SLOPE, start_velocity, static_start
+from .speed_drive import speed_drive
 from .transient import Diverged, Stack, check_history, integrate
 from .turbine_run import OUTPUTS, TurbineRun
 
@@ -139,19 +141,28 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
         turbine = TurbineRun(model, scene, sim, dt, t_end, v0, base_dir, phi)
     body = body_loads(model, scene, sim, dt, t_end, base_dir, phi, turbine.data.tilt if turbine else None)
     loads = RunLoads(np.hstack([loads.vectors, body.vectors]), (*loads.histories, *body.histories), loads.torques)
+    start_force = turbine.start_force if turbine else None
+    if sim.drive is not None:                   # a run-up: the servo's spring and damper, its load
+        drive = speed_drive(model, sim.drive, reference, v0, phi, sp.issparse(K))
+        K, C = K + drive.K, C + drive.C
+        loads = RunLoads(np.hstack([loads.vectors, drive.vector[:, None]]), (*loads.histories, drive.history),
+                         loads.torques)
+        # the start: the servo's damper at the starting speed balances the load's c omega_0
+        start_force = -(drive.C @ v0) + (start_force if start_force is not None else 0.0)
+        phi = None                              # the servo holds the drivetrain: no inertia relief
     try:
         return _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine,
-                    body.nonlinear, history, streaming, progress)
+                    body.nonlinear, history, streaming, progress, start_force)
     finally:
         if turbine is not None:
             turbine.close()
 
 
 def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine, unbalances,
-         history, streaming, progress) -> SimulationResult:
+         history, streaming, progress, start_force=None) -> SimulationResult:
     """:func:`simulate`'s run, its parts made."""
     nl = Stack([meshes, loads.torques, *(turbine.nonlinear if turbine else ()), *unbalances], n)
-    q0 = _start(M, K, nl, meshes, loads, sim, phi, v0, turbine.start_force if turbine else None)
+    q0 = _start(M, K, nl, meshes, loads, sim, phi, v0, start_force)
     if outputs is None:                         # every named stress point and nonlinear mesh force
         outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info),
                    *(OUTPUTS if turbine else ())]

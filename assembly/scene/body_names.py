@@ -83,6 +83,8 @@ def body_references(scene):
         yield f"simulation.points[{j}].body", p.body, False
     for j, u in enumerate(sim.unbalance):
         yield f"simulation.unbalance[{j}].body", u.body, False
+    if sim.drive is not None and sim.drive.body is not None:
+        yield "simulation.drive.body", sim.drive.body, False
 
 
 def nearest(name: str, names) -> str | None:

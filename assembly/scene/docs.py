@@ -287,6 +287,7 @@ FIELDS: dict[str, dict[str, str]] = {
         "points": "Named stress points (`[[simulation.points]]`, `StressPoint` tables): outputs `stress:NAME`.",
         "nacelle": "Prescribed housing accelerations (`[[simulation.nacelle]]`, `NacelleMotion` tables).",
         "unbalance": "Eccentric masses on turning bodies (`[[simulation.unbalance]]`, `UnbalanceMass` tables).",
+        "drive": "A speed-controlled drive: a run-up or run-down (`[simulation.drive]`, a `SpeedDrive` table).",
     },
     "StressPoint": {
         "name": "Output name: `stress:NAME`.",
@@ -350,6 +351,14 @@ FIELDS: dict[str, dict[str, str]] = {
         "phase": "Its phase (rad).",
         "origin": "The point the acceleration is given at (global, m; default the origin).",
         **_FILE_HISTORY,
+    },
+    "SpeedDrive": {
+        "end_speed": "Speed at `t_end` (rad/s, the body's own axis); from the starting speed `speed`.",
+        "t_end": "End of the ramp (s); the speed is held after it.",
+        "t_start": "Start of the ramp (s, default 0).",
+        "body": "The driven body (default the reference, the body of role 'rotor').",
+        "bandwidth": "The servo's bandwidth (Hz, default 10): critically damped, on the drivetrain's inertia "
+                     "referred to the body.",
     },
     "UnbalanceMass": {
         "body": "The rotating body that carries the mass.",

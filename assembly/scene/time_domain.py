@@ -182,6 +182,23 @@ class UnbalanceMass:
 
 
 @dataclass(frozen=True)
+class SpeedDrive:
+    """``[simulation.drive]``: a speed-controlled drive on ``body`` (default the reference, the
+    body of role "rotor"): its speed follows ``omega_ref``, the starting speed until ``t_start``,
+    then linear to ``end_speed`` (rad/s) at ``t_end`` (s), held after -- a run-up or run-down.
+    A servo of ``bandwidth`` f_b (Hz), critically damped, on the body's rotation:
+    ``T = J w_b^2 (theta_ref - theta) + 2 J w_b (omega_ref - omega)``, ``w_b = 2 pi f_b``, J the
+    drivetrain's inertia referred to the body; drivetrain modes far above f_b see the body free,
+    far below it held."""
+
+    end_speed: float = quantity("rad/s")
+    t_end: float = quantity("s", gt=0.0)
+    t_start: float = quantity("s", 0.0, ge=0.0)
+    body: Optional[str] = None
+    bandwidth: float = quantity("Hz", 10.0, gt=0.0)
+
+
+@dataclass(frozen=True)
 class Simulation:
     """``[simulation]``: the settings of ``flexgear simulate``.
 
@@ -198,7 +215,8 @@ class Simulation:
     without outputs named records each point's stress and each nonlinear mesh's force.
     ``nacelle``: the housing's prescribed accelerations (:class:`NacelleMotion`), loading every
     body with its inertia; ``unbalance``: eccentric masses on turning bodies
-    (:class:`UnbalanceMass`)."""
+    (:class:`UnbalanceMass`); ``drive``: a speed-controlled drive (:class:`SpeedDrive`), a
+    run-up."""
 
     speed: float = quantity("rad/s", 0.0)
     reference: Optional[str] = None
@@ -215,6 +233,7 @@ class Simulation:
     points: tuple[StressPoint, ...] = ()
     nacelle: tuple[NacelleMotion, ...] = ()
     unbalance: tuple[UnbalanceMass, ...] = ()
+    drive: Optional[SpeedDrive] = None
 
     def __post_init__(self):
         for f in ("loads", "points", "nacelle", "unbalance"):

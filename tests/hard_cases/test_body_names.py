@@ -60,7 +60,8 @@ def naming_scene() -> dict:
                           "generator": {"body": "planetary.carrier", "torque": 400.0},
                           "brake": {"body": "planetary.carrier", "torque": 500.0},
                           "points": [{"name": "web", "body": "wheel", "point": [0.27, 0.1, 0.0]}],
-                          "unbalance": [{"body": "wheel", "mass": 0.01, "radius": 0.05}]}
+                          "unbalance": [{"body": "wheel", "mass": 0.01, "radius": 0.05}],
+                          "drive": {"body": "pinion", "end_speed": 20.0, "t_end": 1.0}}
     tree["turbine"] = {"rotor": "pinion", "generator": "planetary.carrier"}
     return tree
 
