@@ -181,6 +181,25 @@ def add_simulate(sub, func) -> None:
     p.set_defaults(func=func)
 
 
+def add_runup(sub, func) -> None:
+    p = sub.add_parser("runup", help="run-up: the drivetrain driven through a speed range at a rate by a "
+                                     "speed-controlled drive (flexgear simulate with [simulation.drive])")
+    p.add_argument("scene", help=SCENE_HELP)
+    p.add_argument("--speed-range", nargs=2, type=float, required=True, metavar=("RPM_FROM", "RPM_TO"),
+                   help="speeds of the driven body, rpm")
+    p.add_argument("--rate", type=float, required=True, metavar="RPM_S", help="ramp rate, rpm/s")
+    p.add_argument("--dt", type=float, required=True, metavar="DT", help="time step, s")
+    p.add_argument("--body", default=None, metavar="BODY", help="driven body (default the reference, role rotor)")
+    p.add_argument("--bandwidth", type=float, default=10.0, metavar="HZ", help="the drive's servo bandwidth, Hz "
+                                                                              "(default 10)")
+    p.add_argument("--settle", type=float, default=1.0, metavar="S",
+                   help="time held at each end of the range, s (default 1)")
+    p.add_argument("--output", action="append", metavar="OUT", help="as flexgear simulate's")
+    p.add_argument("--unreduced", action="store_true", help="as flexgear simulate's")
+    add_out_json(p, "simulation.h5, trace_NN.png, spectrum_NN.png, summary.json, index.html")
+    p.set_defaults(func=func)
+
+
 def add_coupling(sub, func) -> None:
     p = sub.add_parser("coupling", help="the drivetrain coupled in its turbine against one-way (load series from "
                                         "the two-mass drivetrain's turbine run): spectra and where they differ")

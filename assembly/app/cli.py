@@ -25,6 +25,7 @@ from .args import (
     add_frf,
     add_part,
     add_run,
+    add_runup,
     add_simulate,
     add_study,
     api_flags,
@@ -267,7 +268,26 @@ def _print_json(obj, indent: int | None = 1) -> None:
     sys.stdout.write(dumps(obj, indent=indent) + "\n")
 
 
-def cmd_simulate(args) -> int:
+def cmd_runup(args) -> int:
+    """``flexgear runup``: :func:`cmd_simulate` of the scene with the run-up's drive
+    (:mod:`assembly.dynamics.runup`), its length from the speed range, rate and settling time."""
+    from ..dynamics.runup import runup_length, runup_simulation
+    from ..scene.tables import with_simulation
+
+    flags = {"speed_range": "--speed-range", "rate": "--rate", "settle": "--settle", "bandwidth": "--bandwidth",
+             "body": "--body"}
+    with api_flags(flags):
+        args.t_end = runup_length(args.speed_range, args.rate, args.settle)
+    args.speed = None
+
+    def prepare(scene):
+        with api_flags(flags):
+            return with_simulation(scene, runup_simulation(scene, args.speed_range, args.rate, args.body,
+                                                           args.bandwidth, args.settle))
+    return cmd_simulate(args, prepare)
+
+
+def cmd_simulate(args, prepare=None) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
     run that stops keeps its partial result (:func:`_stopped`) and exits with 1. With ``--out``
     and no ``--json`` the histories stream into the staged folder as the run goes, and the
@@ -287,6 +307,8 @@ def cmd_simulate(args) -> int:
         n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream or summary_only)
     path = scene_file(args)
     scene = load_scene(path)
+    if prepare is not None:
+        scene = prepare(scene)
     progress = Progress(enabled=False if args.quiet or args.json else None)
     with holding_out(args), (staged_output(Path(args.out)) if stream else nullcontext()) as work:
         with (writing(Path(args.out), work, "simulation results") if stream else nullcontext()):
@@ -452,6 +474,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_campbell(sub, cmd_campbell)
     add_frf(sub, cmd_frf)
     add_simulate(sub, cmd_simulate)
+    add_runup(sub, cmd_runup)
     add_coupling(sub, cmd_coupling)
     add_export(sub, cmd_export_elastodyn, cmd_export_superelement)
     add_part(sub, cmd_part)

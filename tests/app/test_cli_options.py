@@ -29,6 +29,8 @@ pitch_deg = 0.0
 wind = { speed = 4.0 }
 controller = { kind = "baseline", period = 1e-3 }
 """
+RUNUP = ["runup", S, "--speed-range", "100", "101", "--rate", "100", "--dt", "1e-3", "--settle", "0.001",
+         "--output", "speed:rotor"]
 COUPLING = ["coupling", T, "--t-end", "0.02", "--dt", "1e-3", "--segment", "0.005", "--tooth-force", "force:m",
             "--bearing-axial", "force:m"]
 
@@ -77,6 +79,10 @@ OPTIONS = [
     (["part", P, "--units", "m"], "--mesh-size", NUMBERS + ["0.01"], set()),
     (["part", P, "--units", "m"], "--modes", NUMBERS + ["101", "3"], {"3"}),
     (["modes", S, "--cache-dir"], "", [""], set()),
+    (RUNUP, "--rate", NUMBERS + ["50"], {"50"}),
+    (RUNUP, "--settle", NUMBERS + ["0.002"], {"0", "0.002"}),
+    (RUNUP, "--bandwidth", NUMBERS + ["20"], {"20"}),
+    (RUNUP, "--body", NAMES + ["generator"], {"generator"}),
     (COUPLING, "--t-end", NUMBERS + ["0.03"], {"0.03"}),
     (COUPLING, "--dt", NUMBERS + ["5e-4"], {"5e-4"}),
     (COUPLING, "--segment", NUMBERS + ["0.004"], {"0.004"}),

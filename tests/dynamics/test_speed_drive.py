@@ -80,3 +80,28 @@ def test_a_bad_drive_is_refused_naming_the_field(drive, field):
     with pytest.raises(SceneError) as exc:
         simulate(_inertia(**drive), 0.01, 1e-3)
     assert exc.value.path == field
+
+
+def test_a_run_up_through_a_range_lasts_its_ramp_and_settles_at_its_end(capsys):
+    # flexgear runup: 2 settle + |n1 - n0| / rate seconds; the reference held at n0, ramped, held at n1
+    from assembly.app.cli import main
+    from assembly.dynamics.runup import runup_length, runup_simulation
+    assert runup_length([100.0, 400.0], 600.0, 0.5) == pytest.approx(2 * 0.5 + 300.0 / 600.0, rel=1e-15)
+    sim = runup_simulation(_inertia(), [100.0, 400.0], 600.0, settle_s=0.5, bandwidth=FB)
+    assert sim.speed == pytest.approx(100.0 * math.pi / 30, rel=1e-15)
+    assert (sim.drive.t_start, sim.drive.t_end) == (0.5, 1.0)
+    scene = _inertia()
+    from assembly.scene.tables import with_simulation
+    run = simulate(with_simulation(scene, sim), 1.5, 1e-3, outputs=["speed:rotor"])
+    w = run.outputs["speed:rotor"]
+    # 0.5 s after the ramp's end, e^{-w s}(...) of its speed error is left: (a s) e^{-w s} at s = 0.5
+    a, wb = 300.0 * math.pi / 30 / 0.5, 2 * math.pi * FB
+    assert abs(w[-1] - 400.0 * math.pi / 30) <= 2 * a * 0.5 * math.exp(-wb * 0.5)
+    # the command line on the 5 MW (its meshes' laws): 6.9 -> 12.1 rpm at 52 rpm/s is 0.1 s from 6.9 rpm
+    import json
+    capsys.readouterr()
+    assert main(["runup", "nrel5mw_transient", "--speed-range", "6.9", "12.1", "--rate", "52", "--dt", "1e-3",
+                 "--settle", "0.0", "--output", "speed:rotor", "--json", "-q"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["time_s"][-1] == pytest.approx(0.1, rel=1e-12)
+    assert data["outputs"]["speed:rotor"][0] == pytest.approx(6.9 * math.pi / 30, rel=1e-12)
