@@ -177,6 +177,7 @@ def add_simulate(sub, func) -> None:
                    help="starting speed of the rotor (rad/s; default simulation.speed)")
     p.add_argument("--unreduced", action="store_true",
                    help="integrate every FE DOF of the flexible bodies instead of their reductions (reference)")
+    add_window(p)
     add_out_json(p, "simulation.h5, trace_NN.png, spectrum_NN.png, summary.json, index.html")
     p.set_defaults(func=func)
 
@@ -196,6 +197,7 @@ def add_runup(sub, func) -> None:
                    help="time held at each end of the range, s (default 1)")
     p.add_argument("--output", action="append", metavar="OUT", help="as flexgear simulate's")
     p.add_argument("--unreduced", action="store_true", help="as flexgear simulate's")
+    add_window(p)
     add_out_json(p, "simulation.h5, trace_NN.png, spectrum_NN.png, summary.json, index.html")
     p.set_defaults(func=func)
 
@@ -218,6 +220,12 @@ def add_coupling(sub, func) -> None:
                    help="fidelity of the detailed drivetrain (default the scene's)")
     add_out_json(p, "index.html, coupling.json, peaks.csv, spectrum_NN.png")
     p.set_defaults(func=func)
+
+
+def add_window(p) -> None:
+    """``--window T0 T1``: the part of the record the spectra are taken of."""
+    p.add_argument("--window", nargs=2, type=float, default=None, metavar=("T0", "T1"),
+                   help="the spectra of the record from T0 to T1 s only (start-up transients left out)")
 
 
 def add_out_json(p, files: str) -> None:

@@ -16,6 +16,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from .. import arguments as check
 from .args import (
     SCENE_HELP,
     Parser,
@@ -305,6 +306,13 @@ def cmd_simulate(args, prepare=None) -> int:
     summary_only = args.out is None and not args.json
     with api_flags(flags):          # the run's length against memory, before the scene is read
         n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream or summary_only)
+    window = getattr(args, "window", None)
+    if window is not None:
+        with api_flags({"window": "--window"}):
+            t0 = check.number("window", window[0], "s", ge=0.0)
+            t1 = check.number("window", window[1], "s")
+            if not (t0 < t1 <= args.t_end):
+                raise check.refuse("window", list(window), f"must lie in the record, 0 <= T0 < T1 <= {args.t_end:g} s")
     path = scene_file(args)
     scene = load_scene(path)
     if prepare is not None:
@@ -326,8 +334,8 @@ def cmd_simulate(args, prepare=None) -> int:
                     stopped = exc
             if stopped is not None:
                 return _stopped(args, stopped, scene.name, path, work)
-            to_dir = (lambda: sim_files(r, work, scene.name, path)) if stream else (
-                lambda: sim_to_dir(r, args.out, scene.name, path))
+            to_dir = (lambda: sim_files(r, work, scene.name, path, window)) if stream else (
+                lambda: sim_to_dir(r, args.out, scene.name, path, window))
             return _emit(args, to_dir, r.as_json, f"{scene.name}: {r.steps} steps, {len(r.statistics)} outputs",
                          lambda: summary_text(r, scene.name), indent=None)
 

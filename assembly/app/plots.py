@@ -215,23 +215,33 @@ def plot_time_trace(time_s, y, path, title: str = "", ylabel: str = "") -> Path:
     return Path(path)
 
 
-def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = "", marks=()) -> Path:
-    """Amplitude spectrum (log scale) with vertical ``marks``: (Hz, label, kind) where kind
-    "mesh" (harmonics, solid) or "sideband" (dotted); marks outside the axis are left out."""
+#: How each kind of spectrum mark is drawn, and its legend entry.
+MARK_STYLES = {"mesh": (dict(color="C3", lw=0.7, ls="-"), "mesh harmonics"),
+               "sideband": (dict(color="C2", lw=0.6, ls=":"), "sidebands"),
+               "shaft": (dict(color="C0", lw=0.6, ls="--"), "shaft 1x"),
+               "rotor": (dict(color="C4", lw=0.7, ls="-."), "rotor 1P, 3P")}
+
+
+def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = "", marks=(),
+                  log_frequency: bool = False) -> Path:
+    """Amplitude spectrum (log scale) with vertical ``marks``: (Hz, label, kind) of the kinds of
+    :data:`MARK_STYLES` (mesh harmonics labelled); marks outside the axis are left out.
+    ``log_frequency``: a logarithmic frequency axis from the first line up (the low-frequency
+    view)."""
     f, a = np.asarray(frequency_hz, float), np.asarray(amplitude, float)
     with plot_figure(path, (8.0, 3.8)) as (fig, ax):
         ax.plot(f, np.where(a > 0, a, np.nan), lw=0.8)
         ax.set_yscale("log")
-        shown = [fm for fm, _, _ in marks if fm > 0]
+        shown = [fm for fm, _, k in marks if fm > 0 and k in ("mesh", "sideband")]
         top = min(f.max(), 1.15 * max(shown)) if len(f) and shown else (f.max() if len(f) else 1.0)
+        low = f[1] if log_frequency and len(f) > 1 else 0.0
         labelled = set()
         for fm, label, kind in marks:
-            if 0 < fm <= top:
-                style = dict(color="C3", lw=0.7, ls="-") if kind == "mesh" else dict(color="C2", lw=0.6, ls=":")
-                ax.axvline(fm, label=None if kind in labelled else ("mesh harmonics" if kind == "mesh"
-                                                                    else "sidebands"), **style)
+            if low < fm <= top:
+                style, name = MARK_STYLES[kind]
+                ax.axvline(fm, label=None if kind in labelled else name, **style)
                 labelled.add(kind)
-                if kind == "mesh" and label:
+                if kind in ("mesh", "rotor") and label:
                     ax.annotate(label, (fm, 1.0), xycoords=("data", "axes fraction"), fontsize=6,
                                 rotation=90, va="top", ha="right")
         if labelled:
@@ -239,7 +249,30 @@ def plot_spectrum(frequency_hz, amplitude, path, title: str = "", ylabel: str = 
         ax.set_xlabel("frequency [Hz]")
         ax.set_ylabel(f"amplitude [{ylabel}]" if ylabel else "amplitude")
         ax.set_title(title, fontsize=10)
-        ax.set_xlim(0, top)
+        if log_frequency and low > 0:
+            ax.set_xscale("log")
+            ax.set_xlim(low, top)
+        else:
+            ax.set_xlim(0, top)
+    return Path(path)
+
+
+def plot_spectrogram(time_s, frequency_hz, amplitude, path, title: str = "", ylabel: str = "",
+                     f_max: float | None = None) -> Path:
+    """A short-time spectrum: ``amplitude`` (n_f, n_t) over ``frequency_hz`` and the segments'
+    centre times ``time_s``, in decibels of its largest value (60 dB shown)."""
+    f, t, A = np.asarray(frequency_hz, float), np.asarray(time_s, float), np.asarray(amplitude, float)
+    top = f_max if f_max is not None else f.max()
+    keep = f <= top
+    ref = A[keep].max(initial=0.0)
+    with plot_figure(path, (8.0, 4.2)) as (fig, ax):
+        if ref > 0:
+            db = 20.0 * np.log10(np.maximum(A[keep], ref * 1e-3) / ref)
+            m = ax.pcolormesh(t, f[keep], db, shading="nearest", vmin=-60.0, vmax=0.0, cmap="viridis")
+            fig.colorbar(m, ax=ax, label=f"dB re {ref:.3g} {ylabel}".strip())
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("frequency [Hz]")
+        ax.set_title(title, fontsize=9)
     return Path(path)
 
 

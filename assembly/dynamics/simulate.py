@@ -141,7 +141,7 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
         turbine = TurbineRun(model, scene, sim, dt, t_end, v0, base_dir, phi)
     body = body_loads(model, scene, sim, dt, t_end, base_dir, phi, turbine.data.tilt if turbine else None)
     loads = RunLoads(np.hstack([loads.vectors, body.vectors]), (*loads.histories, *body.histories), loads.torques)
-    start_force = turbine.start_force if turbine else None
+    start_force, drive_scale = (turbine.start_force if turbine else None), None
     if sim.drive is not None:                   # a run-up: the servo's spring and damper, its load
         drive = speed_drive(model, sim.drive, reference, v0, phi, sp.issparse(K))
         K, C = K + drive.K, C + drive.C
@@ -150,17 +150,20 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
         # the start: the servo's damper at the starting speed balances the load's c omega_0
         start_force = -(drive.C @ v0) + (start_force if start_force is not None else 0.0)
         phi = None                              # the servo holds the drivetrain: no inertia relief
+        w0 = abs(drive.ramp.omega0)
+        drive_scale = max(abs(drive.ramp.end_speed), w0) / w0 if w0 > 0 else None
     try:
         return _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine,
-                    body.nonlinear, history, streaming, progress, start_force)
+                    body.nonlinear, history, streaming, progress, start_force, reference, drive_scale)
     finally:
         if turbine is not None:
             turbine.close()
 
 
 def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, loads, turbine, unbalances,
-         history, streaming, progress, start_force=None) -> SimulationResult:
-    """:func:`simulate`'s run, its parts made."""
+         history, streaming, progress, start_force=None, reference=None, drive_scale=None) -> SimulationResult:
+    """:func:`simulate`'s run, its parts made (``drive_scale``: a run-up's largest speed over its
+    starting one, for the reports' frequency axes)."""
     nl = Stack([meshes, loads.torques, *(turbine.nonlinear if turbine else ()), *unbalances], n)
     q0 = _start(M, K, nl, meshes, loads, sim, phi, v0, start_force)
     if outputs is None:                         # every named stress point and nonlinear mesh force
@@ -191,7 +194,8 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
     except Diverged as exc:
         run, stopped = exc.partial, exc
     result = _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
-                     stopped is None, turbine.info() if turbine else {})
+                     stopped is None, {**(turbine.info() if turbine else {}), "reference": reference,
+                                       **({"speed_scale": drive_scale} if drive_scale else {})})
     if stopped is not None:
         raise Diverged(str(stopped), result)
     return result

@@ -168,7 +168,7 @@ def test_the_table_has_every_option_of_every_subcommand():
     # folders and --format belong to their own tests; bench passes its arguments on)
     from assembly.app.cli import build_parser
     parser = build_parser()
-    crossed = {flag for _, flag, _, _ in OPTIONS} | {"--cache-dir", "--speed-range"}
+    crossed = {flag for _, flag, _, _ in OPTIONS} | {"--cache-dir", "--speed-range", "--window"}
     skip = {"--help", "--out", "--format", "--verbose", "--json", "--quiet", "--all", "--log", "--gyroscopic",
             "--unreduced", "--no-compare", "--no-images", "--serial"}
 
@@ -191,6 +191,18 @@ def test_speed_range_entries_are_checked(scene, capsys, flag, value):
     assert main(["campbell", scene, flag, *value]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"flexgear: error: {flag}"), err
+
+
+@pytest.mark.parametrize("value", [["nan", "5e-4"], ["5e-4", "2e-4"], ["0", "1e308"], ["-1", "5e-4"], ["0", "2e-3"],
+                                   ["inf", "1"], ["0", "abc"]])
+def test_window_entries_are_checked(scene, tmp_path, capsys, monkeypatch, value):
+    # the spectra's window must lie in the record (1 ms here): one line naming --window, nothing written
+    monkeypatch.chdir(tmp_path)
+    rc = main(["simulate", scene, "--t-end", "1e-3", "--dt", "1e-4", "--output", "force:m", "--window", *value,
+               "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "--window" in err[0], err
+    assert os.listdir(tmp_path) == []
 
 
 @pytest.mark.parametrize("argv, named", [

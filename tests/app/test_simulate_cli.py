@@ -162,8 +162,8 @@ def test_documented_command_runs(tmp_path, capsys):
 # A run that stops goes through the output rules as a complete one does (assembly/app/output.py):
 # its partial result replaces --out whole, marked partial, or is refused before the run; without
 # --out nothing is written anywhere.
-PARTIAL_FILES = ["flexgear_run.json", "index.html", "partial_simulation.h5", "spectrum_01.png", "summary.json",
-                 "trace_01.png"]
+PARTIAL_FILES = ["flexgear_run.json", "index.html", "partial_simulation.h5", "spectrum_01.png", "spectrum_low_01.png",
+                 "summary.json", "trace_01.png"]
 
 
 def _stop_after_10(monkeypatch, calls=None):
@@ -265,3 +265,17 @@ def test_the_api_writes_a_partial_result_by_the_same_rules(tmp_path, monkeypatch
     with pytest.raises(OutputDirError, match="no earlier flexgear run"):
         sim_to_dir(partial, tmp_path / "mine", "pair")
     assert os.listdir(tmp_path / "mine") == ["data.csv"]
+
+
+def test_a_window_keeps_the_spectrum_to_its_part_of_the_record():
+    # a 40 Hz sinusoid of amplitude 2 until t = 1 s, then 0.5: the window [1, 1.999] s (1000 samples,
+    # 40 whole periods: the line on a bin) sees 0.5; the symmetric Hann window (numpy's) scales a
+    # sinusoid on a bin to its amplitude up to O(1/n^2), its sum (n - 1)/2 against the periodic n/2
+    from assembly.app.report.simulate import spectrum_blocks, windowed
+    t = np.arange(0, 2.0 + 1e-12, 1e-3)
+    y = np.where(t < 1.0, 2.0, 0.5) * np.sin(2 * np.pi * 40.0 * t)
+    blocks = [(t[:700], y[:700]), (t[700:], y[700:])]
+    kept = list(windowed(blocks, 1.0, 1.9995))
+    n = sum(len(b) for _, b in kept)
+    f, a = spectrum_blocks(kept, n, float(np.mean(np.concatenate([b for _, b in kept]))))
+    assert a[np.argmin(np.abs(f - 40.0))] == pytest.approx(0.5, rel=1.0 / n ** 2)

@@ -150,13 +150,57 @@ def release_memory() -> None:
 
 
 def marks(r: SimulationResult) -> list:
-    """(Hz, label, kind) of the mesh harmonics and sidebands to mark on the spectra."""
+    """(Hz, label, kind) to mark on the spectra, at the starting speed: the mesh harmonics and
+    sidebands, each distinct shaft speed's 1x (its first body named), and the rotor's 1P and 3P
+    when the run's reference is a rotor."""
     out = []
     for src, fm in r.mesh_frequencies_hz.items():
         out += [(h * fm, f"{src} x{h}", "mesh") for h in range(1, MARKED_HARMONICS + 1)]
         side = r.sidebands_hz.get(src, 0.0)
         out += [(fm + k * side, "", "sideband") for k in (-2, -1, 1, 2) if side > 0]
+    seen = []
+    for body, f in r.shaft_speeds_hz.items():
+        f = abs(f)
+        if f > 0 and all(abs(f - g) > 1e-9 * f for g in seen):
+            seen.append(f)
+            out.append((f, f"{body} 1x", "shaft"))
+    ref = r.info.get("reference")
+    if ref is not None and abs(r.shaft_speeds_hz.get(ref, 0.0)) > 0:
+        f = abs(r.shaft_speeds_hz[ref])
+        out += [(k * f, f"{k}P", "rotor") for k in (1, 3)]
     return out
+
+
+def windowed(parts, t0: float, t1: float):
+    """The (t, y) blocks ``parts`` cut to ``t0 <= t <= t1``."""
+    for t, y in parts:
+        keep = (t >= t0) & (t <= t1)
+        if keep.any():
+            yield t[keep], y[keep]
+
+
+#: A short-time spectrum is drawn of a window of at most this many samples (read whole).
+SPECTROGRAM_MAX = 4_000_000
+
+
+def short_time_spectrum(parts, n: int):
+    """(segment centre times, Hz, amplitude (n_f, n_t)) of the (t, y) blocks ``parts`` of ``n``
+    samples: Hann windows of about n/64 samples (at least 256), half overlap, mean removed;
+    None above :data:`SPECTROGRAM_MAX` samples or below four segments."""
+    from scipy.signal import spectrogram
+    if n > SPECTROGRAM_MAX:
+        return None
+    got = list(parts)
+    if not got:
+        return None
+    t = np.concatenate([a for a, _ in got])
+    y = np.concatenate([b for _, b in got])
+    seg = max(256, 1 << int(np.log2(max(len(y) // 64, 1))))
+    if len(y) < 4 * seg:
+        return None
+    f, tc, S = spectrogram(y - y.mean(), fs=1.0 / float(t[1] - t[0]), window="hann", nperseg=seg, noverlap=seg // 2,
+                           scaling="spectrum", mode="magnitude")
+    return t[0] + tc, f, S
 
 
 def summary(r: SimulationResult, scene: str) -> dict:
@@ -247,7 +291,7 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
             f"{figs}\n</body></html>\n")
 
 
-def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "") -> dict:
+def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "", window=None) -> dict:
     """Write simulation.h5, the traces and spectra, summary.json and index.html atomically;
     the partial result of a stopped run (``r.complete`` False) likewise, marked as partial
     (module notes)."""
@@ -257,18 +301,19 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "")
     check_output_dir(out_dir)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
-            return sim_files(r, work, scene, scene_source)
+            return sim_files(r, work, scene, scene_source, window)
 
 
-def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "") -> dict:
+def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", window=None) -> dict:
     """The files of :func:`sim_to_dir` written into the work folder ``work``: the history
     file from the arrays, or the streamed one (``r.history_file``: moved there, named for a
     complete or partial run, when it is in ``work``, else copied); the pictures from it read
-    back in blocks (module notes). Returns the manifest."""
+    back in blocks (module notes). ``window`` (t0, t1): the spectra's part of the record
+    (default all of it). Returns the manifest."""
     import shutil
 
     from ..output import write_manifest
-    from ..plots import plot_spectrum, plot_time_trace
+    from ..plots import plot_spectrogram, plot_spectrum, plot_time_trace
 
     work, t0 = Path(work), time.perf_counter()
     s = summary(r, scene)
@@ -291,11 +336,27 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "") -> 
         p = f"trace_{i + 1:02d}.png"
         plot_time_trace(*envelope(blocks(r, k), n), work / p, title=f"{scene}: {k}", ylabel=f"{k} [{unit}]")
         plots.append((f"{k}: time history", p))
-        f, a = spectrum_blocks(blocks(r, k), n, row["mean"])
+        t0, t1 = window if window is not None else (0.0, np.inf)
+        count, total = 0, 0.0
+        for _, y in windowed(blocks(r, k), t0, t1):       # the window's samples and mean, a first pass
+            count, total = count + len(y), total + float(np.sum(y))
+        span = "" if window is None else f", {t0:g} .. {t1:g} s"
+        f, a = spectrum_blocks(windowed(blocks(r, k), t0, t1), count, total / max(count, 1))
         if len(f):
             p = f"spectrum_{i + 1:02d}.png"
-            plot_spectrum(*envelope([(f, a)], len(f)), work / p, title=f"{scene}: {k}", ylabel=unit, marks=mk)
-            plots.append((f"{k}: spectrum", p))
+            plot_spectrum(*envelope([(f, a)], len(f)), work / p, title=f"{scene}: {k}{span}", ylabel=unit, marks=mk)
+            plots.append((f"{k}: spectrum{span}", p))
+            p = f"spectrum_low_{i + 1:02d}.png"
+            plot_spectrum(f, a, work / p, title=f"{scene}: {k}{span}, low frequencies", ylabel=unit, marks=mk,
+                          log_frequency=True)
+            plots.append((f"{k}: spectrum, logarithmic frequency{span}", p))
+        st = short_time_spectrum(windowed(blocks(r, k), t0, t1), count)
+        if st is not None:
+            p = f"spectrogram_{i + 1:02d}.png"
+            top = max((fm for fm, _, kind in mk if kind == "mesh"), default=None)
+            plot_spectrogram(*st, work / p, title=f"{scene}\n{k}{span}: short-time spectrum", ylabel=unit,
+                             f_max=None if top is None else 1.1 * top * r.info.get("speed_scale", 1.0))
+            plots.append((f"{k}: short-time spectrum{span}", p))
         release_memory()
     (work / "index.html").write_text(_index(r, scene, s, plots), encoding="utf-8")
     files = [h5_name(r), "summary.json", *(p for _, p in plots), "index.html"]
