@@ -40,11 +40,14 @@ def history(name: str, value) -> np.ndarray:
     """``value`` as a 1-D float array of finite samples (>= 1); SceneError naming ``name`` and
     the first bad sample otherwise."""
     if isinstance(value, (str, bytes, dict)) or value is None or isinstance(value, bool):
-        raise refuse(name, value, "must be an array of samples (numbers)")
+        raise refuse(name, value, "must be an array of samples (real numbers)")
     try:
-        y = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise refuse(name, value, "must be an array of samples (numbers)") from None
+        raw = np.asarray(value)
+        if raw.dtype.kind not in "biuf":
+            raise TypeError
+        y = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise refuse(name, value, "must be an array of samples (real numbers)") from None
     if y.ndim != 1:
         raise refuse(name, value, f"must be a 1-D array of samples, not of shape {y.shape}")
     if y.size == 0:
@@ -120,4 +123,10 @@ def damage_equivalent_load(values, m: float, n_eq: float, name: str = "values") 
     if top == 0.0:
         return 0.0
     # scaled by the largest range: S^m of a large load and m = 10 would overflow
-    return top * float(np.sum(cyc.counts * (cyc.ranges / top) ** m) / n_eq) ** (1.0 / m)
+    return top * power(np.sum(cyc.counts * (cyc.ranges / top) ** m) / n_eq, 1.0 / m)
+
+
+def power(x: float, p: float) -> float:
+    """``x ** p`` for x >= 0, inf where it overflows a float (never Python's OverflowError)."""
+    with np.errstate(over="ignore"):
+        return float(np.power(np.float64(x), np.float64(p)))

@@ -30,8 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arguments import number, refuse
-from .cycles import history, woehler_exponent
+from ..arguments import integer, number, refuse
+from .cycles import history, power, woehler_exponent
+
+#: The most bins a count may ask for (an LDD of 1e5 bins is already finer than any load's accuracy).
+MAX_BINS = 100_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,11 +67,9 @@ class BearingLife:
 
 
 def _bins(name: str, bins, y: np.ndarray):
-    """Bin edges from ``bins`` (a count or edges) for the samples ``y``."""
+    """Bin edges from ``bins`` (a count up to MAX_BINS, or edges) for the samples ``y``."""
     if isinstance(bins, numbers.Integral) and not isinstance(bins, bool):
-        if bins < 1:
-            raise refuse(name, bins, "must be a count of bins >= 1 or their edges")
-        return np.histogram_bin_edges(y, bins=int(bins))
+        return np.histogram_bin_edges(y, bins=integer(name, bins, 1, MAX_BINS))
     try:
         edges = np.asarray(bins, dtype=float)
     except (TypeError, ValueError):
@@ -157,7 +158,7 @@ def equivalent_load(levels, counts=None, exponent: float = 3.0) -> float:
     top = float(lv.max())
     if top == 0.0:
         return 0.0
-    return top * float(np.sum(n * (lv / top) ** p) / n.sum()) ** (1.0 / p)
+    return top * power(np.sum(n * (lv / top) ** p) / n.sum(), 1.0 / p)
 
 
 def bearing_life(levels, revolutions=None, rating_n: float = 1.0, exponent: float = 3.0) -> BearingLife:
@@ -168,7 +169,7 @@ def bearing_life(levels, revolutions=None, rating_n: float = 1.0, exponent: floa
     p = number("exponent", exponent, gt=0.0)
     lv, n = _spectrum(levels, revolutions, "revolutions")
     load = equivalent_load(lv, n, p)
-    life = float("inf") if load == 0.0 else (c / load) ** p
+    life = float("inf") if load == 0.0 else power(c / load, p)
     return BearingLife(load, life, float(n.sum()), c, p)
 
 
@@ -182,5 +183,6 @@ def miner_damage(levels, cycles=None, slope: float = 6.0, torque_ref: float = 1.
     n_ref = number("cycles_ref", cycles_ref, gt=0.0)
     t_lim = number("torque_limit", torque_limit, "N m", ge=0.0)
     lv, n = _spectrum(levels, cycles, "cycles")
-    hurt = lv > t_lim
-    return float(np.sum(n[hurt] * (lv[hurt] / t_ref) ** k) / n_ref)
+    hurt = (lv > t_lim) & (n > 0)
+    with np.errstate(over="ignore"):     # a torque far above T_ref: D = inf
+        return float(np.sum(n[hurt] * np.power(lv[hurt] / t_ref, k)) / n_ref)
