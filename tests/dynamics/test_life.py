@@ -4,6 +4,7 @@ of NREL's pCrunch on a real OpenFAST output."""
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 
 import numpy as np
@@ -54,6 +55,22 @@ def test_compiled_loop_gives_the_package_cycles_bit_for_bit(y):
         assert [tuple(map(float, c)) for c in zip(*got)] == [tuple(map(float, c)) for c in want]
     c = rainflow_cycles(y)
     assert [tuple(map(float, t)) for t in zip(c.ranges, c.means, c.counts)] == [tuple(map(float, c)) for c in want]
+
+
+def test_a_600_s_10_khz_channel_counts_in_under_a_second(counter):
+    # the brief's case: 6e6 samples; a drivetrain-like torque with noise (3.6e6 reversals). The
+    # compiled count takes 0.06-0.09 s on 2 shared cores (module notes), so 1 s is > 10x margin;
+    # the package's loop takes 2.7-3.3 s on this history and is not timed.
+    if counter != "compiled":
+        pytest.skip("only the compiled counter is timed (the package's loop: module notes)")
+    t = np.arange(6_000_000) / 10_000.0
+    y = 1e6 + 2e5 * np.sin(2 * np.pi * 0.2 * t) + 2e4 * np.sin(2 * np.pi * 31.0 * t) \
+        + 2e3 * np.random.default_rng(1).normal(size=t.size)
+    rainflow_cycles(y[:100])                                    # compiled (or loaded from numba's cache) before timing
+    start = time.perf_counter()
+    c = rainflow_cycles(y)
+    took = time.perf_counter() - start
+    assert c.total() > 1e6 and took < 1.0, f"{took:.2f} s"
 
 
 def test_astm_e1049_worked_example():
