@@ -12,10 +12,10 @@
   outside given edges is ``outside``.
 * Equivalent load of a spectrum (levels L_i, cycles or revolutions N_i) for exponent p:
   ``L_eq = (sum |L_i|^p N_i / sum N_i)^(1/p)`` (loads as magnitudes).
-* Bearing basic rating life (ISO 281:2007, eq. 1 with the equivalent load of its clause on
-  variable loads): ``L10 = (C / P)^p`` million revolutions, C the basic dynamic load rating
-  (N), P the equivalent load of the bearing's force spectrum (N), p = 3 ball bearings, 10/3
-  roller bearings.
+* Bearing basic rating life (ISO 281:2007): ``L10 = (C / P)^p`` million revolutions, C the
+  basic dynamic load rating (N), P the equivalent load of the bearing's force spectrum (N):
+  the mean load of a load varying in steps, its levels weighted by their revolutions with
+  the life exponent p = 3 (ball bearings) or 10/3 (roller bearings).
 * Gear: the equivalent torque ``T_eq`` (the equivalent load with the S-N slope k) and the
   Palmgren-Miner damage ``D = sum N_i / N_f(T_i)`` for the S-N curve ``N_f(T) = N_ref
   (T_ref / T)^k`` above the limit (endurance) torque T_lim and no damage at or below it
