@@ -7,7 +7,8 @@ passes equal angles, so an order (a component at ``order`` cycles a revolution) 
 line of the angle-domain spectrum whatever the speed does. The steps, on numpy/scipy:
 
 1. **Angle grid, oversampled.** The instants of equal angle come from the integrated shaft
-   angle (the body's rotation coordinate, :func:`assembly.model.probes.spin_row`) by a cubic
+   angle (the body's rotation coordinate, :func:`assembly.model.probes.spin_row`; from a
+   run's recorded ``speed:BODY`` by :func:`shaft_angle`) by a cubic
    spline of time over angle (``scipy.interpolate.CubicSpline``); the signal at those
    instants by a cubic spline over time. The grid has ``D x samples_per_rev`` points a
    revolution, D the least whole number >= 2 with ``D x samples_per_rev x`` (lowest speed,
@@ -38,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import signal
+from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline
 
 from ..errors import SceneError
@@ -130,6 +132,22 @@ def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarra
         raise SceneError("speed", float(da[i] / dt[i]), f"the shaft angle must increase (at t = {t[i]:.6g} s): "
                          "order tracking needs the shaft turning one way")
     return t, a, x
+
+
+def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
+    """The shaft angle (rad) from its recorded speed (rad/s, a run's ``speed:BODY``), by the
+    trapezoidal rule from ``start`` at ``time[0]``: the rotation coordinate itself, to
+    round-off, for a run on the default scheme recorded at every step (Newmark's average
+    acceleration advances q by dt (v + v+) / 2, the trapezoid of the speeds); second-order
+    accurate otherwise. SceneError at ``time`` where it does not
+    increase."""
+    t, w = np.asarray(time, float), np.asarray(speed, float)
+    if t.ndim != 1 or w.shape != t.shape:
+        raise SceneError("speed", w.shape, f"must be 1-D, one value per time {t.shape}")
+    if np.any(np.diff(t) <= 0):
+        i = int(np.argmax(np.diff(t) <= 0))
+        raise SceneError("time", float(t[i + 1]), f"not increasing (sample {i + 1})")
+    return start + cumulative_trapezoid(w, t, initial=0.0)
 
 
 def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
