@@ -42,6 +42,7 @@ from scipy import signal
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline
 
+from .. import arguments
 from ..errors import SceneError
 
 #: passband edge of the angle-domain low-pass, a share of the target Nyquist order
@@ -114,23 +115,44 @@ class Passage:
     amplification: float | None
 
 
-def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    t, a, x = (np.asarray(v, float) for v in (time, angle, value))
-    if t.ndim != 1 or a.shape != t.shape or x.shape != t.shape:
-        raise SceneError("value", x.shape, f"time {t.shape}, angle {a.shape} and value must be 1-D of one length")
-    if len(t) < 4:
-        raise SceneError("time", len(t), "fewer than 4 samples: no record to track")
-    if not np.all(np.isfinite(t)) or not np.all(np.isfinite(a)) or not np.all(np.isfinite(x)):
-        raise SceneError("value", "non-finite", "time, angle and value must be finite")
+def _series(name: str, value, least: int = 4) -> np.ndarray:
+    """``value`` as a 1-D float array of at least ``least`` finite numbers."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        raise arguments.refuse(name, value, "must be a 1-D array of numbers")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise arguments.refuse(name, value, "must be a 1-D array of numbers") from None
+    if arr.ndim != 1:
+        raise arguments.refuse(name, value, f"must be 1-D (shape {arr.shape})")
+    if len(arr) < least:
+        raise arguments.refuse(name, value, f"fewer than {least} samples: no record to track")
+    if not np.all(np.isfinite(arr)):
+        i = int(np.argmin(np.isfinite(arr)))
+        raise SceneError(f"{name}[{i}]", float(arr[i]), "must be finite")
+    return arr
+
+
+def _times(value) -> np.ndarray:
+    t = _series("time", value)
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
         raise SceneError("time", float(t[i + 1]), f"not increasing (sample {i + 1})")
+    return t
+
+
+def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    t = _times(time)
+    a, x = _series("angle", angle), _series("value", value)
+    for name, arr in (("angle", a), ("value", x)):
+        if arr.shape != t.shape:
+            raise SceneError(name, f"<{len(arr)} samples>", f"must have one sample per time ({len(t)})")
     da = np.diff(a)
     if np.any(da <= 0):
         i = int(np.argmax(da <= 0))
-        raise SceneError("speed", float(da[i] / dt[i]), f"the shaft angle must increase (at t = {t[i]:.6g} s): "
-                         "order tracking needs the shaft turning one way")
+        raise SceneError("angle", float(a[i + 1]), f"does not increase at t = {t[i + 1]:.6g} s (speed "
+                         f"{da[i] / (t[i + 1] - t[i]):.6g} rad/s): order tracking needs the shaft turning one way")
     return t, a, x
 
 
@@ -141,13 +163,10 @@ def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
     acceleration advances q by dt (v + v+) / 2, the trapezoid of the speeds); second-order
     accurate otherwise. SceneError at ``time`` where it does not
     increase."""
-    t, w = np.asarray(time, float), np.asarray(speed, float)
-    if t.ndim != 1 or w.shape != t.shape:
-        raise SceneError("speed", w.shape, f"must be 1-D, one value per time {t.shape}")
-    if np.any(np.diff(t) <= 0):
-        i = int(np.argmax(np.diff(t) <= 0))
-        raise SceneError("time", float(t[i + 1]), f"not increasing (sample {i + 1})")
-    return start + cumulative_trapezoid(w, t, initial=0.0)
+    t, w = _times(time), _series("speed", speed)
+    if w.shape != t.shape:
+        raise SceneError("speed", f"<{len(w)} samples>", f"must have one sample per time ({len(t)})")
+    return arguments.number("start", start, "rad") + cumulative_trapezoid(w, t, initial=0.0)
 
 
 def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
@@ -156,9 +175,7 @@ def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
     and 2). SceneError at ``speed`` where the angle does not increase, at
     ``samples_per_rev`` below 8."""
     t, a, x = _check_record(time, angle, value)
-    if int(samples_per_rev) != samples_per_rev or samples_per_rev < 8:
-        raise SceneError("samples_per_rev", samples_per_rev, "must be a whole number >= 8")
-    spr = int(samples_per_rev)
+    spr = arguments.integer("samples_per_rev", samples_per_rev, 8)
     rate = 1.0 / float(np.min(np.diff(t)))                         # samples/s of the record
     slowest = float(np.min(np.diff(a) / np.diff(t))) / (2 * math.pi)   # rev/s
     d = max(2, math.ceil(rate / (slowest * spr)))
@@ -189,18 +206,14 @@ def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, ove
     ``revolutions`` too few for ``lowest_order`` (fewer than ``MIN_CYCLES`` cycles a block) or
     more than the record turns; ``speed`` where the angle does not increase or, ``run_up``,
     where the block speeds do not increase."""
-    if not max_order > 0:
-        raise SceneError("max_order", max_order, "orders must be > 0")
-    low = lowest_order
-    if not low > 0:
-        raise SceneError("lowest_order", lowest_order, "orders must be > 0")
-    if int(revolutions) != revolutions or revolutions < 1:
-        raise SceneError("revolutions", revolutions, "must be a whole number >= 1")
+    max_order = arguments.number("max_order", max_order, gt=0.0)
+    low = arguments.number("lowest_order", lowest_order, gt=0.0)
+    revolutions = arguments.integer("revolutions", revolutions, 1)
+    overlap = arguments.number("overlap", overlap, ge=0.0, lt=1.0)
+    run_up = arguments.flag("run_up", run_up)
     if low * revolutions < MIN_CYCLES:
         raise SceneError("revolutions", revolutions, f"order {low:g} turns {low * revolutions:g} cycles a block "
                          f"(fewer than {MIN_CYCLES}): take at least {math.ceil(MIN_CYCLES / low)} revolutions")
-    if not 0 <= overlap < 1:
-        raise SceneError("overlap", overlap, "must be in [0, 1)")
     t, a, x = _check_record(time, angle, value)
     turns = (a[-1] - a[0]) / (2 * math.pi)
     if turns < revolutions:
@@ -233,8 +246,8 @@ def order_cut(omap: OrderMap, order: float) -> OrderCut:
     """Amplitude of ``order`` over speed: the band power of its bin and ``BAND_BINS`` either
     side, over Hann's noise bandwidth (module notes). SceneError at ``order`` <= 0, above the
     map's ``max_order``, or with fewer than ``MIN_CYCLES`` cycles a block."""
-    if not order > 0:
-        raise SceneError("order", order, "orders must be > 0")
+    arguments.instance("omap", omap, OrderMap, "an OrderMap (order_map)")
+    order = arguments.number("order", order, gt=0.0)
     if order > omap.max_order:
         raise SceneError("order", order, f"above the map's anti-aliased band ({omap.max_order:g})")
     k = order * omap.revolutions
@@ -256,13 +269,21 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
     zeta = 0.05 and r = 0.5; other modes' shares are not removed). A passage outside the
     cut's speeds has no peak; one without speeds below ``static_below`` of it no level.
     SceneError at ``modes[i]`` with a frequency <= 0, at ``speed`` not increasing."""
+    arguments.instance("cut", cut, OrderCut, "an OrderCut (order_cut)")
+    band = arguments.number("band", band, gt=0.0)
+    static_below = arguments.number("static_below", static_below, gt=0.0, lt=1.0)
+    if isinstance(modes, (str, bytes, dict)) or not isinstance(modes, (list, tuple)):
+        raise arguments.refuse("modes", modes, "must be a list of (frequency Hz, mode class) pairs")
+    pairs = []
+    for j, m in enumerate(modes):
+        if not isinstance(m, (list, tuple)) or len(m) != 2:
+            raise arguments.refuse(f"modes[{j}]", m, "must be a (frequency Hz, mode class) pair")
+        pairs.append((arguments.number(f"modes[{j}]", m[0], "Hz", gt=0.0), arguments.text(f"modes[{j}]", m[1])))
     if np.any(np.diff(cut.speed) <= 0):
         i = int(np.argmax(np.diff(cut.speed) <= 0))
-        raise SceneError("speed", float(cut.speed[i + 1]), "not increasing: resonance passages need a run-up")
+        raise SceneError("cut.speed", float(cut.speed[i + 1]), "not increasing: resonance passages need a run-up")
     out = []
-    for j, (f, cls) in enumerate(modes):
-        if not f > 0:
-            raise SceneError(f"modes[{j}]", f, "natural frequency must be > 0")
+    for j, (f, cls) in enumerate(pairs):
         s = 2 * math.pi * f / cut.order
         near = np.abs(cut.speed / s - 1.0) <= band
         peak_speed = peak = None

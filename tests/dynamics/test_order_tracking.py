@@ -101,7 +101,7 @@ def test_bad_input_refused_naming_the_field():
     back = np.concatenate([theta[:100], theta[100] - (theta[100:] - theta[100])])
     with pytest.raises(SceneError) as e:
         order_map(t, back, x, max_order=10, revolutions=4)
-    _one_line(e.value, "speed")
+    _one_line(e.value, "angle")
     cut = order_cut(omap, 1.0)
     with pytest.raises(SceneError) as e:
         resonance_passages(cut, [(-3.0, "torsional")])
