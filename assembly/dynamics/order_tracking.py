@@ -10,7 +10,9 @@ line of the angle-domain spectrum whatever the speed does. The steps, on numpy/s
    angle (the body's rotation coordinate, :func:`assembly.model.probes.spin_row`; from a
    run's recorded ``speed:BODY`` by :func:`shaft_angle`) by a cubic
    spline of time over angle (``scipy.interpolate.CubicSpline``); the signal at those
-   instants by a cubic spline over time. The grid has ``D x samples_per_rev`` points a
+   instants by a cubic spline over time, whose error on a component of f Hz sampled at fs is
+   at most (5/384) (2 pi f / fs)^4 of its amplitude (1.6e-5 at fs / f = 33, 8 % at fs / f =
+   4: record fast enough for the orders to be read). The grid has ``D x samples_per_rev`` points a
    revolution, D the least whole number >= 2 with ``D x samples_per_rev x`` (lowest speed,
    rev/s) >= the record's sample rate: everywhere, the angle grid is at least as dense as the
    time samples, so the interpolation aliases nothing the record holds.

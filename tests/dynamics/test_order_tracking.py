@@ -24,7 +24,10 @@ import numpy as np
 import pytest
 
 from assembly.dynamics.order_tracking import order_cut, order_map, resonance_passages, shaft_angle
+from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
+from assembly.scene.schema import scene_from_dict
+from tests.support.gear_pair_scene import gear_pair
 
 FS, T, F0, F1 = 20000.0, 20.0, 5.0, 25.0           # Hz, s, shaft Hz at 0 and T
 ORDERS = ((1.0, 1.0, 0.0), (7.5, 0.2, 0.3), (24.0, 0.05, 1.0))   # order, amplitude, phase (rad)
@@ -118,3 +121,29 @@ def test_shaft_angle_from_a_recorded_speed():
     with pytest.raises(SceneError) as e:
         shaft_angle(t[::-1], speed)
     _one_line(e.value, "time")
+
+
+def test_a_simulated_run_up_through_the_mesh_resonance():
+    """A torsional spur pair (tests/support/gear_pair_scene.py), gear 1 of 20 teeth driven by a
+    constant torque from 50 rad/s: the chain accelerates at alpha = T / (J1 + J2 (r1/r2)^2)
+    exactly (inertia relief), 100 rad/s^2 here; the mesh stiffness varies by 10 % at the tooth
+    passing (k (1 + 0.1 cos(20 theta1))), damped at zeta = 0.05 of the mesh mode f_n =
+    sqrt(k / m_e) / 2 pi, m_e = 1 / (r1^2/J1 + r2^2/J2): 342.3 Hz. The mesh force, tracked on
+    the angle integrated from the recorded speed:g1, has its strongest order above 1 at 20 in
+    every block, and the order-20 cut peaks at the passage speed 2 pi f_n / 20 = 107.5 rad/s
+    within one block step (1 revolution at 107.5 rad/s: 5.9 rad/s of the ramp) plus the peak's
+    delay (at most 2 ring-down times, 2 / (zeta omega_n): 1.9 rad/s of the ramp)."""
+    j1, j2, r1, r2, k, zeta, alpha = 2.0, 0.5, 0.05, 0.15, 1e8, 0.05, 100.0
+    me = 1.0 / (r1**2 / j1 + r2**2 / j2)
+    wn = math.sqrt(k / me)
+    torque = alpha * (j1 + j2 * (r1 / r2) ** 2)
+    d = gear_pair(j1, j2, r1, r2, k, teeth=20, amplitudes=[0.1], damping=2 * zeta * math.sqrt(k * me),
+                  roles=("rotor", "generator"), simulation={"speed": 50.0, "loads": [{"body": "g1", "value": torque}]})
+    run = simulate(scene_from_dict(d), 1.0, 1e-4, ["force:m", "speed:g1"])
+    theta = shaft_angle(run.time_s, run.outputs["speed:g1"])
+    omap = order_map(run.time_s, theta, run.outputs["force:m"], max_order=50, revolutions=2)
+    high = omap.orders > 1.5
+    assert np.all(omap.orders[high][np.argmax(omap.amplitude[:, high], axis=1)] == 20.0)
+    (p,) = resonance_passages(order_cut(omap, 20.0), [(wn / (2 * math.pi), "torsional")])
+    assert abs(p.speed - wn / 20) <= 1e-12 * p.speed
+    assert abs(p.peak_speed - p.speed) <= alpha * (2 * math.pi / p.speed) + alpha * 2 / (zeta * wn)
