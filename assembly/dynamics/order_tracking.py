@@ -31,8 +31,9 @@ line of the angle-domain spectrum whatever the speed does. The steps, on numpy/s
    over the time they took (rad/s).
 
 An order cut takes the power of an order's band (its bin and two on either side) with Hann's
-noise bandwidth (1.5 bins): exact on a bin, within the main lobe's share (>= 0.9995 of the
-power) between bins. Orders closer than 3 bins to one another are not separated.
+noise bandwidth (1.5 bins): exact on a bin; between bins the band holds >= 0.9994 of the
+power (half a bin off), the amplitude low by 2.5e-4 at most. Orders closer than 3 bins to one
+another are not separated.
 """
 from __future__ import annotations
 
@@ -46,6 +47,7 @@ from scipy.interpolate import CubicSpline
 
 from .. import arguments
 from ..errors import SceneError
+from .budget import check_memory
 
 #: passband edge of the angle-domain low-pass, a share of the target Nyquist order
 PASS = 0.8
@@ -62,7 +64,8 @@ HANN_ENBW = 1.5
 @dataclass(frozen=True)
 class Resampled:
     """A signal at equal shaft angles: ``angle`` (rad), ``time`` (s) and ``value`` at each,
-    ``samples_per_rev`` of them a revolution, band-limited to ``max_order``."""
+    ``samples_per_rev`` of them a revolution, band-limited to ``max_order``; ``oversampling``
+    (D) and ``fir_taps``: the fine grid's factor and the anti-alias filter's length."""
 
     angle: np.ndarray
     time: np.ndarray
@@ -149,7 +152,7 @@ def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarra
     a, x = _series("angle", angle), _series("value", value)
     for name, arr in (("angle", a), ("value", x)):
         if arr.shape != t.shape:
-            raise SceneError(name, f"<{len(arr)} samples>", f"must have one sample per time ({len(t)})")
+            raise SceneError(name, arguments.shown(arr), f"must have one sample per time ({len(t)})")
     da = np.diff(a)
     if np.any(da <= 0):
         i = int(np.argmax(da <= 0))
@@ -167,21 +170,25 @@ def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
     increase."""
     t, w = _times(time), _series("speed", speed)
     if w.shape != t.shape:
-        raise SceneError("speed", f"<{len(w)} samples>", f"must have one sample per time ({len(t)})")
+        raise SceneError("speed", arguments.shown(w), f"must have one sample per time ({len(t)})")
     return arguments.number("start", start, "rad") + cumulative_trapezoid(w, t, initial=0.0)
 
 
 def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
     """``value`` (sampled at ``time``, s) at equal increments of the shaft ``angle`` (rad),
     ``samples_per_rev`` a revolution, anti-aliased in the angle domain (module notes, steps 1
-    and 2). SceneError at ``speed`` where the angle does not increase, at
-    ``samples_per_rev`` below 8."""
+    and 2). SceneError at ``angle`` where it does not increase or where the fine grid (set
+    by the slowest speed) would exceed the memory budget, at ``samples_per_rev`` below 8."""
     t, a, x = _check_record(time, angle, value)
     spr = arguments.integer("samples_per_rev", samples_per_rev, 8)
     rate = 1.0 / float(np.min(np.diff(t)))                         # samples/s of the record
     slowest = float(np.min(np.diff(a) / np.diff(t))) / (2 * math.pi)   # rev/s
     d = max(2, math.ceil(rate / (slowest * spr)))
     step = 2 * math.pi / (d * spr)
+    points = (a[-1] - a[0]) / step
+    check_memory("angle", arguments.shown(a), 48.0 * points,       # grid, its times, values, splines' work
+                 f"an angle grid of {points:.3g} points ({d} x {spr} a revolution: the record's {rate:.4g} "
+                 f"samples/s at its slowest {slowest:.3g} rev/s)", "start the record where the shaft turns")
     grid = a[0] + step * np.arange(int(math.floor((a[-1] - a[0]) / step)) + 1)
     t_grid = CubicSpline(a, t)(grid)
     x_grid = CubicSpline(t, x)(t_grid)
@@ -206,8 +213,8 @@ def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, ove
 
     SceneError, one line naming the field: ``max_order`` / ``lowest_order`` <= 0;
     ``revolutions`` too few for ``lowest_order`` (fewer than ``MIN_CYCLES`` cycles a block) or
-    more than the record turns; ``speed`` where the angle does not increase or, ``run_up``,
-    where the block speeds do not increase."""
+    more than the record turns; ``angle`` where it does not increase; ``speed``, with
+    ``run_up``, where the block speeds do not increase."""
     max_order = arguments.number("max_order", max_order, gt=0.0)
     low = arguments.number("lowest_order", lowest_order, gt=0.0)
     revolutions = arguments.integer("revolutions", revolutions, 1)
@@ -267,10 +274,10 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
     the cut's largest amplitude at speeds within ``band`` (relative) of it; the quasi-static
     level is the cut's low-speed asymptote of one mode: the mean of amplitude x |1 - r^2|,
     r = speed / passage speed, over the speeds r <= ``static_below`` (exact for one undamped
-    mode; for one of damping ratio zeta, low by 2 zeta^2 r^2 / (1 - r^2)^2 at most, 2e-3 at
+    mode; for one of damping ratio zeta, low by 2 zeta^2 r^2 / (1 - r^2)^2 at most, 2.2e-3 at
     zeta = 0.05 and r = 0.5; other modes' shares are not removed). A passage outside the
     cut's speeds has no peak; one without speeds below ``static_below`` of it no level.
-    SceneError at ``modes[i]`` with a frequency <= 0, at ``speed`` not increasing."""
+    SceneError at ``modes[i]`` with a frequency <= 0, at ``cut.speed`` not increasing."""
     arguments.instance("cut", cut, OrderCut, "an OrderCut (order_cut)")
     band = arguments.number("band", band, gt=0.0)
     static_below = arguments.number("static_below", static_below, gt=0.0, lt=1.0)

@@ -109,6 +109,12 @@ def test_bad_input_refused_naming_the_field():
     with pytest.raises(SceneError) as e:
         resonance_passages(cut, [(-3.0, "torsional")])
     _one_line(e.value, "modes[0]")
+    # a record from standstill (40 rad/s^2, 12.7 turns): its first interval's speed, 1e-3 rad/s,
+    # would need 3.9e6 x 32 angle samples a revolution (1.6e9 in all) to stay as dense as the
+    # record's 20 kHz
+    with pytest.raises(SceneError) as e:
+        order_map(t, 20.0 * t**2, x, max_order=10, revolutions=2, run_up=False)
+    _one_line(e.value, "angle")
 
 
 def test_shaft_angle_from_a_recorded_speed():
