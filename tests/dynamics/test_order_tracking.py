@@ -60,6 +60,18 @@ def test_known_orders_tracked_over_a_linear_ramp():
     assert np.all(np.abs(omap.speed / (2 * math.pi) - f_mid) <= 1.01 * a**2 * d**2 / (8 * F0))
 
 
+def test_an_order_above_the_band_does_not_alias_into_it():
+    """max_order 30 takes 128 samples a revolution (Nyquist order 64): order 110, were it
+    sampled there unfiltered, would fold onto 128 - 110 = 18. The angle-domain FIR stops it
+    (100 dB: 1e-5 of its 0.5 left), so order 18 stays empty and order 24 keeps its 1e-3."""
+    t, theta = _ramp()
+    x = 0.05 * np.cos(24 * theta) + 0.5 * np.cos(110 * theta)
+    omap = order_map(t, theta, x, max_order=30, revolutions=8)
+    assert len(omap.orders) == 8 * 128 // 2 + 1                    # 128 samples a revolution
+    assert np.max(order_cut(omap, 18).amplitude) < 1e-5 * 0.5                 # measured 4.5e-7
+    assert np.max(np.abs(order_cut(omap, 24).amplitude - 0.05)) < 1e-3 * 0.05
+
+
 def test_a_mesh_order_lands_in_its_teeth_bin():
     """A gear of z = 97 teeth on the shaft meshes at 97 x the shaft speed: order 97, bin
     97 x revolutions of every block, at every speed of the ramp (97 x 25 Hz = 2425 Hz <
