@@ -40,6 +40,7 @@ from assembly.analysis.two_mass import two_mass
 from assembly.app import run_report
 from assembly.dynamics.campbell import campbell
 from assembly.dynamics.frf import frequency_response
+from assembly.dynamics.order_tracking import order_cut, order_map, resonance_passages, shaft_angle
 from assembly.dynamics.simulate import simulate
 from assembly.scene.edit import get_value, with_value, with_values
 from assembly.scene.stage_alone import stage_alone
@@ -69,8 +70,17 @@ def objects(tmp_path_factory):
     load = LoadCase(input="g1", output="g2", torque=100.0)
     folder = tmp_path_factory.mktemp("api")
     path = save_scene(scene, folder / "pair.toml")
+    omap = order_map(REC_T, REC_ANGLE, REC_VALUE, max_order=10, revolutions=4)
     return {"scene": scene, "model": model, "result": result, "load": load, "static": solve_static(model, load),
-            "file": str(path), "folder": folder, "planetary": load_scene("lin_parker_n3")}
+            "file": str(path), "folder": folder, "planetary": load_scene("lin_parker_n3"),
+            "omap": omap, "cut": order_cut(omap, 1.0)}
+
+
+# a run-up record for order tracking: 2 s at 5 -> 9 Hz, 14 revolutions (lists: the table's
+# values are compared with its shorthands)
+_T = np.arange(0.0, 2.0, 1e-3)
+REC_T, REC_ANGLE = _T.tolist(), (2 * math.pi * (5.0 * _T + _T**2)).tolist()
+REC_VALUE = np.cos(REC_ANGLE).tolist()
 
 
 # wrong kinds, by what the argument holds ("S", "M", "R": the scene, model, modes of `objects`)
@@ -87,6 +97,7 @@ COUNT = ["3", 1.5, NAN, True, None, [3], OTHER]
 FREQUENCIES = [None, "10", [], [NAN], [-1.0], [[1.0, 2.0]], ["a"], [1e308], OTHER]
 FILE = [None, 5, "", ["x.toml"], OTHER]
 TABLE = [None, [], "x", 5, OTHER]
+SERIES = [None, 5, "x", [], [1.0, 2.0], [[1.0, 2.0]], ["a"] * 5, OTHER]
 
 #: (function label, call(objects, **arguments), valid arguments, {argument: wrong values}).
 #: Valid arguments may name an entry of `objects` by its key in angle brackets.
@@ -144,6 +155,21 @@ TABLE_OF_CALLS = [
                                       OTHER],
       "reference": OPTIONAL_NAME + ["g3"], "points": COUNT + [1], "harmonics": COUNT + [0],
       "gyroscopic": FLAG}),
+    ("order_map", lambda o, **a: order_map(**a),
+     {"time": REC_T, "angle": REC_ANGLE, "value": REC_VALUE, "max_order": 10.0, "revolutions": 4},
+     {"time": SERIES + [REC_T[::-1]], "angle": SERIES + [REC_ANGLE[::-1], REC_ANGLE[:-1]],
+      "value": SERIES + [REC_VALUE[:-1], [NAN] * len(REC_T)],
+      "max_order": ["10", NAN, 0.0, -1.0, None, [10.0], True, OTHER], "revolutions": COUNT + [0],
+      "overlap": ["0.5", NAN, 1.0, -0.1, None, OTHER], "lowest_order": ["1", NAN, 0.0, -1.0, None, OTHER],
+      "run_up": FLAG}),
+    ("order_cut", lambda o, **a: order_cut(**a), {"omap": "<omap>", "order": 1.0},
+     {"omap": [None, 5, "M", "<cut>", OTHER], "order": ["1", NAN, 0.0, -1.0, 0.1, 1e3, None, [1.0], OTHER]}),
+    ("resonance_passages", lambda o, **a: resonance_passages(**a), {"cut": "<cut>", "modes": [(20.0, "torsional")]},
+     {"cut": [None, 5, "<omap>", OTHER], "modes": [None, 5, "x", {20.0: "t"}, [5], [(20.0,)], [("20", "t")],
+                                                    [(-1.0, "t")], [(20.0, 5)], [(20.0, "")], OTHER],
+      "band": ["0.1", NAN, 0.0, None, OTHER], "static_below": ["0.5", NAN, 0.0, 1.0, None, OTHER]}),
+    ("shaft_angle", lambda o, **a: shaft_angle(**a), {"time": REC_T, "speed": [v + 1.0 for v in REC_T]},
+     {"time": SERIES + [REC_T[::-1]], "speed": SERIES + [REC_T[:-1]], "start": ["0", NAN, None, [0.0], OTHER]}),
     ("two_mass", lambda o, **a: two_mass(**a), {"scene": "<scene>"},
      {"scene": SCENE, "rotor": OPTIONAL_NAME + ["g3"], "generator": OPTIONAL_NAME + ["g3"]}),
     ("solve_static", lambda o, **a: solve_static(**a), {"model": "<model>", "load": "<load>"},

@@ -1,0 +1,307 @@
+"""Order tracking of a run-up: any output resampled at equal shaft angles, its spectrum over
+revolutions (an order map), the cut of one order over speed, and the table of resonance passages.
+
+Computed order tracking (Fyfe & Munck, "Analysis of computed order tracking", Mech. Syst.
+Signal Process. 11 (1997) 187-205): the time signal is interpolated at the instants the shaft
+passes equal angles, so an order (a component at ``order`` cycles a revolution) is a fixed
+line of the angle-domain spectrum whatever the speed does. The steps, on numpy/scipy:
+
+1. **Angle grid, oversampled.** The instants of equal angle come from the integrated shaft
+   angle (the body's rotation coordinate, :func:`assembly.model.probes.spin_row`; from a
+   run's recorded ``speed:BODY`` by :func:`shaft_angle`) by a cubic
+   spline of time over angle (``scipy.interpolate.CubicSpline``); the signal at those
+   instants by a cubic spline over time, whose error on a component of f Hz sampled at fs is
+   at most (5/384) (2 pi f / fs)^4 of its amplitude (1.6e-5 at fs / f = 33, 8 % at fs / f =
+   4: record fast enough for the orders to be read). The grid has ``D x samples_per_rev`` points a
+   revolution, D the least whole number >= 2 with ``D x samples_per_rev x`` (lowest speed,
+   rev/s) >= the record's sample rate: everywhere, the angle grid is at least as dense as the
+   time samples, so the interpolation aliases nothing the record holds.
+2. **Anti-alias in the angle domain, then decimate by D** (``scipy.signal.resample_poly``
+   with a linear-phase FIR from ``scipy.signal.kaiserord`` / ``firwin``): passband to
+   ``PASS x samples_per_rev / 2`` orders, stopband from ``samples_per_rev / 2`` (the target
+   Nyquist order), ripple and attenuation ``RIPPLE_DB`` (1e-5). The cut-off is in orders, so
+   it is the same at every speed: unlike a low-pass in time below the lowest speed's Nyquist,
+   it keeps every order up to ``max_order`` over the whole run. The filter's start-up at each
+   end (half its length) is dropped.
+3. **Spectra over revolutions.** Blocks of ``revolutions`` whole revolutions, Hann window
+   (periodic, ``scipy.signal.get_window``), ``overlap`` between blocks, ``numpy.fft.rfft``:
+   order resolution ``1 / revolutions``; amplitudes peak-scaled (``2 |X_k| / sum(w)``), exact
+   for an order on a bin (``order x revolutions`` whole), whose Hann spectrum is nonzero in
+   that bin and its two neighbours only. Each block's speed is its mean: ``revolutions`` turns
+   over the time they took (rad/s).
+
+An order cut takes the power of an order's band (its bin and two on either side) with Hann's
+noise bandwidth (1.5 bins): exact on a bin; between bins the band holds >= 0.9994 of the
+power (half a bin off), the amplitude low by 2.5e-4 at most. Orders closer than 3 bins to one
+another are not separated.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal
+from scipy.integrate import cumulative_trapezoid
+from scipy.interpolate import CubicSpline
+
+from .. import arguments
+from ..errors import SceneError
+from .budget import check_memory
+
+#: passband edge of the angle-domain low-pass, a share of the target Nyquist order
+PASS = 0.8
+#: ripple (passband) and attenuation (stopband) of the anti-alias FIR, dB: 1e-5
+RIPPLE_DB = 100.0
+#: least cycles of an order in a block: Hann's main lobe spans two bins either side of DC
+MIN_CYCLES = 2
+#: band of an order cut: its bin and this many on either side
+BAND_BINS = 2
+#: Hann's equivalent noise bandwidth, bins (N sum w^2 / (sum w)^2)
+HANN_ENBW = 1.5
+
+
+@dataclass(frozen=True)
+class Resampled:
+    """A signal at equal shaft angles: ``angle`` (rad), ``time`` (s) and ``value`` at each,
+    ``samples_per_rev`` of them a revolution, band-limited to ``max_order``; ``oversampling``
+    (D) and ``fir_taps``: the fine grid's factor and the anti-alias filter's length."""
+
+    angle: np.ndarray
+    time: np.ndarray
+    value: np.ndarray
+    samples_per_rev: int
+    max_order: float
+    oversampling: int
+    fir_taps: int
+
+
+@dataclass(frozen=True)
+class OrderMap:
+    """Amplitude per order over speed: ``amplitude[i, j]`` of order ``orders[j]`` in block i,
+    which turned at mean ``speed[i]`` (rad/s) around ``time[i]`` (s, its middle).
+    ``revolutions`` a block (order resolution 1/revolutions); orders above ``max_order`` are
+    in the anti-alias filter's transition band or beyond and not to be read."""
+
+    orders: np.ndarray
+    speed: np.ndarray
+    time: np.ndarray
+    amplitude: np.ndarray
+    revolutions: int
+    max_order: float
+
+
+@dataclass(frozen=True)
+class OrderCut:
+    """One order's amplitude over speed (rad/s) and time (s, block middles)."""
+
+    order: float
+    speed: np.ndarray
+    time: np.ndarray
+    amplitude: np.ndarray
+
+
+@dataclass(frozen=True)
+class Passage:
+    """A resonance passage: ``order`` meets mode ``mode`` (1-based, its ``mode_class``) of
+    ``frequency_hz`` at shaft ``speed`` = 2 pi f_n / order (rad/s). ``peak_speed`` and
+    ``peak``: the order cut's largest amplitude within the passage's search band;
+    ``quasi_static``: the cut's low-speed asymptote (see :func:`resonance_passages`);
+    ``amplification`` = peak / quasi_static (None without a quasi-static level)."""
+
+    order: float
+    mode: int
+    mode_class: str
+    frequency_hz: float
+    speed: float
+    peak_speed: float | None
+    peak: float | None
+    quasi_static: float | None
+    amplification: float | None
+
+
+def _series(name: str, value, least: int = 4) -> np.ndarray:
+    """``value`` as a 1-D float array of at least ``least`` finite numbers."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        raise arguments.refuse(name, value, "must be a 1-D array of numbers")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise arguments.refuse(name, value, "must be a 1-D array of numbers") from None
+    if arr.ndim != 1:
+        raise arguments.refuse(name, value, f"must be 1-D (shape {arr.shape})")
+    if len(arr) < least:
+        raise arguments.refuse(name, value, f"fewer than {least} samples: no record to track")
+    if not np.all(np.isfinite(arr)):
+        i = int(np.argmin(np.isfinite(arr)))
+        raise SceneError(f"{name}[{i}]", float(arr[i]), "must be finite")
+    return arr
+
+
+def _times(value) -> np.ndarray:
+    t = _series("time", value)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        i = int(np.argmax(dt <= 0))
+        raise SceneError("time", float(t[i + 1]), f"not increasing (sample {i + 1})")
+    return t
+
+
+def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    t = _times(time)
+    a, x = _series("angle", angle), _series("value", value)
+    for name, arr in (("angle", a), ("value", x)):
+        if arr.shape != t.shape:
+            raise SceneError(name, arguments.shown(arr), f"must have one sample per time ({len(t)})")
+    da = np.diff(a)
+    if np.any(da <= 0):
+        i = int(np.argmax(da <= 0))
+        raise SceneError("angle", float(a[i + 1]), f"does not increase at t = {t[i + 1]:.6g} s (speed "
+                         f"{da[i] / (t[i + 1] - t[i]):.6g} rad/s): order tracking needs the shaft turning one way")
+    return t, a, x
+
+
+def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
+    """The shaft angle (rad) from its recorded speed (rad/s, a run's ``speed:BODY``), by the
+    trapezoidal rule from ``start`` at ``time[0]``: the rotation coordinate itself, to
+    round-off, for a run on the default scheme recorded at every step (Newmark's average
+    acceleration advances q by dt (v + v+) / 2, the trapezoid of the speeds); second-order
+    accurate otherwise. SceneError at ``time`` where it does not
+    increase."""
+    t, w = _times(time), _series("speed", speed)
+    if w.shape != t.shape:
+        raise SceneError("speed", arguments.shown(w), f"must have one sample per time ({len(t)})")
+    return arguments.number("start", start, "rad") + cumulative_trapezoid(w, t, initial=0.0)
+
+
+def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
+    """``value`` (sampled at ``time``, s) at equal increments of the shaft ``angle`` (rad),
+    ``samples_per_rev`` a revolution, anti-aliased in the angle domain (module notes, steps 1
+    and 2). SceneError at ``angle`` where it does not increase or where the fine grid (set
+    by the slowest speed) would exceed the memory budget, at ``samples_per_rev`` below 8."""
+    t, a, x = _check_record(time, angle, value)
+    spr = arguments.integer("samples_per_rev", samples_per_rev, 8)
+    rate = 1.0 / float(np.min(np.diff(t)))                         # samples/s of the record
+    slowest = float(np.min(np.diff(a) / np.diff(t))) / (2 * math.pi)   # rev/s
+    d = max(2, math.ceil(rate / (slowest * spr)))
+    step = 2 * math.pi / (d * spr)
+    points = (a[-1] - a[0]) / step
+    check_memory("angle", arguments.shown(a), 48.0 * points,       # grid, its times, values, splines' work
+                 f"an angle grid of {points:.3g} points ({d} x {spr} a revolution: the record's {rate:.4g} "
+                 f"samples/s at its slowest {slowest:.3g} rev/s)", "start the record where the shaft turns")
+    grid = a[0] + step * np.arange(int(math.floor((a[-1] - a[0]) / step)) + 1)
+    t_grid = CubicSpline(a, t)(grid)
+    x_grid = CubicSpline(t, x)(t_grid)
+    width = (1.0 - PASS) / d                                        # of the fine Nyquist
+    taps, beta = signal.kaiserord(RIPPLE_DB, width)
+    taps |= 1                                                       # odd: a whole-sample delay
+    fir = signal.firwin(taps, (1.0 + PASS) / (2 * d), window=("kaiser", beta))
+    y = signal.resample_poly(x_grid, 1, d, window=fir)
+    edge = taps // (2 * d) + 1                                      # the filter's start-up, coarse samples
+    keep = slice(edge, len(y) - edge)
+    idx = (np.arange(len(y)) * d)[keep]                             # output j is fine sample j d
+    return Resampled(grid[idx], t_grid[idx], y[keep], spr, PASS * spr / 2, d, taps)
+
+
+def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, overlap: float = 0.5,
+              lowest_order: float = 1.0, run_up: bool = True) -> OrderMap:
+    """Order map of ``value`` over the run (module notes): orders up to at least
+    ``max_order`` (samples a revolution the least power of two with ``PASS x spr / 2 >=
+    max_order``), blocks of ``revolutions`` turns overlapping by ``overlap``.
+    ``lowest_order`` (default 1, the shaft's own order): a block must hold ``MIN_CYCLES``
+    cycles of it.
+
+    SceneError, one line naming the field: ``max_order`` / ``lowest_order`` <= 0;
+    ``revolutions`` too few for ``lowest_order`` (fewer than ``MIN_CYCLES`` cycles a block) or
+    more than the record turns; ``angle`` where it does not increase; ``speed``, with
+    ``run_up``, where the block speeds do not increase."""
+    max_order = arguments.number("max_order", max_order, gt=0.0)
+    low = arguments.number("lowest_order", lowest_order, gt=0.0)
+    revolutions = arguments.integer("revolutions", revolutions, 1)
+    overlap = arguments.number("overlap", overlap, ge=0.0, lt=1.0)
+    run_up = arguments.flag("run_up", run_up)
+    if low * revolutions < MIN_CYCLES:
+        raise SceneError("revolutions", revolutions, f"order {low:g} turns {low * revolutions:g} cycles a block "
+                         f"(fewer than {MIN_CYCLES}): take at least {math.ceil(MIN_CYCLES / low)} revolutions")
+    t, a, x = _check_record(time, angle, value)
+    turns = (a[-1] - a[0]) / (2 * math.pi)
+    if turns < revolutions:
+        raise SceneError("time", float(t[-1] - t[0]), f"the record turns {turns:.3g} revolutions, fewer than "
+                         f"the {revolutions} a block needs for order {low:g}")
+    spr = 8
+    while PASS * spr / 2 < max_order:
+        spr *= 2
+    rs = resample_angle(t, a, x, spr)
+    n = revolutions * spr
+    if len(rs.value) <= n:
+        raise SceneError("time", float(t[-1] - t[0]), f"the record turns {turns:.3g} revolutions: after the "
+                         f"anti-alias filter's ends, fewer than the {revolutions} a block needs")
+    hop = max(1, int(round(n * (1 - overlap))))
+    starts = np.arange(0, len(rs.value) - n, hop)                  # each block's end sample exists
+    w = signal.get_window("hann", n)
+    blocks = np.lib.stride_tricks.sliding_window_view(rs.value, n)[starts]
+    amp = 2.0 * np.abs(np.fft.rfft(blocks * w, axis=1)) / w.sum()
+    amp[:, 0] /= 2.0
+    speed = 2 * math.pi * revolutions / (rs.time[starts + n] - rs.time[starts])
+    if run_up and np.any(np.diff(speed) <= 0):
+        i = int(np.argmax(np.diff(speed) <= 0))
+        raise SceneError("speed", float(speed[i + 1]), f"not increasing at t = {rs.time[starts[i + 1]]:.6g} s "
+                         f"(from {speed[i]:.6g} rad/s): a run-up was assumed (run_up=False for any other run)")
+    orders = np.fft.rfftfreq(n, 1.0 / spr)
+    return OrderMap(orders, speed, rs.time[starts + n // 2], amp, int(revolutions), rs.max_order)
+
+
+def order_cut(omap: OrderMap, order: float) -> OrderCut:
+    """Amplitude of ``order`` over speed: the band power of its bin and ``BAND_BINS`` either
+    side, over Hann's noise bandwidth (module notes). SceneError at ``order`` <= 0, above the
+    map's ``max_order``, or with fewer than ``MIN_CYCLES`` cycles a block."""
+    arguments.instance("omap", omap, OrderMap, "an OrderMap (order_map)")
+    order = arguments.number("order", order, gt=0.0)
+    if order > omap.max_order:
+        raise SceneError("order", order, f"above the map's anti-aliased band ({omap.max_order:g})")
+    k = order * omap.revolutions
+    if k < MIN_CYCLES:
+        raise SceneError("order", order, f"{k:g} cycles a block of {omap.revolutions} revolutions, fewer than "
+                         f"{MIN_CYCLES}: a record of more revolutions a block is needed")
+    k0 = int(round(k))
+    band = omap.amplitude[:, max(1, k0 - BAND_BINS):k0 + BAND_BINS + 1]
+    return OrderCut(float(order), omap.speed, omap.time, np.sqrt(np.sum(band**2, axis=1) / HANN_ENBW))
+
+
+def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below: float = 0.5) -> list[Passage]:
+    """Each passage of ``cut``'s order through a natural frequency: ``modes`` a sequence of
+    (frequency_hz, mode_class). The passage speed is 2 pi f_n / order (rad/s); the peak is
+    the cut's largest amplitude at speeds within ``band`` (relative) of it; the quasi-static
+    level is the cut's low-speed asymptote of one mode: the mean of amplitude x |1 - r^2|,
+    r = speed / passage speed, over the speeds r <= ``static_below`` (exact for one undamped
+    mode; for one of damping ratio zeta, low by 2 zeta^2 r^2 / (1 - r^2)^2 at most, 2.2e-3 at
+    zeta = 0.05 and r = 0.5; other modes' shares are not removed). A passage outside the
+    cut's speeds has no peak; one without speeds below ``static_below`` of it no level.
+    SceneError at ``modes[i]`` with a frequency <= 0, at ``cut.speed`` not increasing."""
+    arguments.instance("cut", cut, OrderCut, "an OrderCut (order_cut)")
+    band = arguments.number("band", band, gt=0.0)
+    static_below = arguments.number("static_below", static_below, gt=0.0, lt=1.0)
+    if isinstance(modes, (str, bytes, dict)) or not isinstance(modes, (list, tuple)):
+        raise arguments.refuse("modes", modes, "must be a list of (frequency Hz, mode class) pairs")
+    pairs = []
+    for j, m in enumerate(modes):
+        if not isinstance(m, (list, tuple)) or len(m) != 2:
+            raise arguments.refuse(f"modes[{j}]", m, "must be a (frequency Hz, mode class) pair")
+        pairs.append((arguments.number(f"modes[{j}]", m[0], "Hz", gt=0.0), arguments.text(f"modes[{j}]", m[1])))
+    if np.any(np.diff(cut.speed) <= 0):
+        i = int(np.argmax(np.diff(cut.speed) <= 0))
+        raise SceneError("cut.speed", float(cut.speed[i + 1]), "not increasing: resonance passages need a run-up")
+    out = []
+    for j, (f, cls) in enumerate(pairs):
+        s = 2 * math.pi * f / cut.order
+        near = np.abs(cut.speed / s - 1.0) <= band
+        peak_speed = peak = None
+        if np.any(near):
+            i = int(np.flatnonzero(near)[np.argmax(cut.amplitude[near])])
+            peak_speed, peak = float(cut.speed[i]), float(cut.amplitude[i])
+        r = cut.speed / s
+        low = r <= static_below
+        static = float(np.mean(cut.amplitude[low] * np.abs(1.0 - r[low]**2))) if np.any(low) else None
+        amp = peak / static if (peak is not None and static) else None
+        out.append(Passage(cut.order, j + 1, cls, float(f), s, peak_speed, peak, static, amp))
+    return out
