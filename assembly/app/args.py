@@ -195,6 +195,8 @@ def add_runup(sub, func) -> None:
                                                                               "(default 10)")
     p.add_argument("--settle", type=float, default=1.0, metavar="S",
                    help="time held at each end of the range, s (default 1)")
+    p.add_argument("--track", default=None, metavar="BODY",
+                   help="the shaft whose revolutions count the orders (default the driven body)")
     p.add_argument("--output", action="append", metavar="OUT", help="as flexgear simulate's")
     p.add_argument("--unreduced", action="store_true", help="as flexgear simulate's")
     add_window(p)

@@ -9,6 +9,7 @@ ends with exit code 143 (128 + 15).
 from __future__ import annotations
 
 import argparse
+import html
 import importlib
 import logging
 import signal
@@ -276,19 +277,59 @@ def cmd_runup(args) -> int:
     from ..scene.tables import with_simulation
 
     flags = {"speed_range": "--speed-range", "rate": "--rate", "settle": "--settle", "bandwidth": "--bandwidth",
-             "body": "--body"}
+             "body": "--body", "track": "--track"}
     with api_flags(flags):
         args.t_end = runup_length(args.speed_range, args.rate, args.settle)
     args.speed = None
 
     def prepare(scene):
+        if args.track is not None:
+            with api_flags(flags):
+                check.one_of("track", args.track, [b.name for b in scene.expanded().bodies])
+        ref = args.track or args.body or next((b.name for b in scene.bodies if b.role == "rotor"), None)
+        if ref is not None and args.output is not None and f"speed:{ref}" not in args.output:
+            args.output = [*args.output, f"speed:{ref}"]            # the order analysis tracks it
         with api_flags(flags):
             return with_simulation(scene, runup_simulation(scene, args.speed_range, args.rate, args.body,
                                                            args.bandwidth, args.settle))
-    return cmd_simulate(args, prepare)
+    return cmd_simulate(args, prepare, lambda r, scene, work: runup_report(r, scene, work, args.track))
 
 
-def cmd_simulate(args, prepare=None) -> int:
+def runup_report(r, scene, work, track=None):
+    """(file names, HTML) of a run-up's order analysis (:mod:`assembly.app.report.runup`): every
+    output tracked against the recorded speed of ``track`` (default the reference), the passages
+    with the model's modes; a record too short for it is said on the page, the run kept."""
+    from ..analysis.classify import classify_modes
+    from ..analysis.modal import solve_modes
+    from ..dynamics.runup_orders import excitation_orders, runup_orders
+    from ..errors import SceneError
+    from ..model.assemble import assemble
+    from .report.runup import runup_files
+
+    ref = track or r.info.get("reference")
+    key = f"speed:{ref}"
+    if ref is None or key not in r.outputs:
+        return [], ""
+    res = solve_modes(assemble(scene))
+    info = classify_modes(res, nodal_diameters=False)
+    modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]
+    orders = excitation_orders(r.mesh_frequencies_hz, r.shaft_speeds_hz, ref,
+                               rotor=any(b.role == "rotor" and b.name == ref for b in scene.bodies))
+    drive = scene.simulation.drive
+    ramp = (r.time_s >= drive.t_start) & (r.time_s <= drive.t_end)      # the sweep, not the settling
+    outputs = {k: v[ramp] for k, v in r.outputs.items() if k != key}
+    try:
+        ro = runup_orders(r.time_s[ramp], r.outputs[key][ramp], outputs, orders, modes)
+    except SceneError as exc:
+        log.warning("orders of the run-up not tracked: %s", exc)
+        return [], f"<p>Orders of the run-up not tracked: {html.escape(str(exc))}</p>"
+    top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[key]).max() / (2 * 3.141592653589793)
+    files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top)
+    return files, (f'<p><a href="orders.html">Orders of the run-up</a>: {len(ro.passages)} resonance passages '
+                   f'(<a href="passages.csv">passages.csv</a>).</p>')
+
+
+def cmd_simulate(args, prepare=None, report=None) -> int:
     """``flexgear simulate``: time-domain run: a summary, ``--json`` or files in ``--out``; a
     run that stops keeps its partial result (:func:`_stopped`) and exits with 1. With ``--out``
     and no ``--json`` the histories stream into the staged folder as the run goes, and the
@@ -302,8 +343,9 @@ def cmd_simulate(args, prepare=None) -> int:
     from .report.simulate import H5_PARTIAL, sim_files, sim_to_dir, summary_text
 
     flags = {"dt": "--dt", "t_end": "--t-end"}
-    stream = args.out is not None and not args.json
-    summary_only = args.out is None and not args.json
+    # a run-up's order analysis reads the whole histories: they stay in memory
+    stream = args.out is not None and not args.json and report is None
+    summary_only = args.out is None and not args.json and report is None
     with api_flags(flags):          # the run's length against memory, before the scene is read
         n_steps = check_history(args.dt, args.t_end, len(args.output or []), streaming=stream or summary_only)
     window = getattr(args, "window", None)
@@ -334,8 +376,9 @@ def cmd_simulate(args, prepare=None) -> int:
                     stopped = exc
             if stopped is not None:
                 return _stopped(args, stopped, scene.name, path, work)
+            extra = None if report is None else (lambda w: report(r, scene, w))
             to_dir = (lambda: sim_files(r, work, scene.name, path, window)) if stream else (
-                lambda: sim_to_dir(r, args.out, scene.name, path, window))
+                lambda: sim_to_dir(r, args.out, scene.name, path, window, extra))
             return _emit(args, to_dir, r.as_json, f"{scene.name}: {r.steps} steps, {len(r.statistics)} outputs",
                          lambda: summary_text(r, scene.name), indent=None)
 

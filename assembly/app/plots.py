@@ -299,3 +299,42 @@ def plot_spectra_pair(frequency_hz, first, second, path, labels=("coupled", "one
         ax.set_ylabel(f"spectral density [{ylabel}/sqrt(Hz)]" if ylabel else "spectral density")
         ax.set_title(title, fontsize=10)
     return Path(path)
+
+
+def plot_response_campbell(speed_rpm, orders, amplitude, path, order_lines=(), natural_hz=(), title: str = "",
+                           ylabel: str = "", f_max: float | None = None, columns: int = 800) -> Path:
+    """A run-up's response over speed and frequency: the order map ``amplitude`` (blocks x
+    orders) at frequency = order x speed (dB of its largest value, 60 dB shown; orders pooled
+    by their maximum into at most ``columns`` bands), the ``order_lines`` (label, order) as lines
+    through the origin and the ``natural_hz`` as horizontal lines."""
+    order = np.argsort(np.asarray(speed_rpm, float), kind="stable")   # blocks by speed (a ringing drive wavers)
+    n = np.asarray(speed_rpm, float)[order]
+    o = np.asarray(orders, float)
+    A = np.asarray(amplitude, float)[order]
+    step = max(1, int(np.ceil(len(o) / columns)))
+    cut = (len(o) // step) * step
+    o_b = o[:cut].reshape(-1, step).mean(axis=1)
+    A_b = A[:, :cut].reshape(len(n), -1, step).max(axis=2)
+    ref = A_b[:, 1:].max(initial=0.0)
+    f = o_b[None, :] * n[:, None] / 60.0
+    top = f_max if f_max is not None else float(f.max())
+    with plot_figure(path, (8.0, 4.6)) as (fig, ax):
+        if ref > 0:
+            db = 20.0 * np.log10(np.maximum(A_b, ref * 1e-3) / ref)
+            m = ax.pcolormesh(np.repeat(n[:, None], len(o_b), axis=1), f, db, shading="gouraud", vmin=-60.0, vmax=0.0,
+                              cmap="viridis")
+            fig.colorbar(m, ax=ax, label=f"dB re {ref:.3g} {ylabel}".strip())
+        x = np.array([n.min(), n.max()])
+        for label, k in order_lines:
+            ax.plot(x, k * x / 60.0, color="w", lw=0.6, ls="--")
+            if k * x[1] / 60.0 <= top:
+                ax.annotate(label, (x[1], k * x[1] / 60.0), fontsize=6, color="w", ha="right", va="bottom")
+        for fn in natural_hz:
+            if 0 < fn <= top:
+                ax.axhline(fn, color="C3", lw=0.5, ls=":")
+        ax.set_ylim(0, top)
+        ax.set_xlim(x[0], x[1])
+        ax.set_xlabel("speed [rpm]")
+        ax.set_ylabel("frequency [Hz]")
+        ax.set_title(title, fontsize=9)
+    return Path(path)

@@ -83,6 +83,7 @@ OPTIONS = [
     (RUNUP, "--settle", NUMBERS + ["0.002"], {"0", "0.002"}),
     (RUNUP, "--bandwidth", NUMBERS + ["20"], {"20"}),
     (RUNUP, "--body", NAMES + ["generator"], {"generator"}),
+    (RUNUP, "--track", NAMES + ["generator"], {"generator"}),
     (COUPLING, "--t-end", NUMBERS + ["0.03"], {"0.03"}),
     (COUPLING, "--dt", NUMBERS + ["5e-4"], {"5e-4"}),
     (COUPLING, "--segment", NUMBERS + ["0.004"], {"0.004"}),

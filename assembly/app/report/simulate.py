@@ -261,7 +261,7 @@ def finish_h5(path, scene: str, facts: dict) -> Path:
     return Path(path)
 
 
-def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
+def _index(r: SimulationResult, scene: str, s: dict, plots: list, more: str = "") -> str:
     e = html.escape
     rows = "".join(f"<tr><td>{e(k)}</td><td>{e(v['unit'])}</td><td>{v['mean']:.6g}</td><td>{v['rms']:.6g}</td>"
                    f"<td>{v['min']:.6g}</td><td>{v['max']:.6g}</td><td>{v['peak_time_s']:.6g}</td></tr>"
@@ -288,10 +288,10 @@ def _index(r: SimulationResult, scene: str, s: dict, plots: list) -> str:
                + "</table>" if "turbine_sources" in r.info else "")
             + (f"<h2>Warnings</h2><ul>{warn}</ul>" if warn else "")
             + f"<p>Spectra: mesh harmonics (red) and sidebands (green dotted) at the starting speed.</p>\n"
-            f"{figs}\n</body></html>\n")
+            f"{more}{figs}\n</body></html>\n")
 
 
-def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "", window=None) -> dict:
+def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "", window=None, extra=None) -> dict:
     """Write simulation.h5, the traces and spectra, summary.json and index.html atomically;
     the partial result of a stopped run (``r.complete`` False) likewise, marked as partial
     (module notes)."""
@@ -301,15 +301,16 @@ def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "",
     check_output_dir(out_dir)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "simulation results"):
-            return sim_files(r, work, scene, scene_source, window)
+            return sim_files(r, work, scene, scene_source, window, extra)
 
 
-def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", window=None) -> dict:
+def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", window=None, extra=None) -> dict:
     """The files of :func:`sim_to_dir` written into the work folder ``work``: the history
     file from the arrays, or the streamed one (``r.history_file``: moved there, named for a
     complete or partial run, when it is in ``work``, else copied); the pictures from it read
     back in blocks (module notes). ``window`` (t0, t1): the spectra's part of the record
-    (default all of it). Returns the manifest."""
+    (default all of it). ``extra(work)`` -> (file names, HTML for index.html): more files of
+    the same run (a run-up's orders). Returns the manifest."""
     import shutil
 
     from ..output import write_manifest
@@ -358,8 +359,9 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
                              f_max=None if top is None else 1.1 * top * r.info.get("speed_scale", 1.0))
             plots.append((f"{k}: short-time spectrum{span}", p))
         release_memory()
-    (work / "index.html").write_text(_index(r, scene, s, plots), encoding="utf-8")
-    files = [h5_name(r), "summary.json", *(p for _, p in plots), "index.html"]
+    more_files, more = extra(work) if extra is not None else ([], "")
+    (work / "index.html").write_text(_index(r, scene, s, plots, more), encoding="utf-8")
+    files = [h5_name(r), "summary.json", *(p for _, p in plots), *more_files, "index.html"]
     info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
                 complete=r.complete, outputs=list(s["outputs"]), time_s=round(time.perf_counter() - t0, 4),
                 python=sys.version.split()[0])

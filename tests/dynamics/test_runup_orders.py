@@ -1,0 +1,45 @@
+"""The orders of a run-up (assembly.dynamics.runup_orders) on a synthetic record.
+
+Theory. Order k of a shaft turning at Omega(t) excites a mode of f_n at the speed 2 pi f_n / k;
+a one-mode response to a unit order of amplitude X(r) = 1 / |1 - r^2 + 2 i zeta r|, r = k Omega /
+(2 pi f_n), peaks at 1 / (2 zeta sqrt(1 - zeta^2)) and is 1 / (1 - r^2) quasi-statically. Tracked in
+blocks of revolutions, the peak is an average over the block's speeds: never above the true one.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from assembly.dynamics.runup_orders import excitation_orders, runup_orders
+
+ORDER, FN, ZETA = 10.0, 50.0, 0.05
+
+
+def test_a_synthetic_run_up_gives_the_passage_and_its_amplification():
+    t = np.arange(0.0, 40.0, 2e-4)
+    f_shaft = 1.0 + (8.0 - 1.0) * t / t[-1]                       # rev/s: r from 0.2 to 1.6
+    theta = 2 * np.pi * (1.0 * t + 0.5 * (8.0 - 1.0) / t[-1] * t ** 2)
+    r = ORDER * f_shaft / FN
+    X = 1.0 / np.abs(1 - r ** 2 + 2j * ZETA * r)
+    y = X * np.cos(ORDER * theta)
+    ro = runup_orders(t, 2 * np.pi * f_shaft, {"y": y}, {"k": ORDER}, [(FN, "test mode")])
+    (p,) = ro.passages
+    assert p["speed_rpm"] == pytest.approx(60.0 * FN / ORDER, rel=1e-12)      # f_n / order
+    peak = 1.0 / (2 * ZETA * math.sqrt(1 - ZETA ** 2))
+    # the block-averaged peak: below the true one, and not by more than half of it here
+    assert 0.5 * peak <= p["peak"] <= 1.01 * peak
+    # the quasi-static level of the one-mode response: its low-speed asymptote, 1 (the order's own);
+    # the first blocks span 8 revolutions at 1-1.4 rev/s (r moves 0.28 in one), and X |1 - r^2|
+    # averaged over a block is not X |1 - r^2| at its mean speed: measured 5.6e-3 here, bound 2 %
+    # (to be derived from the block length in a later change)
+    assert p["quasi_static"] == pytest.approx(1.0, rel=0.02)
+    assert p["peak_speed_rpm"] == pytest.approx(p["speed_rpm"], rel=0.1)
+
+
+def test_excitation_orders_count_per_revolution_of_the_reference():
+    # a mesh of 97 Hz on a reference of 1 rev/s is order 97; harmonics 2 and 3 at 194, 291; the
+    # rotor orders 1P and 3P; a shaft at 5 rev/s is order 5
+    o = excitation_orders({"m": 97.0}, {"rotor": 1.0, "hss": -5.0}, "rotor")
+    assert o == {"1P": 1.0, "3P": 3.0, "hss 1x": 5.0, "m x1": 97.0, "m x2": 194.0, "m x3": 291.0}
