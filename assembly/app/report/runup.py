@@ -56,3 +56,54 @@ def _page(ro, scene: str, files: list) -> str:
             f"<th>output</th><th>order</th><th></th><th>mode class</th><th>f_n [Hz]</th><th>passage [rpm]</th>"
             f"<th>peak at [rpm]</th><th>peak</th><th>quasi-static</th><th>amplification</th></tr>{rows}</table>"
             + (f"<h2>Orders not tracked</h2><ul>{skipped}</ul>" if skipped else "") + f"{imgs}</body></html>\n")
+
+
+#: Woehler exponents of the damage-equivalent loads tabulated (steel welds 3-4; composites 10).
+EXPONENTS = (3.0, 4.0, 10.0)
+#: Load bins of the duration and revolution distributions.
+BINS = 20
+
+
+def life_files(time_s, outputs: dict, units: dict, speed, track: str, work: Path) -> tuple:
+    """``life.csv`` (per output: its DELs for :data:`EXPONENTS` at 1 Hz equivalent, N_eq = the
+    record's seconds; the cycles counted) and ``life.json`` (those and each output's load
+    duration and load revolution distribution over :data:`BINS` bins, the revolutions of the
+    tracked shaft ``track`` turning at ``speed`` rad/s); returns (file names, rows)."""
+    import json
+
+    from ...dynamics.cycles import damage_equivalent_load, rainflow_cycles
+    from ...dynamics.life import load_duration, load_revolutions
+
+    t = np.asarray(time_s, float)
+    n_eq = float(t[-1] - t[0])
+    rows, detail = [], {}
+    for name, y in outputs.items():
+        cyc = rainflow_cycles(y, name)
+        dels = {f"del_m{m:g}": damage_equivalent_load(cyc, m, n_eq) for m in EXPONENTS}
+        rows.append({"output": name, "unit": units.get(name, ""), "cycles": float(cyc.counts.sum()), **dels})
+        ldd = load_duration(t, y, BINS)
+        lrd = load_revolutions(t, y, speed, BINS)
+        detail[name] = {"unit": units.get(name, ""), **dels, "n_eq": n_eq,
+                        "ldd": {"levels": ldd.levels.tolist(), "seconds": ldd.amounts.tolist()},
+                        "lrd": {"levels": lrd.levels.tolist(), "revolutions": lrd.amounts.tolist(), "shaft": track}}
+    with open(work / "life.csv", "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        cols = ["output", "unit", "cycles", *(f"del_m{m:g}" for m in EXPONENTS)]
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([r[c] if isinstance(r[c], str) else f"{r[c]:.6g}" for c in cols])
+    (work / "life.json").write_text(json.dumps({"n_eq": n_eq, "exponents": list(EXPONENTS), "outputs": detail},
+                                               indent=1), encoding="utf-8")
+    return ["life.csv", "life.json"], rows
+
+
+def life_html(rows: list, n_eq: float) -> str:
+    """The section of index.html with the DEL table."""
+    e = html.escape
+    head = "".join(f"<th>DEL m = {m:g}</th>" for m in EXPONENTS)
+    body = "".join(f"<tr><td>{e(r['output'])}</td><td>{e(r['unit'])}</td><td>{r['cycles']:.6g}</td>"
+                   + "".join(f"<td>{r[f'del_m{m:g}']:.4g}</td>" for m in EXPONENTS) + "</tr>" for r in rows)
+    return (f"<h2>Loads to life</h2><p>Rainflow (ASTM E1049-85), damage-equivalent loads at 1 Hz "
+            f"(N_eq = {n_eq:g} cycles); load duration and revolution distributions in "
+            f'<a href="life.json">life.json</a>, the table in <a href="life.csv">life.csv</a>.</p>'
+            f"<table border=1><tr><th>output</th><th>unit</th><th>cycles</th>{head}</tr>{body}</table>")
