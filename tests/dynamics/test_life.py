@@ -34,8 +34,14 @@ def counter(request, monkeypatch):
     return request.param
 
 
+# samples 0 or above 1e-100 in size: the package's reversal search on raw samples multiplies two
+# successive differences, which underflows to 0 below ~1e-154 and then misses a reversal
+# ([0, 3.5e-240, 0]: it counts one half cycle of 0, we -- comparing signs -- the two half cycles of
+# the excursion); differences of such samples are at least ulp(1e-100) ~ 1e-116, whose products do
+# not underflow. No load history of a drivetrain is a question below that.
 history = st.one_of(st.lists(st.integers(-4, 4), min_size=0, max_size=60),      # plateaus, repeated ranges
-                    st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=60))
+                    st.lists(st.floats(-1e6, 1e6).filter(lambda x: x == 0.0 or abs(x) > 1e-100), min_size=1,
+                             max_size=60))
 
 
 @settings(max_examples=examples(200), deadline=None)
