@@ -305,8 +305,8 @@ def plot_response_campbell(speed_rpm, orders, amplitude, path, order_lines=(), n
                            ylabel: str = "", f_max: float | None = None, columns: int = 800) -> Path:
     """A run-up's response over speed and frequency: the order map ``amplitude`` (blocks x
     orders) at frequency = order x speed (dB of its largest value, 60 dB shown; orders pooled
-    by their maximum into at most ``columns`` bands), the ``order_lines`` (label, order) as lines
-    through the origin and the ``natural_hz`` as horizontal lines."""
+    by their maximum into at most ``columns`` bands; the scale's top from order 1 up), the ``order_lines`` (label, order) as lines through the origin and the
+    ``natural_hz`` as horizontal lines."""
     order = np.argsort(np.asarray(speed_rpm, float), kind="stable")   # blocks by speed (a ringing drive wavers)
     n = np.asarray(speed_rpm, float)[order]
     o = np.asarray(orders, float)
@@ -315,7 +315,10 @@ def plot_response_campbell(speed_rpm, orders, amplitude, path, order_lines=(), n
     cut = (len(o) // step) * step
     o_b = o[:cut].reshape(-1, step).mean(axis=1)
     A_b = A[:, :cut].reshape(len(n), -1, step).max(axis=2)
-    ref = A_b[:, 1:].max(initial=0.0)
+    # the colour scale from the tracked shaft's own order up: the quasi-static content near order 0
+    # (the load's slow change over the run-up) would otherwise take its top and darken the rest
+    shown = A_b[:, o_b >= 1.0]
+    ref = shown.max(initial=0.0)
     f = o_b[None, :] * n[:, None] / 60.0
     top = f_max if f_max is not None else float(f.max())
     with plot_figure(path, (8.0, 4.6)) as (fig, ax):
