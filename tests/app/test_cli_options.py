@@ -6,6 +6,7 @@ are and the nearest one. In-process through ``main`` (fast), a few through the r
 """
 from __future__ import annotations
 
+import importlib.util
 import os
 import subprocess
 import sys
@@ -84,6 +85,10 @@ OPTIONS = [
     (RUNUP, "--bandwidth", NUMBERS + ["20"], {"20"}),
     (RUNUP, "--body", NAMES + ["generator"], {"generator"}),
     (RUNUP, "--track", NAMES + ["generator"], {"generator"}),
+]
+#: the coupling command's cases: its scene reads the rosco wheel's surface (installed by make; where
+#: it is not, the turbine's own tests skip and so do these)
+COUPLING_CASES = [
     (COUPLING, "--t-end", NUMBERS + ["0.03"], {"0.03"}),
     (COUPLING, "--dt", NUMBERS + ["5e-4"], {"5e-4"}),
     (COUPLING, "--segment", NUMBERS + ["0.004"], {"0.004"}),
@@ -92,6 +97,8 @@ OPTIONS = [
     (COUPLING, "--bearing-axial", ["", "force:mm", "speed:rotor", "force:m"], {"force:m", "speed:rotor"}),
     (COUPLING, "--fidelity", ["", "stiff", "torsional"], {"torsional"}),
 ]
+ROSCO = importlib.util.find_spec("rosco") is not None
+OPTIONS += COUPLING_CASES if ROSCO else []
 #: what a flag's value feeds when the error is the analysis' own (--fmin 0 Hz on a free chain)
 FEEDS = {"--fmin": "frequency_hz"}
 #: a typo and the name the message must offer
@@ -181,6 +188,8 @@ def test_the_table_has_every_option_of_every_subcommand():
             for s in a.option_strings:
                 if s.startswith("--"):
                     yield s
+    if not ROSCO:                                       # the coupling command's own flags: not crossed here
+        skip |= {flag for _, flag, _, _ in COUPLING_CASES}
     missing = sorted(set(options(parser)) - crossed - skip)
     assert not missing, missing
     assert len(CASES) >= 150, len(CASES)
