@@ -41,7 +41,7 @@ from .rotor_aero import RotorAero
 from .rotor_laws import AERO_THRUST, AERO_TORQUE, PITCH, WIND
 from .rotor_surface import read_surface
 from .run_loads import polar_inertia
-from .sampled import Sampled
+from .sampled import Sampled, sample_steps
 from .turbine_loop import ControllerLoop, PitchActuator, SecondOrderPitch
 from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
 
@@ -191,10 +191,7 @@ class TurbineRun:
         omega_r, omega_g = s_rot * float(r_rot @ v0), s_gen * float(r_gen @ v0)
         q0 = self.aero.loads(0.0, np.array([s_rot * omega_r]))
         torque0 = q0.torque * omega_r / omega_g if omega_g > 0.0 else 0.0
-        steps = round(d.period / dt)
-        if steps < 1 or abs(steps * dt - d.period) > 1e-9 * d.period:
-            raise SceneError("turbine.controller.period", d.period, f"must be a whole number of steps of dt = "
-                                                                    f"{dt:g} s ({d.period / dt:.6g} steps)")
+        sample_steps(d.period, dt, "turbine.controller.period")    # checked before the controller loads
         self.controller = make_controller(ctrl, d, tb.pitch)
         eta = ctrl.efficiency if ctrl else 0.944
         self.loop = ControllerLoop(self.controller, r_gen, r_rot, d.period, self.wind, self.actuator, eta, s_gen,
