@@ -35,7 +35,7 @@ from ..analysis.drivetrain import chain_ends
 from ..errors import SceneError
 from ..model.probes import point_vector, spin_row
 from . import wind as wind_series
-from .load_series import file_history
+from .load_series import file_history, require_cover
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
 from .rotor_laws import AERO_THRUST, AERO_TORQUE, PITCH, WIND
@@ -243,8 +243,7 @@ def make_wind(w, d: TurbineData, t_end: float, base_dir) -> wind_series.WindSeri
     s = file_history(w, f, base_dir, "m/s")
     if s is not None:
         key = f"{f}.{'table' if w.table else 'openfast'}"
-        if s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
-            raise SceneError(key, f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
+        require_cover(s, t_end, key)
         return wind_series.WindSeries(s.time_s, s.values, key)
     if w.steps is not None:
         if w.speed is not None or w.turbulence is not None:
