@@ -36,6 +36,7 @@ from ..errors import SceneError
 from ..model.probes import point_vector, spin_row
 from . import wind as wind_series
 from .load_series import file_history, require_cover
+from .openfast_deck import read_deck
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
 from .rotor_laws import AERO_THRUST, AERO_TORQUE, PITCH, WIND
@@ -86,7 +87,6 @@ def turbine_data(turbine, base_dir) -> TurbineData:
     base_dir = Path(base_dir or ".")
     deck = None
     if turbine.openfast is not None:
-        from .openfast_deck import read_deck  # openfast_io is an extra: only with a deck
         deck = read_deck(rosco_file(ROSCO_DECK) if turbine.openfast == "rosco" else base_dir / turbine.openfast,
                          "turbine.openfast")
     sources = {}
