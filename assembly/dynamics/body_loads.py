@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import SceneError
 from ..model.frame_motion import frame_loads, scene_gravity
 from ..model.probes import body_point, point_vector, spin_row
-from .load_series import constant, file_history
+from .load_series import constant, file_history, require_cover
 from .unbalance import Unbalance
 
 #: The housing's six motions, in :func:`assembly.model.frame_motion.frame_loads`' column order.
@@ -66,9 +66,8 @@ def body_loads(model, scene, sim, dt: float, t_end: float, base_dir, phi=None, t
         s = file_history(nm, path, base_dir, unit)
         if s is None:
             s = Harmonic(nm.amplitude, nm.frequency, nm.phase)
-        elif s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
-            raise SceneError(f"{path}.{'table' if nm.table else 'openfast'}", f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s",
-                             f"does not cover the run (0 .. {t_end:g} s)")
+        else:
+            require_cover(s, t_end, f"{path}.{'table' if nm.table else 'openfast'}")
         hist.append(s)
     return BodyLoads(np.array(vecs).T if vecs else np.zeros((n, 0)), tuple(hist),
                      [unbalance(model, u, i, dt, phi) for i, u in enumerate(sim.unbalance)])

@@ -29,7 +29,6 @@ import ctypes
 import logging
 import math
 import os
-import re
 import shutil
 import sys
 import tempfile
@@ -39,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SceneError
+from .openfast_deck import input_entry
 
 log = logging.getLogger(__name__)
 
@@ -55,11 +55,7 @@ INPUT_FILES = {"PerfFileName": None, "OL_Filename": "OL_Mode"}
 def named_files(text: str) -> dict:
     """{key: file name} of the files a ROSCO-style input names and will open (module notes):
     ``"name"  ! Key`` lines of :data:`INPUT_FILES`, those of a mode key set to 0 or "unused" left out."""
-    values = {}
-    for line in text.splitlines():
-        m = re.match(r'\s*("([^"]*)"|\S+)\s*!\s*(\w+)', line)
-        if m:
-            values[m.group(3)] = m.group(2) if m.group(2) is not None else m.group(1)
+    values = dict(e for e in (input_entry(line, True) for line in text.splitlines()) if e is not None)
     out = {}
     for key, mode in INPUT_FILES.items():
         name = values.get(key)

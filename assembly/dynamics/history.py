@@ -41,6 +41,19 @@ LIBVER = "earliest"
 RUNNING = "the run did not finish: it was killed, or is still running"
 
 
+def put_rows(into: tuple, n: int, t: np.ndarray, y: np.ndarray, iterations: np.ndarray) -> None:
+    """Times, rows and Newton counts into the arrays ``into`` (times, rows, counts) from row
+    ``n`` on; rows or counts already written there in place (a ``reserve``'s views) are not
+    copied onto themselves."""
+    t_in, y_in, its_in = into
+    k = len(t)
+    t_in[n:n + k] = t
+    if not np.may_share_memory(y, y_in):
+        y_in[n:n + k] = y
+    if not np.may_share_memory(iterations, its_in):
+        its_in[n:n + k] = iterations
+
+
 def chunk_steps(rows: int) -> int:
     """Steps of ``rows`` recorded values in a chunk of a streamed history."""
     return max(1, min(CHUNK_STEPS, BUFFER_BYTES // (8 * rows + STEP_BYTES)))
@@ -79,11 +92,7 @@ class MemoryHistory:
             self._allocate(y.shape[1])
             if self.n + k > self.capacity:
                 raise ValueError(f"{self.n + k} steps appended to a history of capacity {self.capacity}")
-            self._t[self.n:self.n + k] = t
-            if not np.may_share_memory(y, self._y):          # else: filled in place (reserve)
-                self._y[self.n:self.n + k] = y
-            if not np.may_share_memory(iterations, self._its):
-                self._its[self.n:self.n + k] = iterations
+            put_rows((self._t, self._y, self._its), self.n, t, y, iterations)
         self.n += k
 
     def close(self, complete: bool, info: dict) -> None:
@@ -263,13 +272,8 @@ class Gathered:
 
     def append(self, t: np.ndarray, y: np.ndarray, iterations: np.ndarray) -> None:
         """The first ``len(t)`` rows of the last reservation, at times ``t``, done."""
-        k = len(t)
-        self.t[self.n:self.n + k] = t
-        if not np.may_share_memory(y, self.y):                  # else: written in place (reserve)
-            self.y[self.n:self.n + k] = y
-        if not np.may_share_memory(iterations, self.its):
-            self.its[self.n:self.n + k] = iterations
-        self.n += k
+        put_rows((self.t, self.y, self.its), self.n, t, y, iterations)
+        self.n += len(t)
 
     def flush(self) -> None:
         """Hand the gathered rows to the history as one block."""

@@ -267,6 +267,14 @@ def range_warning(s: Series, t_end: float) -> str | None:
             + " and ".join(held))
 
 
+def require_cover(s: Series, t_end: float, field: str) -> Series:
+    """``s`` when its rows cover the whole run, 0 to ``t_end`` (s), else SceneError at ``field``: a
+    series that drives the run itself (a wind, a housing's motion) is not held past its ends."""
+    if s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
+        raise SceneError(field, f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
+    return s
+
+
 def brake_torque(t, deploy_time: float, ramp_time: float, full_torque: float, field: str = "simulation.brake"):
     """HSS brake torque magnitude (N m) at ``t`` (s, float or array), ElastoDyn HSSBrMode 1:
     0 before ``deploy_time``, linear to ``full_torque`` over ``ramp_time`` (0: at once), held."""

@@ -92,9 +92,10 @@ class TurbineDeck:
     sources: dict
 
 
-def _entry(line: str, discon: bool) -> tuple[str, str] | None:
-    """(key, value text) of one input line, or None for a rule or a comment (a table row gives
-    a number as its key, which is never asked for)."""
+def input_entry(line: str, discon: bool) -> tuple[str, str] | None:
+    """(key, value text) of one input line -- OpenFAST's ``value Key``, or with ``discon``
+    ROSCO's ``value ! Key`` -- or None for a rule or a comment (a table row gives a number as its
+    key, which is never asked for)."""
     s = line.strip()
     if discon:
         value, bang, rest = s.partition("!")
@@ -130,7 +131,7 @@ class _Input:
             raise SceneError(field, str(path), f"cannot be read ({type(exc).__name__})") from None
         self.entries = {}
         for i, line in enumerate(self.lines):
-            e = _entry(line, discon)
+            e = input_entry(line, discon)
             if e is not None and e[0].lower() not in self.entries:
                 self.entries[e[0].lower()] = (e[1], i + 1)
 

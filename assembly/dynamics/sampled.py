@@ -36,14 +36,14 @@ class Sampled:
     law: Callable
 
 
-def sample_steps(period: float, dt: float) -> int:
-    """Steps of ``dt`` in a sample ``period`` (s): a whole number, else SceneError."""
+def sample_steps(period: float, dt: float, field: str = "sampled.period") -> int:
+    """Steps of ``dt`` in a sample ``period`` (s): a whole number, else SceneError at ``field``."""
     if not (isinstance(period, (int, float)) and math.isfinite(period) and period > 0.0):
-        raise SceneError("sampled.period", period, "must be a positive number of seconds")
+        raise SceneError(field, period, "must be a positive number of seconds")
     steps = round(period / dt)
     if steps < 1 or abs(steps * dt - period) > 1e-9 * period:
-        raise SceneError("sampled.period", period, f"must be a whole number of steps of dt = {dt:g} s "
-                                                   f"({period / dt:.6g} steps)")
+        raise SceneError(field, period, f"must be a whole number of steps of dt = {dt:g} s "
+                                        f"({period / dt:.6g} steps)")
     return int(steps)
 
 

@@ -35,13 +35,14 @@ from ..analysis.drivetrain import chain_ends
 from ..errors import SceneError
 from ..model.probes import point_vector, spin_row
 from . import wind as wind_series
-from .load_series import file_history
+from .load_series import file_history, require_cover
+from .openfast_deck import read_deck
 from .rosco_data import NREL5MW_SURFACE, rosco_file
 from .rotor_aero import RotorAero
 from .rotor_laws import AERO_THRUST, AERO_TORQUE, PITCH, WIND
 from .rotor_surface import read_surface
 from .run_loads import polar_inertia
-from .sampled import Sampled
+from .sampled import Sampled, sample_steps
 from .turbine_loop import ControllerLoop, PitchActuator, SecondOrderPitch
 from .variable_speed import NREL5MW_BASELINE, SimpleVariableSpeed, TorqueLawController
 
@@ -86,7 +87,6 @@ def turbine_data(turbine, base_dir) -> TurbineData:
     base_dir = Path(base_dir or ".")
     deck = None
     if turbine.openfast is not None:
-        from .openfast_deck import read_deck  # openfast_io is an extra: only with a deck
         deck = read_deck(rosco_file(ROSCO_DECK) if turbine.openfast == "rosco" else base_dir / turbine.openfast,
                          "turbine.openfast")
     sources = {}
@@ -191,10 +191,7 @@ class TurbineRun:
         omega_r, omega_g = s_rot * float(r_rot @ v0), s_gen * float(r_gen @ v0)
         q0 = self.aero.loads(0.0, np.array([s_rot * omega_r]))
         torque0 = q0.torque * omega_r / omega_g if omega_g > 0.0 else 0.0
-        steps = round(d.period / dt)
-        if steps < 1 or abs(steps * dt - d.period) > 1e-9 * d.period:
-            raise SceneError("turbine.controller.period", d.period, f"must be a whole number of steps of dt = "
-                                                                    f"{dt:g} s ({d.period / dt:.6g} steps)")
+        sample_steps(d.period, dt, "turbine.controller.period")    # checked before the controller loads
         self.controller = make_controller(ctrl, d, tb.pitch)
         eta = ctrl.efficiency if ctrl else 0.944
         self.loop = ControllerLoop(self.controller, r_gen, r_rot, d.period, self.wind, self.actuator, eta, s_gen,
@@ -246,8 +243,7 @@ def make_wind(w, d: TurbineData, t_end: float, base_dir) -> wind_series.WindSeri
     s = file_history(w, f, base_dir, "m/s")
     if s is not None:
         key = f"{f}.{'table' if w.table else 'openfast'}"
-        if s.time_s[0] > 0.0 or s.time_s[-1] < t_end:
-            raise SceneError(key, f"{s.time_s[0]:g} .. {s.time_s[-1]:g} s", f"does not cover the run (0 .. {t_end:g} s)")
+        require_cover(s, t_end, key)
         return wind_series.WindSeries(s.time_s, s.values, key)
     if w.steps is not None:
         if w.speed is not None or w.turbulence is not None:
