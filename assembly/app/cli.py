@@ -292,7 +292,7 @@ def cmd_runup(args) -> int:
             args.output = [*args.output, f"speed:{ref}"]            # the order analysis tracks it
         with api_flags(flags):
             return with_simulation(scene, runup_simulation(scene, args.speed_range, args.rate, args.body,
-                                                           args.bandwidth, args.settle))
+                                                           args.bandwidth, args.settle, args.track))
     return cmd_simulate(args, prepare, lambda r, scene, work: runup_report(r, scene, work, args.track))
 
 
@@ -300,13 +300,13 @@ def runup_report(r, scene, work, track=None):
     """(file names, HTML) of a run-up's order analysis (:mod:`assembly.app.report.runup`): every
     output tracked against the recorded speed of ``track`` (default the reference) over the ramp,
     the passages with the model's modes -- a record too short for it is said on the page, the
-    run kept -- and the life tables of every output over the ramp."""
+    run kept (the life tables of the ramp are the run's own, :mod:`assembly.app.report.life`)."""
     from ..analysis.classify import classify_modes
     from ..analysis.modal import solve_modes
     from ..dynamics.runup_orders import excitation_orders, runup_orders
     from ..errors import SceneError
     from ..model.assemble import assemble
-    from .report.runup import life_files, life_html, runup_files
+    from .report.runup import runup_files
 
     ref = track or r.info.get("reference")
     key = f"speed:{ref}"
@@ -314,9 +314,7 @@ def runup_report(r, scene, work, track=None):
         return [], ""
     drive = scene.simulation.drive
     ramp = (r.time_s >= drive.t_start) & (r.time_s <= drive.t_end)      # the sweep, not the settling
-    outputs = {k: v[ramp] for k, v in r.outputs.items() if k != key}
-    files, rows = life_files(r.time_s[ramp], outputs, r.units, r.outputs[key][ramp], ref, work)
-    life = life_html(rows, float(r.time_s[ramp][-1] - r.time_s[ramp][0]))
+    outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:")}     # the loads
     res = solve_modes(assemble(scene))
     info = classify_modes(res, nodal_diameters=False)
     modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]
@@ -326,11 +324,11 @@ def runup_report(r, scene, work, track=None):
         ro = runup_orders(r.time_s[ramp], r.outputs[key][ramp], outputs, orders, modes)
     except SceneError as exc:
         log.warning("orders of the run-up not tracked: %s", exc)
-        return files, f"<p>Orders of the run-up not tracked: {html.escape(str(exc))}</p>" + life
+        return [], f"<p>Orders of the run-up not tracked: {html.escape(str(exc))}</p>"
     top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[key]).max() / (2 * math.pi)
-    files += runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top)
+    files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top)
     return files, (f'<p><a href="orders.html">Orders of the run-up</a>: {len(ro.passages)} resonance '
-                   f'passages (<a href="passages.csv">passages.csv</a>).</p>' + life)
+                   f'passages (<a href="passages.csv">passages.csv</a>).</p>')
 
 
 def cmd_simulate(args, prepare=None, report=None) -> int:

@@ -8,7 +8,8 @@
   omega, rad/s), in the bin of the torque ``y_k``: the revolutions sum to the integrated
   angle / 2 pi (for a shaft that turns one way). Bins: edges given (strictly increasing), or a
   count of equal bins from the least to the largest sample (numpy's ``histogram``: the last
-  bin holds its right edge; a constant history gets one bin of width 1 around it). What falls
+  bin holds its right edge; a constant history gets one bin of width 1 around it, one whose
+samples differ by round-off alone bins a few units in the last place wide). What falls
   outside given edges is ``outside``.
 * Equivalent load of a spectrum (levels L_i, cycles or revolutions N_i) for exponent p:
   ``L_eq = (sum |L_i|^p N_i / sum N_i)^(1/p)`` (loads as magnitudes).
@@ -69,7 +70,13 @@ class BearingLife:
 def _bins(name: str, bins, y: np.ndarray):
     """Bin edges from ``bins`` (a count up to MAX_BINS, or edges) for the samples ``y``."""
     if isinstance(bins, numbers.Integral) and not isinstance(bins, bool):
-        return np.histogram_bin_edges(y, bins=integer(name, bins, 1, MAX_BINS))
+        n = integer(name, bins, 1, MAX_BINS)
+        lo, hi = float(y.min()), float(y.max())
+        need = 4.0 * n * float(np.spacing(max(abs(lo), abs(hi))))
+        if 0.0 < hi - lo < need:        # a constant history and its round-off: bins a few ulps wide
+            c = 0.5 * (lo + hi)
+            return np.linspace(c - 0.5 * need, c + 0.5 * need, n + 1)
+        return np.histogram_bin_edges(y, bins=n)
     try:
         edges = np.asarray(bins, dtype=float)
     except (TypeError, ValueError):
@@ -117,6 +124,14 @@ def load_duration(time_s, values, bins=20) -> LoadDistribution:
     return _distribution(y[:-1], np.diff(t), bins, "s")
 
 
+def revolutions(time_s, speed_rad_s) -> np.ndarray:
+    """The revolutions of a shaft turning at ``speed_rad_s`` (rad/s) in each interval of
+    ``time_s``: ``|omega_k + omega_{k+1}| / 2 (t_{k+1} - t_k) / 2 pi`` (the trapezoid; module
+    notes), n - 1 of them. Arrays of equal length, as :func:`load_revolutions` checks them."""
+    t, w = np.asarray(time_s, float), np.asarray(speed_rad_s, float)
+    return np.abs(0.5 * (w[1:] + w[:-1]) * np.diff(t)) / (2.0 * np.pi)
+
+
 def load_revolutions(time_s, values, speed_rad_s, bins=20) -> LoadDistribution:
     """LRD: the revolutions of a shaft turning at ``speed_rad_s`` (rad/s, its own speed
     history) in each bin of the load ``values`` (module notes). A shaft that does not turn
@@ -126,7 +141,7 @@ def load_revolutions(time_s, values, speed_rad_s, bins=20) -> LoadDistribution:
     w = history("speed_rad_s", speed_rad_s)
     if w.size != y.size:
         raise refuse("speed_rad_s", speed_rad_s, f"{w.size} speeds but {y.size} samples")
-    turns = np.abs(0.5 * (w[1:] + w[:-1]) * np.diff(t)) / (2.0 * np.pi)
+    turns = revolutions(t, w)
     if not turns.sum() > 0.0:
         raise refuse("speed_rad_s", speed_rad_s, "the shaft does not turn: no revolutions to distribute")
     return _distribution(y[:-1], turns, bins, "rev")

@@ -4,7 +4,8 @@ scene's ``[simulation]`` kept.
 
 The reference body (or ``body``) starts at the range's first speed, is held there for ``settle``
 seconds (the start's transients die out), ramps at ``rate`` to the last speed and is held there
-``settle`` seconds more: the run lasts ``2 settle + |n_1 - n_0| / rate``.
+``settle`` seconds more: the run lasts ``2 settle + |n_1 - n_0| / rate``. Its life tables
+(:mod:`assembly.dynamics.life_tables`) count the ramp alone.
 """
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import dataclasses
 import math
 
 from .. import arguments as check
-from ..scene.time_domain import Simulation, SpeedDrive
+from ..scene.time_domain import LifeTables, Simulation, SpeedDrive
 
 RPM = math.pi / 30.0
 
@@ -31,9 +32,11 @@ def runup_length(speed_range_rpm, rate_rpm_s: float, settle_s: float) -> float:
 
 
 def runup_simulation(scene, speed_range_rpm, rate_rpm_s: float, body: str | None = None, bandwidth: float = 10.0,
-                     settle_s: float = 1.0) -> Simulation:
+                     settle_s: float = 1.0, shaft: str | None = None) -> Simulation:
     """The scene's ``[simulation]`` table (or the defaults) with the run-up's starting speed and
-    drive (module notes); ``body`` the driven body (default the reference)."""
+    drive (module notes); ``body`` the driven body (default the reference). Its life tables
+    (``[simulation.life]`` or the defaults) count the ramp, the load revolutions of ``shaft``
+    (default the table's, else the reference)."""
     runup_length(speed_range_rpm, rate_rpm_s, settle_s)
     n0, n1 = (float(x) for x in speed_range_rpm)
     bandwidth = check.number("bandwidth", bandwidth, "Hz", gt=0.0)
@@ -43,5 +46,7 @@ def runup_simulation(scene, speed_range_rpm, rate_rpm_s: float, body: str | None
     ramp = abs(n1 - n0) / float(rate_rpm_s)
     drive = SpeedDrive(end_speed=n1 * RPM, t_start=float(settle_s), t_end=float(settle_s) + ramp, body=body,
                        bandwidth=bandwidth)
+    life = sim.life or LifeTables()
+    life = dataclasses.replace(life, window=(drive.t_start, drive.t_end), shaft=shaft or life.shaft)
     return dataclasses.replace(sim, speed=n0 * RPM, reference=body if body is not None else sim.reference,
-                               drive=drive)
+                               drive=drive, life=life)

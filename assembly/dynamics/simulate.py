@@ -25,6 +25,7 @@ that each body's balance ``M q'' + C q' + K q + U nu = f`` holds with the record
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass, field
@@ -40,8 +41,9 @@ from ..model.assemble import AssembledModel, assemble, source_scene
 from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
 from .body_loads import body_loads
-from .history import H5History, Statistics, Tee, chunk_steps
+from .history import H5History, Statistics, Tee, chunk_steps, read_blocks
 from .integrators import check_step
+from .life_tables import check_life, life_channels, life_result
 from .load_series import range_warning
 from .mesh_contact import Meshes
 from .run_checks import brake_warnings, mesh_frequencies, step_warnings, undamped_band
@@ -66,7 +68,9 @@ class SimulationResult:
     output its mean, RMS, min, max, peak |value| and the peak's time
     (:class:`assembly.dynamics.history.Statistics`, accumulated as the run went);
     ``history_file``: the HDF5 file the histories were streamed to (then ``time_s`` is empty
-    and ``outputs`` {}), None when they are in ``outputs``."""
+    and ``outputs`` {}), None when they are in ``outputs``. ``life``: the loads-to-life tables
+    of a complete run whose scene asks for them (``[simulation.life]``:
+    :class:`assembly.dynamics.life_tables.LifeResult`), else None."""
 
     time_s: np.ndarray
     outputs: dict
@@ -80,6 +84,7 @@ class SimulationResult:
     complete: bool = True
     statistics: dict = field(default_factory=dict)
     history_file: str | None = None
+    life: object = None
 
     @property
     def steps(self) -> int:
@@ -126,9 +131,10 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
         if history.exists() or history.is_symlink():
             raise check.refuse("history", str(history), "exists; a streamed history is written to a new file only")
     check.flag("arrays", arrays)
-    streaming = history is not None or not arrays
-    check_history(dt, t_end, 0, streaming=streaming)    # the run's length alone, before assembling
     sim = scene.simulation or Simulation()
+    # the life tables count whole histories: kept in memory unless they stream to a file
+    streaming = history is not None or not (arrays or sim.life is not None)
+    check_history(dt, t_end, 0, streaming=streaming)    # the run's length alone, before assembling
     model = model if isinstance(model, AssembledModel) else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
     n = model.K.shape[0]
@@ -170,6 +176,11 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
         outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info),
                    *(OUTPUTS if turbine else ())]
     outputs = list(dict.fromkeys(outputs))
+    counted = [k for k in outputs if not k.startswith("speed:")]       # the loads the life tables count
+    shaft = None
+    if sim.life is not None:
+        shaft = check_life(model, sim.life, t_end, reference)
+        outputs = list(dict.fromkeys([*outputs, *life_channels(model, sim.life, shaft)]))
     extra = [(k, OUTPUTS[k]) for k in outputs if k in OUTPUTS]
     rec = recorder(model, sim.points, [k for k in outputs if k not in OUTPUTS], G, meshes, tuple(extra))
     observe = rec.observe(meshes)
@@ -198,7 +209,21 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
                                        **({"speed_scale": drive_scale} if drive_scale else {})})
     if stopped is not None:
         raise Diverged(str(stopped), result)
+    if sim.life is not None:
+        t, read = histories_of(result)
+        result = dataclasses.replace(result, life=life_result(model, sim.life, t, read, result.units, counted, shaft))
     return result
+
+
+def histories_of(r: SimulationResult):
+    """(time_s, read(name) -> history) of a run's outputs: its arrays, or read back from the file
+    it streamed to one channel at a time (a channel's n_t values in memory, not the run's)."""
+    if r.history_file is None:
+        return r.time_s, r.outputs.__getitem__
+
+    def read(name):
+        return np.concatenate([y for _, y in read_blocks(r.history_file, name)])
+    return np.concatenate([t for t, _ in read_blocks(r.history_file, next(iter(r.units)))]), read
 
 
 def _arguments(model, t_end, dt, outputs, simulation, base_dir, speed, progress, full_fe):

@@ -288,6 +288,8 @@ FIELDS: dict[str, dict[str, str]] = {
         "nacelle": "Prescribed housing accelerations (`[[simulation.nacelle]]`, `NacelleMotion` tables).",
         "unbalance": "Eccentric masses on turning bodies (`[[simulation.unbalance]]`, `UnbalanceMass` tables).",
         "drive": "A speed-controlled drive: a run-up or run-down (`[simulation.drive]`, a `SpeedDrive` table).",
+        "life": "The loads-to-life tables of the run (`[simulation.life]`, a `LifeTables` table): DELs, load "
+                "duration and revolution distributions, bearing L10, gear damage.",
     },
     "StressPoint": {
         "name": "Output name: `stress:NAME`.",
@@ -359,6 +361,30 @@ FIELDS: dict[str, dict[str, str]] = {
         "body": "The driven body (default the reference, the body of role 'rotor').",
         "bandwidth": "The servo's bandwidth (Hz, default 10): critically damped, on the drivetrain's inertia "
                      "referred to the body.",
+    },
+    "LifeTables": {
+        "bearings": "Bearings rated from the run (`[[simulation.life.bearings]]`, `BearingRating` tables).",
+        "gears": "Gears rated from the run (`[[simulation.life.gears]]`, `GearRating` tables).",
+        "exponents": "Woehler exponents m of the damage-equivalent loads (default 3, 4, 10).",
+        "cycles_ref": "Equivalent cycle count of the DELs (default the record's length in seconds: 1 Hz).",
+        "bins": "Bins of the load duration and load revolution distributions (default 20).",
+        "shaft": "The body whose revolutions the load revolution distributions count (default the reference).",
+        "window": "[t0, t1] (s): the span of the record counted (default all of it; leave a start-up out).",
+    },
+    "BearingRating": {
+        "bearing": "The bearing (its name in the expanded scene, as in `force:BEARING`).",
+        "rating": "Basic dynamic load rating C (N), from the bearing's catalogue.",
+        "exponent": "Life exponent p (default 10/3, roller bearings; 3 for ball bearings).",
+        "radial_factor": "X of the dynamic equivalent load P = X F_r + Y F_a (default 1).",
+        "axial_factor": "Y of the dynamic equivalent load P = X F_r + Y F_a (default 0: radial load only).",
+    },
+    "GearRating": {
+        "mesh": "The mesh whose force loads the teeth (its name in the expanded scene, as in `force:MESH`).",
+        "gear": "The gear rated: a body of the mesh (default its gear1).",
+        "torque_ref": "Torque T_ref (N m) of the S-N curve N_f = cycles_ref (T_ref / T)^slope.",
+        "cycles_ref": "Cycles N_ref the teeth bear at T_ref.",
+        "slope": "S-N slope k (ISO 6336-6 tabulates it per material and failure mode).",
+        "torque_limit": "Endurance limit (N m): no damage at or below it (default 0: none).",
     },
     "UnbalanceMass": {
         "body": "The rotating body that carries the mass.",

@@ -199,6 +199,64 @@ class SpeedDrive:
 
 
 @dataclass(frozen=True)
+class BearingRating:
+    """``[[simulation.life.bearings]]``: the ISO 281 basic rating life of ``bearing`` (its
+    name in the expanded scene, as ``force:BEARING``) from the run: the dynamic equivalent
+    load ``P = radial_factor F_r + axial_factor F_a`` at each step (F_r the radial force
+    magnitude in the bearing's axes, F_a the axial), its mean over the revolutions of the
+    bearing's body relative to its frame with ``exponent`` p, ``L10 = (rating / P)^p``
+    (1e6 rev); ``rating`` C (N) is the basic dynamic load rating, p 3 for ball and 10/3 for
+    roller bearings."""
+
+    bearing: str
+    rating: float = quantity("N", gt=0.0)
+    exponent: float = quantity("", 10.0 / 3.0, gt=0.0, le=100.0)
+    radial_factor: float = quantity("", 1.0, ge=0.0)
+    axial_factor: float = quantity("", 0.0, ge=0.0)
+
+
+@dataclass(frozen=True)
+class GearRating:
+    """``[[simulation.life.gears]]``: the equivalent torque and Palmgren-Miner damage of the
+    teeth of ``gear`` (a body of ``mesh``, default its gear1) from the run: the torque
+    ``T = lever x F`` of the mesh force F about the gear's axis at each step, one load cycle
+    per tooth per revolution of the gear relative to the frame it rides in (its carrier, or
+    the housing), the S-N curve ``N_f = cycles_ref (torque_ref / T)^slope`` above
+    ``torque_limit`` (N m; 0: no endurance limit)."""
+
+    mesh: str
+    torque_ref: float = quantity("N m", gt=0.0)
+    cycles_ref: float = quantity("", gt=0.0)
+    slope: float = quantity("", gt=0.0, le=100.0)
+    gear: Optional[str] = None
+    torque_limit: float = quantity("N m", 0.0, ge=0.0)
+
+
+@dataclass(frozen=True)
+class LifeTables:
+    """``[simulation.life]``: the loads-to-life tables of a run (:mod:`assembly.dynamics.life`):
+    for every output its rainflow damage-equivalent loads for the Woehler ``exponents`` at
+    ``cycles_ref`` cycles (default the counted span's seconds: 1 Hz), and its load duration and
+    load revolution distributions in ``bins`` bins, the revolutions of ``shaft`` (default the
+    reference body); the bearings' L10 (:class:`BearingRating`) and the gears' damage
+    (:class:`GearRating`). ``window`` (t0, t1) s: the span counted (default the whole record;
+    a start-up transient is left out by starting it later)."""
+
+    bearings: tuple[BearingRating, ...] = ()
+    gears: tuple[GearRating, ...] = ()
+    exponents: tuple[float, ...] = quantity("", (3.0, 4.0, 10.0), gt=0.0, le=100.0)
+    cycles_ref: Optional[float] = quantity("", None, gt=0.0)
+    bins: int = quantity("", 20, integer=True, ge=1, le=100_000)
+    shaft: Optional[str] = None
+    window: Optional[tuple[float, float]] = quantity("s", None, ge=0.0)
+
+    def __post_init__(self):
+        for f in ("bearings", "gears", "exponents"):
+            if isinstance(getattr(self, f), list):  # Python callers may pass lists
+                object.__setattr__(self, f, tuple(getattr(self, f)))
+
+
+@dataclass(frozen=True)
 class Simulation:
     """``[simulation]``: the settings of ``flexgear simulate``.
 
@@ -216,7 +274,7 @@ class Simulation:
     ``nacelle``: the housing's prescribed accelerations (:class:`NacelleMotion`), loading every
     body with its inertia; ``unbalance``: eccentric masses on turning bodies
     (:class:`UnbalanceMass`); ``drive``: a speed-controlled drive (:class:`SpeedDrive`), a
-    run-up."""
+    run-up; ``life``: the loads-to-life tables of the run (:class:`LifeTables`)."""
 
     speed: float = quantity("rad/s", 0.0)
     reference: Optional[str] = None
@@ -234,6 +292,7 @@ class Simulation:
     nacelle: tuple[NacelleMotion, ...] = ()
     unbalance: tuple[UnbalanceMass, ...] = ()
     drive: Optional[SpeedDrive] = None
+    life: Optional[LifeTables] = None
 
     def __post_init__(self):
         for f in ("loads", "points", "nacelle", "unbalance"):

@@ -310,11 +310,13 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
     complete or partial run, when it is in ``work``, else copied); the pictures from it read
     back in blocks (module notes). ``window`` (t0, t1): the spectra's part of the record
     (default all of it). ``extra(work)`` -> (file names, HTML for index.html): more files of
-    the same run (a run-up's orders). Returns the manifest."""
+    the same run (a run-up's orders); the life tables' (:mod:`assembly.app.report.life`) when
+    the run has them. Returns the manifest."""
     import shutil
 
     from ..output import write_manifest
     from ..plots import plot_spectrogram, plot_spectrum, plot_time_trace
+    from .life import life_files, life_html
 
     work, t0 = Path(work), time.perf_counter()
     s = summary(r, scene)
@@ -360,6 +362,8 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
             plots.append((f"{k}: short-time spectrum{span}", p))
         release_memory()
     more_files, more = extra(work) if extra is not None else ([], "")
+    if r.life is not None:                                  # [simulation.life], or a run-up's ramp
+        more_files, more = [*more_files, *life_files(r.life, work)], more + life_html(r.life)
     (work / "index.html").write_text(_index(r, scene, s, plots, more), encoding="utf-8")
     files = [h5_name(r), "summary.json", *(p for _, p in plots), *more_files, "index.html"]
     info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
