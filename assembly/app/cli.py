@@ -297,35 +297,24 @@ def cmd_runup(args) -> int:
 
 
 def runup_report(r, scene, work, track=None):
-    """(file names, HTML) of a run-up's order analysis (:mod:`assembly.app.report.runup`): every
-    output tracked against the recorded speed of ``track`` (default the reference) over the ramp,
-    the passages with the model's modes -- a record too short for it is said on the page, the
-    run kept (the life tables of the ramp are the run's own, :mod:`assembly.app.report.life`)."""
-    from ..analysis.classify import classify_modes
-    from ..analysis.modal import solve_modes
-    from ..dynamics.runup_orders import excitation_orders, runup_orders
+    """(file names, HTML) of a run-up's order analysis (:mod:`assembly.app.report.runup`,
+    :func:`assembly.dynamics.runup_orders.run_orders`): every load tracked against the recorded
+    speed of ``track`` (default the reference) over the ramp, the passages with the model's modes
+    -- a record too short for it is said on the page, the run kept (the life tables of the ramp
+    are the run's own, :mod:`assembly.app.report.life`)."""
+    from ..dynamics.runup_orders import run_orders
     from ..errors import SceneError
-    from ..model.assemble import assemble
     from .report.runup import runup_files
 
-    ref = track or r.info.get("reference")
-    key = f"speed:{ref}"
-    if ref is None or key not in r.outputs:
-        return [], ""
-    drive = scene.simulation.drive
-    ramp = (r.time_s >= drive.t_start) & (r.time_s <= drive.t_end)      # the sweep, not the settling
-    outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:")}     # the loads
-    res = solve_modes(assemble(scene))
-    info = classify_modes(res, nodal_diameters=False)
-    modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]
-    orders = excitation_orders(r.mesh_frequencies_hz, r.shaft_speeds_hz, ref,
-                               rotor=any(b.role == "rotor" and b.name == ref for b in scene.bodies))
     try:
-        ro = runup_orders(r.time_s[ramp], r.outputs[key][ramp], outputs, orders, modes)
+        got = run_orders(r, scene, track)
     except SceneError as exc:
         log.warning("orders of the run-up not tracked: %s", exc)
         return [], f"<p>Orders of the run-up not tracked: {html.escape(str(exc))}</p>"
-    top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[key]).max() / (2 * math.pi)
+    if got is None:
+        return [], ""
+    ref, _, ro, modes = got
+    top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[f"speed:{ref}"]).max() / (2 * math.pi)
     files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top)
     return files, (f'<p><a href="orders.html">Orders of the run-up</a>: {len(ro.passages)} resonance '
                    f'passages (<a href="passages.csv">passages.csv</a>).</p>')

@@ -59,6 +59,9 @@ MIN_CYCLES = 2
 BAND_BINS = 2
 #: Hann's equivalent noise bandwidth, bins (N sum w^2 / (sum w)^2)
 HANN_ENBW = 1.5
+#: A parametric order's quasi-static level is read from this fraction of ``static_below`` up
+#: (:func:`resonance_passages`: below it the damping's share of its low-speed content grows).
+PARAMETRIC_FROM = 0.7
 
 
 @dataclass(frozen=True)
@@ -268,7 +271,8 @@ def order_cut(omap: OrderMap, order: float) -> OrderCut:
     return OrderCut(float(order), omap.speed, omap.time, np.sqrt(np.sum(band**2, axis=1) / HANN_ENBW))
 
 
-def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below: float = 0.5) -> list[Passage]:
+def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below: float = 0.5,
+                       parametric: bool = False) -> list[Passage]:
     """Each passage of ``cut``'s order through a natural frequency: ``modes`` a sequence of
     (frequency_hz, mode_class). The passage speed is 2 pi f_n / order (rad/s); the peak is
     the cut's largest amplitude at speeds within ``band`` (relative) of it; the quasi-static
@@ -277,6 +281,13 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
     mode; for one of damping ratio zeta, low by 2 zeta^2 r^2 / (1 - r^2)^2 at most, 2.2e-3 at
     zeta = 0.05 and r = 0.5; other modes' shares are not removed). A passage outside the
     cut's speeds has no peak; one without speeds below ``static_below`` of it no level.
+    ``parametric``: the order is a mesh order of a varying mesh stiffness, read in its mesh's
+    force. The variation a of k loads the deflection with a F0 (F0 the mean force), and the
+    force's order content is a F0 (1 - H), H = 1 / (1 - r^2 + 2 i zeta r) for one mode: it
+    vanishes as r^2 at low speed, and its level a F0 is the mean of amplitude x |1 - r^2| / r^2
+    over static_below x 0.7 <= r <= ``static_below`` (high by sqrt(1 + 4 zeta^2 / r^2) at most,
+    4 % at zeta = 0.05 and r = 0.35), so the amplification is over the mesh's own quasi-static
+    excitation a F0 (its peak |1 - H| at r = 1, sqrt(1 + 4 zeta^2) / (2 zeta) for a slow sweep).
     SceneError at ``modes[i]`` with a frequency <= 0, at ``cut.speed`` not increasing."""
     arguments.instance("cut", cut, OrderCut, "an OrderCut (order_cut)")
     band = arguments.number("band", band, gt=0.0)
@@ -300,8 +311,13 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
             i = int(np.flatnonzero(near)[np.argmax(cut.amplitude[near])])
             peak_speed, peak = float(cut.speed[i]), float(cut.amplitude[i])
         r = cut.speed / s
-        low = r <= static_below
-        static = float(np.mean(cut.amplitude[low] * np.abs(1.0 - r[low]**2))) if np.any(low) else None
+        if parametric:
+            low = (r <= static_below) & (r >= PARAMETRIC_FROM * static_below)
+            shape = np.abs(1.0 - r[low]**2) / r[low]**2
+        else:
+            low = r <= static_below
+            shape = np.abs(1.0 - r[low]**2)
+        static = float(np.mean(cut.amplitude[low] * shape)) if np.any(low) else None
         amp = peak / static if (peak is not None and static) else None
         out.append(Passage(cut.order, j + 1, cls, float(f), s, peak_speed, peak, static, amp))
     return out

@@ -12,8 +12,9 @@ model's rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`: n_i 
   z_ring |n_c| / 60, and the planet-ring meshes have the same frequency.
 * Rotor orders 1P, 3P, 6P: f = k n / 60 of the reference body (k = 1, 3, 6).
 
-A mesh without tooth counts (base radii only) has no mesh frequency: it is left out and
-named in the notes.
+A mesh without tooth counts on its gears (base radii only) counts the teeth of its stiffness
+variation (``variation.teeth`` of its counting gear) when it has one; else it has no mesh
+frequency: it is left out and named in the notes.
 """
 from __future__ import annotations
 
@@ -82,6 +83,9 @@ def mesh_orders(scene, ratios: dict, harmonics: int) -> tuple[list[Order], list[
         g1, g2 = scene.body(m.gear1), scene.body(m.gear2)
         teeth = [(g, t[1].n_teeth) for g in (g1, g2)
                  if (t := body_teeth(g, f"bodies[{index.get(g.name, '?')}]")) is not None]
+        v = m.variation
+        if not teeth and v is not None and v.teeth is not None:     # the stiffness variation's count
+            teeth = [(g1 if v.counting_gear == "gear1" else g2, v.teeth)]
         if not teeth:
             notes.append(f"meshes[{i}] ({name}): no tooth counts, no mesh order")
             continue

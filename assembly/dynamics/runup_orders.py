@@ -31,8 +31,9 @@ BLOCKS = 8
 @dataclass(frozen=True)
 class RunupOrders:
     """``orders`` {label: order}; ``maps`` {output: OrderMap}; ``passages``: dicts (output,
-    order label, order, mode, class, Hz, passage speed and peak speed (rpm), peak, quasi-static
-    level, amplification), ordered by output then passage speed; ``skipped`` {label: why}."""
+    order label, order, excitation ("parametric" for a mesh order, else "additive"), mode
+    class, Hz, passage speed and peak speed (rpm), peak, quasi-static level, amplification),
+    ordered by output then passage speed; ``skipped`` {label: why}."""
 
     orders: dict
     maps: dict
@@ -61,11 +62,14 @@ def excitation_orders(mesh_hz: dict, shaft_hz: dict, reference: str, rotor: bool
     return out
 
 
-def runup_orders(time_s, reference_speed, outputs: dict, orders: dict, modes) -> RunupOrders:
+def runup_orders(time_s, reference_speed, outputs: dict, orders: dict, modes, parametric=()) -> RunupOrders:
     """The :class:`RunupOrders` of ``outputs`` {name: history} over ``time_s`` with the
     reference's speed (rad/s) ``reference_speed``; ``modes``: (Hz, class) of the model's elastic
     modes. Each map reaches the highest order asked (x 1.1); an order the record cannot resolve
-    (too few samples a revolution at the lowest speed) is skipped and said why."""
+    (too few samples a revolution at the lowest speed) is skipped and said why. ``parametric``:
+    the labels of mesh orders, whose quasi-static level is the parametric one
+    (:func:`~assembly.dynamics.order_tracking.resonance_passages`: a varying mesh stiffness loads
+    the drivetrain from inside, and at low speed its order vanishes as r^2 from every load)."""
     t = np.asarray(time_s, float)
     w = np.abs(np.asarray(reference_speed, float))
     angle = shaft_angle(t, w)
@@ -101,10 +105,52 @@ def runup_orders(time_s, reference_speed, outputs: dict, orders: dict, modes) ->
             cut = order_cut(omap, o)
             lo, hi = float(cut.speed.min()), float(cut.speed.max())
             inside = [(f, c) for f, c in pairs if lo <= 2 * math.pi * f / o <= hi]
-            for p in resonance_passages(cut, inside) if inside else []:
-                passages.append({"output": name, "order_label": label, "order": o, "mode_class": p.mode_class,
+            kind = "parametric" if label in parametric else "additive"
+            for p in resonance_passages(cut, inside, parametric=kind == "parametric") if inside else []:
+                passages.append({"output": name, "order_label": label, "order": o, "excitation": kind,
+                                 "mode_class": p.mode_class,
                                  "frequency_hz": p.frequency_hz, "speed_rpm": p.speed * 30 / math.pi,
                                  "peak_speed_rpm": None if p.peak_speed is None else p.peak_speed * 30 / math.pi,
                                  "peak": p.peak, "quasi_static": p.quasi_static, "amplification": p.amplification})
     passages.sort(key=lambda d: (d["output"], d["speed_rpm"]))
     return RunupOrders(orders, maps, passages, skipped)
+
+
+def run_orders(r, scene, track: str | None = None):
+    """(reference, the ramp's time mask, :class:`RunupOrders`, the modes' (Hz, class)) of a
+    run-up's result ``r`` (a
+    :class:`~assembly.dynamics.simulate.SimulationResult` of ``scene`` with a
+    ``[simulation.drive]``, its histories kept): every recorded load (not the speeds) tracked
+    against the recorded speed of ``track`` (default the run's reference) over the ramp, the
+    passages with the model's elastic modes; None when that speed was not recorded. A record too
+    short for it raises SceneError (:func:`runup_orders`)."""
+    from ..analysis.classify import classify_modes
+    from ..analysis.modal import solve_modes
+    from ..model.assemble import assemble
+
+    ref = track or r.info.get("reference")
+    key = f"speed:{ref}"
+    if ref is None or key not in r.outputs:
+        return None
+    drive = scene.simulation.drive
+    ramp = (r.time_s >= drive.t_start) & (r.time_s <= drive.t_end)      # the sweep, not the settling
+    outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:")}
+    res = solve_modes(assemble(scene))
+    info = classify_modes(res, nodal_diameters=False)
+    modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]
+    orders = excitation_orders(r.mesh_frequencies_hz, r.shaft_speeds_hz, ref,
+                               rotor=any(b.role == "rotor" and b.name == ref for b in scene.bodies))
+    mesh = {k for k in orders if any(k == f"{src} x{h}" for src in r.mesh_frequencies_hz
+                                     for h in range(1, MESH_HARMONICS + 1))}
+    return ref, ramp, runup_orders(r.time_s[ramp], r.outputs[key][ramp], outputs, orders, modes, mesh), modes
+
+
+def largest_amplifications(ro: RunupOrders) -> dict:
+    """{output: the passage of the largest amplification} (a passage dict of :class:`RunupOrders`;
+    passages without a peak left out)."""
+    out = {}
+    for d in ro.passages:
+        a = d["amplification"]
+        if a is not None and math.isfinite(a) and (d["output"] not in out or a > out[d["output"]]["amplification"]):
+            out[d["output"]] = d
+    return out

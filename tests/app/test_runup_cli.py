@@ -34,3 +34,30 @@ def test_a_run_up_writes_its_orders_and_life_tables(tmp_path, capsys):
     assert sum(d["lrd"]["revolutions"]) == pytest.approx(turns, abs=1e-3 + 1e-3 * n1 / 60)
     assert "Loads to life" in (out / "index.html").read_text()
     assert math.isfinite(d["del_m4"])
+
+
+def test_simulate_writes_the_rated_bearings_and_gears_tables(tmp_path, capsys):
+    # the pair at 10 rad/s, 100 N m on the rotor against 300 N m on the generator: the rotor's teeth
+    # carry r1 F = 100 N m, one cycle per revolution (tests/dynamics/test_life_tables.py derives it)
+    import csv
+    scene = pair_file(tmp_path, sim='loads = [{ body = "rotor", value = 100.0 }]\ngenerator = { torque = 300.0 }\n'
+                      '[simulation.life]\ngears = [{ mesh = "m", torque_ref = 80.0, cycles_ref = 1.0e6, slope = 6.0 }]')
+    out = tmp_path / "out"
+    assert main(["simulate", scene, "--t-end", "0.2", "--dt", "1e-4", "--output", "force:m", "--out", str(out),
+                 "-q"]) == 0
+    (row,) = list(csv.DictReader(open(out / "life_gears.csv", encoding="utf-8")))
+    cycles = 10.0 * 0.2 / (2 * math.pi)
+    assert float(row["cycles"]) == pytest.approx(cycles, rel=1e-5)                 # 6 digits written
+    assert float(row["damage"]) == pytest.approx(cycles * (100 / 80) ** 6 / 1e6, rel=1e-5)
+    assert "Gears: equivalent torque and Miner damage" in (out / "index.html").read_text()
+    assert json.loads((out / "life.json").read_text())["gears"][0]["gear"] == "rotor"
+
+
+def test_a_bad_life_table_exits_2_naming_it_and_writes_nothing(tmp_path, capsys):
+    scene = pair_file(tmp_path, sim='[simulation.life]\ngears = [{ mesh = "m", torque_ref = 80.0, cycles_ref = 1.0e6, '
+                                    'slope = 6.0, gear = "nothing" }]')
+    out = tmp_path / "out"
+    assert main(["simulate", scene, "--t-end", "0.01", "--dt", "1e-4", "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "simulation.life.gears[0].gear" in err[0]
+    assert not out.exists()

@@ -45,3 +45,31 @@ def test_excitation_orders_count_per_revolution_of_the_reference():
     # rotor orders 1P and 3P; a shaft at 5 rev/s is order 5
     o = excitation_orders({"m": 97.0}, {"rotor": 1.0, "hss": -5.0}, "rotor")
     assert o == {"1P": 1.0, "3P": 3.0, "hss 1x": 5.0, "m x1": 97.0, "m x2": 194.0, "m x3": 291.0}
+
+
+@pytest.mark.parametrize("zeta", [0.02, 0.05, 0.1])
+def test_a_parametric_order_is_amplified_over_its_own_excitation(zeta):
+    # one mode's mesh force under a varying mesh stiffness: its order content a F0 (1 - H),
+    # H = 1 / (1 - r^2 + 2 i zeta r), sampled finely over the speed; the parametric level is a F0
+    # high by sqrt(1 + 4 zeta^2 / r^2) at most over the speeds it reads (r >= 0.35: module notes
+    # of order_tracking)
+    from assembly.dynamics.order_tracking import PARAMETRIC_FROM, OrderCut, resonance_passages
+    aF0, order, fn = 37.0, 20.0, 342.0
+    s = 2 * math.pi * fn / order
+    r = np.linspace(0.05, 1.5, 29001)
+    h = 1.0 / (1 - r ** 2 + 2j * zeta * r)
+    cut = OrderCut(order, r * s, r, aF0 * np.abs(1 - h))
+    (p,) = resonance_passages(cut, [(fn, "torsional")], parametric=True)
+    r_low = PARAMETRIC_FROM * 0.5
+    assert aF0 <= p.quasi_static <= aF0 * math.sqrt(1 + 4 * zeta ** 2 / r_low ** 2)
+    # the cut's peak: the closed form's maximum near r = 1 (a bounded search; at r = 1 it is
+    # sqrt(1 + 4 zeta^2) / (2 zeta)), to the grid's step 5e-5 in r, where |1 - H| is flat to
+    # (5e-5 / zeta)^2 < 1e-5
+    from scipy.optimize import minimize_scalar
+    best = minimize_scalar(lambda x: -abs(1 - 1 / (1 - x ** 2 + 2j * zeta * x)), bounds=(0.8, 1.2),
+                           method="bounded", options={"xatol": 1e-10})
+    assert p.peak == pytest.approx(-aF0 * best.fun, rel=1e-5)
+    assert -best.fun >= math.sqrt(1 + 4 * zeta ** 2) / (2 * zeta)
+    # read as an additive order the same cut's level is a F0 r^2 -- the amplification far too high
+    (q,) = resonance_passages(cut, [(fn, "torsional")])
+    assert q.amplification > 3 * p.amplification

@@ -27,7 +27,7 @@ def runup_files(ro, work: Path, scene: str, natural_hz, f_max: float | None) -> 
         files.append(p)
     with open(work / "passages.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
-        cols = ["output", "order_label", "order", "mode_class", "frequency_hz", "speed_rpm", "peak_speed_rpm", "peak",
+        cols = ["output", "order_label", "order", "excitation", "mode_class", "frequency_hz", "speed_rpm", "peak_speed_rpm", "peak",
                 "quasi_static", "amplification"]
         w.writerow(cols)
         for d in ro.passages:
@@ -44,15 +44,17 @@ def _page(ro, scene: str, files: list) -> str:
     def num(x):
         return "-" if x is None or (isinstance(x, float) and not np.isfinite(x)) else f"{x:.4g}"
     rows = "".join(f"<tr><td>{e(d['output'])}</td><td>{e(d['order_label'])}</td><td>{d['order']:.4g}</td>"
-                   f"<td>{e(d['mode_class'])}</td><td>{d['frequency_hz']:.4g}</td><td>{d['speed_rpm']:.4g}</td>"
+                   f"<td>{e(d['excitation'])}</td><td>{e(d['mode_class'])}</td><td>{d['frequency_hz']:.4g}</td><td>{d['speed_rpm']:.4g}</td>"
                    f"<td>{num(d['peak_speed_rpm'])}</td><td>{num(d['peak'])}</td><td>{num(d['quasi_static'])}</td>"
                    f"<td>{num(d['amplification'])}</td></tr>" for d in ro.passages)
     imgs = "".join(f'<figure><img src="{e(p)}" alt="{e(p)}"></figure>' for p in files if p.endswith(".png"))
     skipped = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in ro.skipped.items())
     return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: run-up orders</title></head><body>"
             f"<h1>{e(scene)}: orders of the run-up</h1><p>Orders per revolution of the reference; dashed lines: the "
-            f"excitation orders; dotted: natural frequencies. <a href=\"index.html\">The run</a>, "
+            f"excitation orders; dotted: natural frequencies. Amplification: the peak over the order's "
+            f"quasi-static level (a mesh order's: the parametric level, its low-speed r^2 rise taken out). "
+            f"<a href=\"index.html\">The run</a>, "
             f"<a href=\"passages.csv\">passages.csv</a>.</p><h2>Resonance passages</h2><table border=1><tr>"
-            f"<th>output</th><th>order</th><th></th><th>mode class</th><th>f_n [Hz]</th><th>passage [rpm]</th>"
+            f"<th>output</th><th>order</th><th></th><th>excitation</th><th>mode class</th><th>f_n [Hz]</th><th>passage [rpm]</th>"
             f"<th>peak at [rpm]</th><th>peak</th><th>quasi-static</th><th>amplification</th></tr>{rows}</table>"
             + (f"<h2>Orders not tracked</h2><ul>{skipped}</ul>" if skipped else "") + f"{imgs}</body></html>\n")

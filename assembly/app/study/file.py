@@ -9,6 +9,10 @@
     [keep]
     modes = 12                          # modes, compare: the first N elastic frequencies (Hz)
     stats = ["peak", "mean"]            # simulate: per output, of mean rms min max peak peak_time_s
+    life = true                         # simulate: the life tables' DELs, L10, damage (default: when
+                                        #   the scene has [simulation.life])
+    passages = true                     # simulate: a run-up's largest amplification per output
+                                        #   (the scene's [simulation.drive]; default false)
 
     [frf]                               # analysis = "frf": as `flexgear frf`
     input = "torque:rotor"
@@ -113,7 +117,7 @@ def read_study(path) -> Study:
         if other in data and other != analysis:
             raise SceneError(other, data[other], f"a [{other}] table needs analysis = {other!r}")
     settings = _settings(analysis, data.get(analysis, {}))
-    keep = _keep(analysis, data.get("keep", {}))
+    keep = _keep(analysis, data.get("keep", {}), scene)
     vs = variants(scene, {k: data[k] for k in ("parameters", "design") if k in data})
     names = list(vs[0].params)
     check_names(scene, analysis, settings)
@@ -139,13 +143,20 @@ def check_names(scene, analysis: str, settings: dict) -> None:
         recorded_channels(model, points, [name], f"simulate.outputs[{j}]")
 
 
-def _keep(analysis: str, keep) -> dict:
-    allowed = {"modes": {"modes"}, "compare": {"modes"}, "frf": set(), "simulate": {"stats"}}[analysis]
+def _keep(analysis: str, keep, scene) -> dict:
+    allowed = {"modes": {"modes"}, "compare": {"modes"}, "frf": set(), "simulate": {"stats", "life", "passages"}}[
+        analysis]
     for k in keep:
         if k not in allowed:
             raise SceneError(f"keep.{k}", keep[k], f"not kept by analysis {analysis!r}"
                              + (f" (it keeps: {sorted(allowed)})" if allowed else " (it keeps each output's peak)"))
-    out = {"modes": 10, "stats": ["peak", "mean"], **keep}
+    sim = scene.simulation
+    out = {"modes": 10, "stats": ["peak", "mean"], "life": sim is not None and sim.life is not None, "passages": False,
+           **keep}
+    if out["life"] and (sim is None or sim.life is None):
+        raise SceneError("keep.life", True, "the scene has no [simulation.life] table: nothing rates the run")
+    if out["passages"] and (sim is None or sim.drive is None):
+        raise SceneError("keep.passages", True, "the scene has no [simulation.drive]: a run-up's passages need one")
     if out["modes"] < 1:
         raise SceneError("keep.modes", out["modes"], "must be an integer >= 1")
     if any(s not in STATS for s in out["stats"]):

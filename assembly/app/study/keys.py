@@ -28,7 +28,7 @@ TEXT, BOOL, INT, NUMBER, TABLE, TABLES, LIST, TEXTS, PATH = (
 
 TOP = {"name": TEXT, "scene": TEXT, "analysis": TEXT, "keep": TABLE, "frf": TABLE, "simulate": TABLE,
        "design": TABLE, "parameters": TABLES}
-KEEP = {"modes": INT, "stats": TEXTS}
+KEEP = {"modes": INT, "stats": TEXTS, "life": BOOL, "passages": BOOL}
 FRF = {"input": TEXT, "outputs": TEXTS, "fmin": NUMBER, "fmax": NUMBER, "points": INT, "log": BOOL,
        "method": TEXT, "modes_hz": NUMBER}
 SIMULATE = {"t_end": NUMBER, "dt": NUMBER, "outputs": TEXTS, "speed": NUMBER, "unreduced": BOOL}

@@ -18,7 +18,10 @@ Results per analysis (:mod:`assembly.app.study.file` gives the settings):
 * ``simulate``: per output the ``keep["stats"]`` of its history, ``peak[OUT]``,
   ``mean[OUT]``, ... (a stress output's history is its von Mises stress, Pa), and
   ``contact_losses`` over all meshes. The statistics are accumulated as the run goes and no
-  history is kept (``simulate(..., arrays=False)``): a variant's memory is flat in ``t_end``.
+  history is kept (``simulate(..., arrays=False)``): a variant's memory is flat in ``t_end``
+  unless it keeps its life tables (the scene's ``[simulation.life]``: :func:`life_columns`,
+  the histories they count in memory) or a run-up's passages (``keep["passages"]``:
+  :func:`passage_columns`).
 
 Columns about the run, not the result (:data:`RUN_COLUMNS`): ``time_s``, the superelements
 the variant took from the cache (``reductions_reused``) and built (``reductions_built``),
@@ -117,14 +120,52 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
         from ..report.simulate import summary
         try:
             r = simulate(scene, settings["t_end"], settings["dt"], settings["outputs"], base_dir=Path(scene_source).parent,
-                         speed=settings["speed"], full_fe=settings["unreduced"], arrays=False)
+                         speed=settings["speed"], full_fe=settings["unreduced"], arrays=keep.get("passages", False))
         except Diverged as exc:
             raise SceneError("simulate", settings["t_end"], f"run stopped: {exc}") from None
         s = summary(r, scene.name)
         out = {f"{stat}[{name}]": row[stat] for name, row in s["outputs"].items() for stat in keep["stats"]}
         out["contact_losses"] = int(sum(m["contact_losses"] for m in r.meshes))
+        if keep.get("life") and r.life is not None:
+            out.update(life_columns(r.life))
+        if keep.get("passages"):
+            out.update(passage_columns(r, scene))
         return out
     raise SceneError("analysis", analysis, "must be one of modes, compare, frf, simulate")
+
+
+def life_columns(life) -> dict:
+    """The life tables' columns (:class:`assembly.dynamics.life_tables.LifeResult`):
+    ``del_mM[OUT]`` per counted output and exponent, ``l10_hours[BEARING]`` and
+    ``equivalent_load_n[BEARING]``, ``damage[MESH:GEAR]`` and ``torque_eq[MESH:GEAR]``; a value
+    the table could not give (a bearing that does not turn) fails the variant with its note."""
+    from ...errors import SceneError
+    out = {f"del_m{m:g}[{k}]": o.dels[m] for k, o in life.outputs.items() for m in life.exponents}
+    rows = [(f"[{b.bearing}]", b, {"l10_hours": b.l10_hours, "equivalent_load_n": b.equivalent_load_n})
+            for b in life.bearings]
+    rows += [(f"[{g.mesh}:{g.gear}]", g, {"damage": g.damage, "torque_eq": g.torque_eq}) for g in life.gears]
+    for tag, row, cols in rows:
+        for c, v in cols.items():
+            if v is None:
+                raise SceneError(f"{c}{tag}", None, row.note or "the life table has no value")
+            out[f"{c}{tag}"] = v
+    return out
+
+
+def passage_columns(r, scene) -> dict:
+    """A run-up's largest amplification over its resonance passages per output
+    (:func:`assembly.dynamics.runup_orders.largest_amplifications`): ``amplification[OUT]`` and
+    the speed of its peak ``amplification_rpm[OUT]``, the order ``amplification_order[OUT]`` and
+    the mode ``amplification_hz[OUT]``."""
+    from ...dynamics.runup_orders import largest_amplifications, run_orders
+    got = run_orders(r, scene)
+    if got is None:
+        return {}
+    out = {}
+    for k, d in largest_amplifications(got[2]).items():
+        out.update({f"amplification[{k}]": d["amplification"], f"amplification_rpm[{k}]": d["peak_speed_rpm"],
+                    f"amplification_order[{k}]": d["order"], f"amplification_hz[{k}]": d["frequency_hz"]})
+    return out
 
 
 def _frequencies(res, n: int, prefix: str = "") -> dict:
