@@ -3,7 +3,7 @@ largest resonance amplification per output, one row per variant, equal to the ru
 
 Scene: a torsional spur pair (rotor J1 = 2, generator J2 = 0.5 kg m^2, base radii 0.05 / 0.15 m,
 k = 1e8 N/m varying by 10 % at the tooth passing of 20 teeth; mesh mode f_n = sqrt(k / m_e) / 2 pi
-= 342.3 Hz, m_e = 1 / (r1^2/J1 + r2^2/J2)) run up by the speed drive from 30 to 150 rad/s in
+= 342.3 Hz, m_e = 1 / (r1^2/J1 + r2^2/J2)) run up by the speed drive from 10 to 150 rad/s in
 1 s: its mesh order 20 passes f_n at 2 pi f_n / 20 = 107.5 rad/s, and the ramp starts below half
 of that, where the passage's quasi-static level is read (assembly.dynamics.order_tracking). The mesh's damper gives the
 mode a ratio zeta = c / (2 sqrt(k m_e)); a one-mode passage amplifies about 1 / (2 zeta) (less
@@ -21,44 +21,18 @@ from assembly.dynamics.runup_orders import largest_amplifications, run_orders
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
 from assembly.scene.schema import load_scene
+from tests.app.test_simulate_cli import pair_file
 
 J1, J2, R1, R2, K = 2.0, 0.5, 0.05, 0.15, 1e8
 ME = 1.0 / (R1 ** 2 / J1 + R2 ** 2 / J2)
 C_05 = 2 * 0.05 * math.sqrt(K * ME)           # N s/m: zeta = 0.05
 
-PAIR = f"""
-name = "pair run-up"
-[[bodies]]
-name = "rotor"
-mass = 10.0
-polar_inertia = {J1}
-fidelity = "torsional"
-role = "rotor"
-[[bodies]]
-name = "generator"
-mass = 10.0
-polar_inertia = {J2}
-position = [{(R1 + R2) / math.cos(math.radians(20.0))}, 0.0, 0.0]
-fidelity = "torsional"
-role = "generator"
-[[meshes]]
-name = "m"
-gear1 = "rotor"
-gear2 = "generator"
-stiffness = {K}
-damping = {C_05}
-base_radius1 = {R1}
-base_radius2 = {R2}
-pressure_angle_deg = 20.0
-variation = {{ amplitudes = [0.1], teeth = 20 }}
-[simulation]
-speed = 30.0
-loads = [{{ body = "rotor", value = 20.0 }}]
-generator = {{ torque = 60.0 }}
-drive = {{ end_speed = 150.0, t_start = 0.1, t_end = 1.1 }}
-[simulation.life]
-gears = [{{ mesh = "m", torque_ref = 15.0, cycles_ref = 1.0e6, slope = 6.0 }}]
-"""
+# the torsional pair of tests/app/test_simulate_cli.py (speed 10 rad/s), its mesh damped and varying
+MESH = f"damping = {C_05}\nvariation = {{ amplitudes = [0.1], teeth = 20 }}"
+SIM = ('loads = [{ body = "rotor", value = 20.0 }]\ngenerator = { torque = 60.0 }\n'
+       'drive = { end_speed = 150.0, t_start = 0.1, t_end = 1.1 }\n[simulation.life]\n'
+       'gears = [{ mesh = "m", torque_ref = 15.0, cycles_ref = 1.0e6, slope = 6.0 }]')
+
 
 STUDY = """
 scene = "pair.toml"
@@ -79,7 +53,7 @@ values = [{c1}, {c2}]
 @pytest.fixture(scope="module")
 def rows(tmp_path_factory):
     d = tmp_path_factory.mktemp("study")
-    (d / "pair.toml").write_text(PAIR, encoding="utf-8")
+    pair_file(d, MESH, SIM)
     (d / "study.toml").write_text(STUDY.format(keep="passages = true", c1=C_05, c2=2 * C_05), encoding="utf-8")
     return d, run_study(read_study(str(d / "study.toml")), "serial")
 
@@ -118,8 +92,7 @@ def test_twice_the_damping_amplifies_less(rows):
                                         ('life = "yes"', "keep.life"), ("passages = 1", "keep.passages")])
 def test_what_a_study_cannot_keep_is_refused_before_it_runs(tmp_path, keep, field):
     # the scene without [simulation.life] and [simulation.drive]
-    text = PAIR.split("[simulation.life]")[0].replace("drive = {", "# drive = {")
-    (tmp_path / "pair.toml").write_text(text, encoding="utf-8")
+    pair_file(tmp_path, MESH, SIM.split("drive = ")[0])
     (tmp_path / "study.toml").write_text(STUDY.format(keep=keep, c1=C_05, c2=2 * C_05), encoding="utf-8")
     with pytest.raises(SceneError) as e:
         read_study(str(tmp_path / "study.toml"))

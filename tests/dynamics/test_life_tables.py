@@ -30,6 +30,7 @@ from assembly.errors import SceneError
 from assembly.model.assemble import assemble
 from assembly.scene.schema import load_scene
 from assembly.scene.time_domain import GearRating, LifeTables
+from tests.app.test_simulate_cli import pair_file
 
 SHAFT = """
 name = "shaft on a bearing"
@@ -110,44 +111,20 @@ def test_a_bearing_that_does_not_turn_has_no_l10(tmp_path):
     assert "does not turn" in b.note
 
 
-PAIR = """
-name = "pair"
-[[bodies]]
-name = "pinion"
-mass = 10.0
-polar_inertia = 2.0
-fidelity = "torsional"
-role = "rotor"
-[[bodies]]
-name = "wheel"
-mass = 10.0
-polar_inertia = 0.5
-position = [{c}, 0.0, 0.0]
-fidelity = "torsional"
-role = "generator"
-[[meshes]]
-name = "m"
-gear1 = "pinion"
-gear2 = "wheel"
-stiffness = 1.0e8
-base_radius1 = 0.05
-base_radius2 = 0.15
-pressure_angle_deg = 20.0
-[simulation]
-speed = 10.0
-loads = [{{ body = "pinion", value = 100.0 }}]
-generator = {{ torque = 300.0 }}
-[simulation.life]
-gears = [{{ mesh = "m", torque_ref = 80.0, cycles_ref = 1.0e6, slope = 6.0 }},
-         {{ mesh = "m", gear = "wheel", torque_ref = 200.0, cycles_ref = 1.0e7, slope = 8.0, torque_limit = 100.0 }}]
-"""
+# the torsional pair of tests/app/test_simulate_cli.py (rotor r_b 0.05 m, generator 0.15 m, a linear
+# mesh), 100 N m on the rotor against 300 N m on the generator, at 10 rad/s
+LOADS = 'loads = [{ body = "rotor", value = 100.0 }]\ngenerator = { torque = 300.0 }\n'
+GEARS = ('[simulation.life]\ngears = [{ mesh = "m", torque_ref = 80.0, cycles_ref = 1.0e6, slope = 6.0 }, '
+         '{ mesh = "m", gear = "generator", torque_ref = 200.0, cycles_ref = 1.0e7, slope = 8.0, torque_limit = 100.0 }]')
+
+
+def pair(tmp_path, gears: str = GEARS):
+    return load_scene(pair_file(tmp_path, sim=LOADS + gears))
 
 
 def test_a_balanced_pair_gives_miner_damage_of_its_torque(tmp_path):
-    p = tmp_path / "pair.toml"
-    p.write_text(PAIR.format(c=0.2 / math.cos(math.radians(20.0))), encoding="utf-8")
     t_end = 0.5
-    r = simulate(load_scene(p), t_end, 1e-4, ["force:m"])
+    r = simulate(pair(tmp_path), t_end, 1e-4, ["force:m"])
     pin, wheel = r.life.gears
     # F = 100 / 0.05 = 2000 N from the static start on (a linear mesh); T on each gear r_i F
     assert pin.peak_torque == pytest.approx(100.0, rel=1e-9) and wheel.peak_torque == pytest.approx(300.0, rel=1e-9)
@@ -163,10 +140,8 @@ def test_a_balanced_pair_gives_miner_damage_of_its_torque(tmp_path):
 
 
 def test_below_the_endurance_limit_there_is_no_damage(tmp_path):
-    p = tmp_path / "pair.toml"
-    p.write_text(PAIR.format(c=0.2 / math.cos(math.radians(20.0))).replace("torque_limit = 100.0",
-                                                                         "torque_limit = 300.001"), encoding="utf-8")
-    wheel = simulate(load_scene(p), 0.05, 1e-4, ["force:m"]).life.gears[1]
+    wheel = simulate(pair(tmp_path, GEARS.replace("torque_limit = 100.0", "torque_limit = 300.001")), 0.05, 1e-4,
+                     ["force:m"]).life.gears[1]
     # the wheel's 300 N m (to the run's round-off, 1e-9 of it) below a limit 3e-6 above it
     assert wheel.damage == 0.0 and wheel.life_hours is None and "no damage" in wheel.note
     assert wheel.cycles > 0
@@ -262,9 +237,7 @@ def test_check_life_refuses_what_is_not_a_table(tmp_path):
     with pytest.raises(SceneError, match="simulation.life"):
         check_life(model, {"bearings": []}, 1.0, None)
     # a rated gear that is not a gear of its mesh
-    pair = tmp_path / "pair.toml"
-    pair.write_text(PAIR.format(c=0.2 / math.cos(math.radians(20.0))), encoding="utf-8")
-    pm = assemble(load_scene(pair))
+    pm = assemble(pair(tmp_path))
     life = dataclasses.replace(pm.scene.simulation.life, gears=(GearRating("m", 1.0, 1e6, 6.0, gear="shaft"),))
     with pytest.raises(SceneError) as e:
         check_life(pm, life, 1.0, None)

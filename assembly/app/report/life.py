@@ -17,6 +17,8 @@ from .. import strict_json
 BEARING_COLUMNS = ("bearing", "rating_n", "exponent", "equivalent_load_n", "peak_load_n", "revolutions", "l10_mrev",
                    "l10_hours", "note")
 GEAR_COLUMNS = ("mesh", "gear", "slope", "torque_eq", "peak_torque", "cycles", "damage", "life_hours", "note")
+BEARING_HEADS = ("bearing", "C [N]", "p", "P [N]", "peak [N]", "revolutions", "L10 [1e6 rev]", "L10 [h]", "note")
+GEAR_HEADS = ("mesh", "gear", "slope k", "T_eq [N m]", "peak [N m]", "tooth cycles", "damage D", "life [h]", "note")
 
 
 def _cell(v) -> str:
@@ -87,16 +89,12 @@ def life_html(life) -> str:
            f"<a href=\"life.csv\">life.csv</a>.</p>"
            + _table(("output", "unit", "cycles", *dels, "note"), output_rows(life),
                     ("output", "unit", "cycles", *(f"DEL m = {m:g}" for m in life.exponents), "note")))
-    if life.bearings:
-        out += ("<h3>Bearings: ISO 281 basic rating life</h3><p>P = X F_r + Y F_a, its mean over the bearing's "
-                'revolutions with exponent p (<a href="life_bearings.csv">life_bearings.csv</a>).</p>'
-                + _table(BEARING_COLUMNS, [vars(b) for b in life.bearings],
-                         ("bearing", "C [N]", "p", "P [N]", "peak [N]", "revolutions", "L10 [1e6 rev]",
-                          "L10 [h]", "note")))
-    if life.gears:
-        out += ("<h3>Gears: equivalent torque and Miner damage</h3><p>One load cycle per tooth per revolution "
-                'against the gear\'s frame (<a href="life_gears.csv">life_gears.csv</a>).</p>'
-                + _table(GEAR_COLUMNS, [vars(g) for g in life.gears],
-                         ("mesh", "gear", "slope k", "T_eq [N m]", "peak [N m]", "tooth cycles", "damage D",
-                          "life [h]", "note")))
+    rated = (("Bearings: ISO 281 basic rating life", "P = X F_r + Y F_a, its mean over the bearing's revolutions "
+              "with exponent p", "life_bearings.csv", BEARING_COLUMNS, life.bearings, BEARING_HEADS),
+             ("Gears: equivalent torque and Miner damage", "One load cycle per tooth per revolution against the "
+              "gear's frame", "life_gears.csv", GEAR_COLUMNS, life.gears, GEAR_HEADS))
+    for title, how, name, cols, rows, heads in rated:
+        if rows:
+            out += (f'<h3>{title}</h3><p>{html.escape(how)} (<a href="{name}">{name}</a>).</p>'
+                    + _table(cols, [vars(r) for r in rows], heads))
     return out
