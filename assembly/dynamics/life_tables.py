@@ -32,6 +32,7 @@ the tables' fields) before the run starts.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -227,6 +228,16 @@ class LifeResult:
     outputs: dict
     bearings: tuple
     gears: tuple
+
+    def as_dict(self) -> dict:
+        """Plain numbers and lists (JSON): the window, N_eq, exponents, shaft; per output its
+        cycles, DELs ``del_mM`` and note; the bearings' and gears' rows."""
+        return {"window_s": list(self.window), "n_eq": self.cycles_ref, "exponents": list(self.exponents),
+                "shaft": self.shaft,
+                "outputs": {k: {"unit": o.unit, "cycles": o.cycles, **{f"del_m{m:g}": o.dels[m] for m in self.exponents},
+                                "note": o.note} for k, o in self.outputs.items()},
+                "bearings": [dataclasses.asdict(b) for b in self.bearings],
+                "gears": [dataclasses.asdict(g) for g in self.gears]}
 
 
 def check_life(model, life, t_end: float, reference: str | None) -> str | None:

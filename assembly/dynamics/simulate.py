@@ -100,7 +100,8 @@ class SimulationResult:
         """``{"time_s": [...], "outputs": {NAME: [...]}, "units": {...}}`` plus run facts."""
         return {"time_s": self.time_s.tolist(), "outputs": {k: v.tolist() for k, v in self.outputs.items()},
                 "units": dict(self.units), "complete": self.complete, "meshes": self.meshes,
-                "warnings": self.warnings, "info": {k: v for k, v in self.info.items() if not k.startswith("_")}}
+                "warnings": self.warnings, "info": {k: v for k, v in self.info.items() if not k.startswith("_")},
+                **({"life": self.life.as_dict()} if self.life is not None else {})}
 
 
 def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base_dir=None,

@@ -19,6 +19,7 @@ Theory.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -78,6 +79,9 @@ def test_a_constant_load_gives_iso_281_l10(tmp_path):
     assert b.l10_mrev == pytest.approx((5.0e4 / 1.0e3) ** 3, rel=3e-9)
     assert b.l10_hours == pytest.approx(1.25e5 * 1e6 / (omega / (2 * math.pi)) / 3600, rel=3e-9)
     assert b.note == ""
+    # the run's JSON carries the table (finite numbers only)
+    doc = json.loads(json.dumps(r.as_json(), allow_nan=False))
+    assert doc["life"]["bearings"][0]["l10_mrev"] == b.l10_mrev
 
 
 def test_a_two_level_spectrum_gives_the_iso_281_mean_load(tmp_path):

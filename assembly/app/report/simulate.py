@@ -206,13 +206,14 @@ def short_time_spectrum(parts, n: int):
 def summary(r: SimulationResult, scene: str) -> dict:
     """Per output its mean, RMS, min, max and peak |value| with its time (the statistics the
     run accumulated, :class:`assembly.dynamics.history.Statistics`); the meshes' contact
-    losses."""
+    losses; the life tables when the run has them."""
     rows = {k: {"unit": v["unit"], **{s: float(v[s]) for s in ("mean", "rms", "min", "max", "peak", "peak_time_s")}}
             for k, v in r.statistics.items()}
     return {"scene": scene, "complete": r.complete, "stopped": None if r.complete else r.info.get("stopped"),
             "t_end_s": float(r.t_last_s), "steps": r.steps,
             "outputs": rows, "meshes": r.meshes, "mesh_frequencies_hz": r.mesh_frequencies_hz,
-            "warnings": r.warnings, "info": {k: v for k, v in r.info.items() if not k.startswith("_")}}
+            "warnings": r.warnings, "info": {k: v for k, v in r.info.items() if not k.startswith("_")},
+            **({"life": r.life.as_dict()} if r.life is not None else {})}
 
 
 def summary_text(r: SimulationResult, scene: str) -> str:
@@ -230,8 +231,26 @@ def summary_text(r: SimulationResult, scene: str) -> str:
               for k, v in r.info.get("turbine_sources", {}).items()]
     if "controller_calls" in r.info:
         lines.append(f"  controller: {r.info['controller_calls']} calls, every {r.info['controller_period_s']:g} s")
+    lines += life_lines(r.life)
     lines += [f"  warning: {w}" for w in r.warnings]
     return "\n".join(lines)
+
+
+def life_lines(life) -> list:
+    """The summary's lines of a run's life tables (none without them)."""
+    if life is None:
+        return []
+
+    def num(v, fmt=".4g"):
+        return "-" if v is None else format(v, fmt)
+    m = max(life.exponents)
+    out = [f"  life ({life.window[0]:g} .. {life.window[1]:g} s): {k} DEL m={m:g} {num(o.dels[m])} {o.unit}"
+           for k, o in life.outputs.items()]
+    out += [f"  bearing {b.bearing}: P {num(b.equivalent_load_n)} N, L10 {num(b.l10_hours)} h"
+            + (f" ({b.note})" if b.note else "") for b in life.bearings]
+    out += [f"  gear {g.gear} ({g.mesh}): T_eq {num(g.torque_eq)} N m, damage {num(g.damage)}, life "
+            f"{num(g.life_hours)} h" + (f" ({g.note})" if g.note else "") for g in life.gears]
+    return out
 
 
 def write_h5(r: SimulationResult, path, scene: str, facts: dict | None = None) -> Path:
