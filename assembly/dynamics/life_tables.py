@@ -196,7 +196,10 @@ def gear_rows(model, life, time_s, read) -> list:
             note = "the damage overflows a float: the torque is far above the S-N curve's reference"
         else:
             note = ""
-        hours = float(t[-1] - t[0]) / d / 3600.0 if note == "" else None
+        with np.errstate(over="ignore", divide="ignore"):
+            hours = float(np.float64(t[-1] - t[0]) / np.float64(d) / 3600.0) if note == "" else None
+        if hours is not None and not math.isfinite(hours):
+            note = "the life overflows a float: the damage is below 1e-300"
         rows.append(GearLifeRow(g.mesh, gear, g.slope, t_eq, float(torque.max()), n, *_finite(d, hours), note))
     return rows
 
