@@ -3,8 +3,9 @@ the simulation, the order analysis, the life tables and the pictures, and its pe
 
     python -m assembly.app.bench.runup [runup arguments]
 
-runs ``flexgear runup`` with the arguments given (default :data:`DEFAULT`: the NREL 5 MW
-through its operating range, docs/benchmarks.md "Run-up of the 5 MW") in this process, with a
+runs ``flexgear runup`` with the arguments given (a scene and its flags; flags alone, such as
+``--out DIR``, are added to :data:`DEFAULT`: the NREL 5 MW through its operating range,
+docs/benchmarks.md "Run-up of the 5 MW") in this process, with a
 timer around each part, and prints a markdown table: steps, simulated seconds, wall seconds of
 each part, peak resident memory (``ru_maxrss``: the interpreter and imports included). The parts
 are timed by wrapping the functions the command calls (module attributes, looked up at call
@@ -76,7 +77,8 @@ def timed(parts: dict):
 def main(argv=None) -> int:
     from ..cli import main as cli_main
 
-    args = list(argv) if argv else list(DEFAULT)
+    argv = list(argv or [])
+    args = argv if argv and not argv[0].startswith("-") else [*DEFAULT, *argv]     # flags alone: added to DEFAULT
     if "--out" not in args:
         args += ["--out", "runup-bench"]
     parts: dict = {}
