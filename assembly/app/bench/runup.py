@@ -59,11 +59,14 @@ PARTS = (("assembly.dynamics.simulate", "simulate", "simulation"),
          ("assembly.app.cli", "runup_report", "_report"))
 
 
-def timed(parts: dict):
-    """Wrap the functions of :data:`PARTS`, adding their wall seconds to ``parts``."""
+def timed(parts: dict) -> list:
+    """Wrap the functions of :data:`PARTS`, adding their wall seconds to ``parts``; returns
+    (module, name, function) of the originals, for :func:`untimed`."""
+    originals = []
     for mod, name, part in PARTS:
         m = importlib.import_module(mod)
         f = getattr(m, name)
+        originals.append((m, name, f))
 
         def wrapper(*a, _f=f, _part=part, **k):
             t0 = time.perf_counter()
@@ -72,6 +75,13 @@ def timed(parts: dict):
             finally:
                 parts[_part] = parts.get(_part, 0.0) + time.perf_counter() - t0
         setattr(m, name, functools.wraps(f)(wrapper))
+    return originals
+
+
+def untimed(originals: list) -> None:
+    """Put back the functions :func:`timed` wrapped."""
+    for m, name, f in reversed(originals):
+        setattr(m, name, f)
 
 
 def main(argv=None) -> int:
@@ -82,9 +92,12 @@ def main(argv=None) -> int:
     if "--out" not in args:
         args += ["--out", "runup-bench"]
     parts: dict = {}
-    timed(parts)
+    originals = timed(parts)
     t0 = time.perf_counter()
-    rc = cli_main(["runup", *args, "--quiet"])
+    try:
+        rc = cli_main(["runup", *args, "--quiet"])
+    finally:
+        untimed(originals)
     wall = time.perf_counter() - t0
     # sim_files holds the pictures, the history file and the run-up's report: the rest is the spectra
     parts["spectra"] = parts.pop("_sim_files", 0.0) - sum(parts.get(k, 0.0) for k in
