@@ -80,6 +80,23 @@ class Resampled:
 
 
 @dataclass(frozen=True)
+class AngleGrid:
+    """The instants a record's shaft passes equal angles (module notes, step 1), the same for
+    every signal of the record: ``time`` and ``angle`` the record's (checked), ``grid`` the
+    fine grid's angles (rad) and ``grid_time`` its instants (s), ``samples_per_rev`` the target
+    samples a revolution and ``oversampling`` (D) the fine grid's factor. Made once by
+    :func:`angle_grid` and given to :func:`order_map` / :func:`resample_angle` of each signal,
+    it spares them the spline of time over angle."""
+
+    time: np.ndarray
+    angle: np.ndarray
+    grid: np.ndarray
+    grid_time: np.ndarray
+    samples_per_rev: int
+    oversampling: int
+
+
+@dataclass(frozen=True)
 class OrderMap:
     """Amplitude per order over speed: ``amplitude[i, j]`` of order ``orders[j]`` in block i,
     which turned at mean ``speed[i]`` (rad/s) around ``time[i]`` (s, its middle).
@@ -156,12 +173,16 @@ def _check_record(time, angle, value) -> tuple[np.ndarray, np.ndarray, np.ndarra
     for name, arr in (("angle", a), ("value", x)):
         if arr.shape != t.shape:
             raise SceneError(name, arguments.shown(arr), f"must have one sample per time ({len(t)})")
+    _check_angle(t, a)
+    return t, a, x
+
+
+def _check_angle(t: np.ndarray, a: np.ndarray) -> None:
     da = np.diff(a)
     if np.any(da <= 0):
         i = int(np.argmax(da <= 0))
         raise SceneError("angle", float(a[i + 1]), f"does not increase at t = {t[i + 1]:.6g} s (speed "
                          f"{da[i] / (t[i + 1] - t[i]):.6g} rad/s): order tracking needs the shaft turning one way")
-    return t, a, x
 
 
 def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
@@ -177,12 +198,27 @@ def shaft_angle(time, speed, start: float = 0.0) -> np.ndarray:
     return arguments.number("start", start, "rad") + cumulative_trapezoid(w, t, initial=0.0)
 
 
-def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
-    """``value`` (sampled at ``time``, s) at equal increments of the shaft ``angle`` (rad),
-    ``samples_per_rev`` a revolution, anti-aliased in the angle domain (module notes, steps 1
-    and 2). SceneError at ``angle`` where it does not increase or where the fine grid (set
-    by the slowest speed) would exceed the memory budget, at ``samples_per_rev`` below 8."""
-    t, a, x = _check_record(time, angle, value)
+def revolution_samples(max_order: float) -> int:
+    """Samples a revolution of an order map reaching ``max_order``: the least power of two >= 8
+    with ``PASS x spr / 2 >= max_order``."""
+    max_order = arguments.number("max_order", max_order, gt=0.0)
+    spr = 8
+    while PASS * spr / 2 < max_order:
+        spr *= 2
+    return spr
+
+
+def angle_grid(time, angle, samples_per_rev: int) -> AngleGrid:
+    """The :class:`AngleGrid` of a record (``time`` s, the shaft's ``angle`` rad) for
+    ``samples_per_rev`` samples a revolution: D x ``samples_per_rev`` points a revolution (module
+    notes, step 1) and the instants the shaft passes them. SceneError at ``angle`` where it does
+    not increase or where the fine grid (set by the slowest speed) would exceed the memory
+    budget, at ``samples_per_rev`` below 8."""
+    t = _times(time)
+    a = _series("angle", angle)
+    if a.shape != t.shape:
+        raise SceneError("angle", arguments.shown(a), f"must have one sample per time ({len(t)})")
+    _check_angle(t, a)
     spr = arguments.integer("samples_per_rev", samples_per_rev, 8)
     rate = 1.0 / float(np.min(np.diff(t)))                         # samples/s of the record
     slowest = float(np.min(np.diff(a) / np.diff(t))) / (2 * math.pi)   # rev/s
@@ -193,8 +229,23 @@ def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
                  f"an angle grid of {points:.3g} points ({d} x {spr} a revolution: the record's {rate:.4g} "
                  f"samples/s at its slowest {slowest:.3g} rev/s)", "start the record where the shaft turns")
     grid = a[0] + step * np.arange(int(math.floor((a[-1] - a[0]) / step)) + 1)
-    t_grid = CubicSpline(a, t)(grid)
-    x_grid = CubicSpline(t, x)(t_grid)
+    return AngleGrid(t, a, grid, CubicSpline(a, t)(grid), spr, d)
+
+
+def resample_angle(time, angle, value, samples_per_rev: int, grid: AngleGrid | None = None) -> Resampled:
+    """``value`` (sampled at ``time``, s) at equal increments of the shaft ``angle`` (rad),
+    ``samples_per_rev`` a revolution, anti-aliased in the angle domain (module notes, steps 1
+    and 2). SceneError at ``angle`` where it does not increase or where the fine grid (set
+    by the slowest speed) would exceed the memory budget, at ``samples_per_rev`` below 8.
+    ``grid``: the record's :class:`AngleGrid` for ``samples_per_rev`` (:func:`angle_grid`), made
+    once for many signals of one record (``time`` and ``angle`` must be its own)."""
+    t, a, x = _check_record(time, angle, value)
+    if grid is None:
+        grid = angle_grid(t, a, samples_per_rev)
+    else:
+        _check_grid(grid, t, a, samples_per_rev)
+    d, spr = grid.oversampling, grid.samples_per_rev
+    x_grid = CubicSpline(t, x)(grid.grid_time)
     width = (1.0 - PASS) / d                                        # of the fine Nyquist
     taps, beta = signal.kaiserord(RIPPLE_DB, width)
     taps |= 1                                                       # odd: a whole-sample delay
@@ -203,11 +254,23 @@ def resample_angle(time, angle, value, samples_per_rev: int) -> Resampled:
     edge = taps // (2 * d) + 1                                      # the filter's start-up, coarse samples
     keep = slice(edge, len(y) - edge)
     idx = (np.arange(len(y)) * d)[keep]                             # output j is fine sample j d
-    return Resampled(grid[idx], t_grid[idx], y[keep], spr, PASS * spr / 2, d, taps)
+    return Resampled(grid.grid[idx], grid.grid_time[idx], y[keep], spr, PASS * spr / 2, d, taps)
+
+
+def _check_grid(grid, t: np.ndarray, a: np.ndarray, spr) -> None:
+    """SceneError unless ``grid`` is the :class:`AngleGrid` of the record ``t``, ``a`` for
+    ``spr`` samples a revolution."""
+    arguments.instance("grid", grid, AngleGrid, "an AngleGrid (angle_grid)")
+    if grid.samples_per_rev != arguments.integer("samples_per_rev", spr, 8):
+        raise SceneError("grid", f"{grid.samples_per_rev} samples a revolution", f"the map needs {spr}: make it "
+                         f"with angle_grid(time, angle, {spr})")
+    same = all(x is y or (x.shape == y.shape and np.array_equal(x, y)) for x, y in ((grid.time, t), (grid.angle, a)))
+    if not same:
+        raise SceneError("grid", "an AngleGrid of another record", "make it from this record's time and angle")
 
 
 def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, overlap: float = 0.5,
-              lowest_order: float = 1.0, run_up: bool = True) -> OrderMap:
+              lowest_order: float = 1.0, run_up: bool = True, grid: AngleGrid | None = None) -> OrderMap:
     """Order map of ``value`` over the run (module notes): orders up to at least
     ``max_order`` (samples a revolution the least power of two with ``PASS x spr / 2 >=
     max_order``), blocks of ``revolutions`` turns overlapping by ``overlap``.
@@ -217,7 +280,9 @@ def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, ove
     SceneError, one line naming the field: ``max_order`` / ``lowest_order`` <= 0;
     ``revolutions`` too few for ``lowest_order`` (fewer than ``MIN_CYCLES`` cycles a block) or
     more than the record turns; ``angle`` where it does not increase; ``speed``, with
-    ``run_up``, where the block speeds do not increase."""
+    ``run_up``, where the block speeds do not increase. ``grid``: the record's
+    :class:`AngleGrid` for :func:`revolution_samples` of ``max_order``, made once for many signals
+    of one record (:func:`angle_grid`; ``time`` and ``angle`` must be its own)."""
     max_order = arguments.number("max_order", max_order, gt=0.0)
     low = arguments.number("lowest_order", lowest_order, gt=0.0)
     revolutions = arguments.integer("revolutions", revolutions, 1)
@@ -231,10 +296,8 @@ def order_map(time, angle, value, *, max_order: float, revolutions: int = 8, ove
     if turns < revolutions:
         raise SceneError("time", float(t[-1] - t[0]), f"the record turns {turns:.3g} revolutions, fewer than "
                          f"the {revolutions} a block needs for order {low:g}")
-    spr = 8
-    while PASS * spr / 2 < max_order:
-        spr *= 2
-    rs = resample_angle(t, a, x, spr)
+    spr = revolution_samples(max_order)
+    rs = resample_angle(t, a, x, spr, grid)
     n = revolutions * spr
     if len(rs.value) <= n:
         raise SceneError("time", float(t[-1] - t[0]), f"the record turns {turns:.3g} revolutions: after the "

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
-from .order_tracking import order_cut, order_map, resonance_passages, shaft_angle
+from .order_tracking import angle_grid, order_cut, order_map, resonance_passages, revolution_samples, shaft_angle
 
 #: Mesh harmonics tracked.
 MESH_HARMONICS = 3
@@ -97,9 +97,10 @@ def runup_orders(time_s, reference_speed, outputs: dict, orders: dict, modes, pa
         return RunupOrders(orders, maps, passages, skipped)
     top = 1.1 * max(keep.values())
     pairs = [(float(f), str(c)) for f, c in modes if f > 0]
+    grid = angle_grid(t, angle, revolution_samples(top))        # the instants of equal angle, once for every output
     for name, y in outputs.items():
         omap = order_map(t, angle, np.asarray(y, float), max_order=top, revolutions=revs,
-                         lowest_order=min(keep.values()))
+                         lowest_order=min(keep.values()), grid=grid)
         maps[name] = omap
         for label, o in keep.items():
             cut = order_cut(omap, o)

@@ -159,3 +159,22 @@ def test_bench_turbine_prints_the_cost_beside_the_drivetrain_alone(capsys):
     cells = [c.strip() for c in rows[0].strip("|").split("|")]
     # 0.05 s of the deck's 0.00625 s steps, the controller called at each; a ratio of two times
     assert cells[2] == "8" and cells[6] == "8" and float(cells[-1]) > 0.0
+
+
+@pytest.mark.slow
+def test_bench_runup_times_each_part_of_a_short_runup(tmp_path, capsys):
+    # a run-up of the 5 MW over a few hundredths of a second, one output: the command's files are
+    # written, every part of the table has a time, and the functions it timed are put back
+    import assembly.dynamics.simulate as sim_module
+    from assembly.app.bench.runup import main
+    simulate = sim_module.simulate
+    out = tmp_path / "runup"
+    assert main(["nrel5mw_transient", "--speed-range", "6.9", "12.1", "--rate", "100", "--dt", "1e-4", "--settle",
+                 "0.005", "--track", "generator", "--output", "force:stage3", "--out", str(out)]) == 0
+    assert sim_module.simulate is simulate
+    text = capsys.readouterr().out
+    rows = {r[0]: r[1] for r in _table(text.splitlines(), "| part | wall [s] |")}
+    for part in ("simulation", "history file", "simulation images", "life", "total (command)"):
+        assert float(rows[part]) >= 0.0, part
+    assert "steps," in text and (out / "life.csv").exists() and (out / "index.html").exists()
+

@@ -23,7 +23,14 @@ import math
 import numpy as np
 import pytest
 
-from assembly.dynamics.order_tracking import order_cut, order_map, resonance_passages, shaft_angle
+from assembly.dynamics.order_tracking import (
+    angle_grid,
+    order_cut,
+    order_map,
+    resonance_passages,
+    revolution_samples,
+    shaft_angle,
+)
 from assembly.dynamics.simulate import simulate
 from assembly.errors import SceneError
 from assembly.scene.schema import scene_from_dict
@@ -58,6 +65,22 @@ def test_known_orders_tracked_over_a_linear_ramp():
     a, d = (F1 - F0) / T, 8 / F0
     f_mid = F0 + a * omap.time
     assert np.all(np.abs(omap.speed / (2 * math.pi) - f_mid) <= 1.01 * a**2 * d**2 / (8 * F0))
+
+
+def test_one_angle_grid_serves_every_signal_of_a_record():
+    # the instants of equal angle made once (angle_grid) give each signal's map bit for bit as
+    # the map that makes them itself; a grid of another resolution or record is refused
+    t, theta = _ramp(4.0)
+    grid = angle_grid(t, theta, revolution_samples(30))
+    for o, a, p in ORDERS:
+        x = a * np.cos(o * theta + p)
+        assert np.array_equal(order_map(t, theta, x, max_order=30, revolutions=8, grid=grid).amplitude,
+                              order_map(t, theta, x, max_order=30, revolutions=8).amplitude)
+    x = np.cos(theta)
+    for bad, why in ((angle_grid(t, theta, revolution_samples(60)), "samples a revolution"),
+                     (angle_grid(t, 1.01 * theta, revolution_samples(30)), "another record"), ("grid", "AngleGrid")):
+        with pytest.raises(SceneError, match=why):
+            order_map(t, theta, x, max_order=30, revolutions=8, grid=bad)
 
 
 def test_an_order_above_the_band_does_not_alias_into_it():
