@@ -315,7 +315,7 @@ def runup_report(r, scene, work, track=None):
         return [], ""
     ref, _, ro, modes = got
     top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[f"speed:{ref}"]).max() / (2 * math.pi)
-    files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top)
+    files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top, ref)
     return files, (f'<p><a href="orders.html">Orders of the run-up</a>: {len(ro.passages)} resonance '
                    f'passages (<a href="passages.csv">passages.csv</a>).</p>')
 

@@ -302,11 +302,12 @@ def plot_spectra_pair(frequency_hz, first, second, path, labels=("coupled", "one
 
 
 def plot_response_campbell(speed_rpm, orders, amplitude, path, order_lines=(), natural_hz=(), title: str = "",
-                           ylabel: str = "", f_max: float | None = None, columns: int = 800) -> Path:
+                           ylabel: str = "", f_max: float | None = None, columns: int = 800,
+                           shaft: str = "") -> Path:
     """A run-up's response over speed and frequency: the order map ``amplitude`` (blocks x
     orders) at frequency = order x speed (dB of its largest value, 60 dB shown; orders pooled
     by their maximum into at most ``columns`` bands; the scale's top from order 1 up), the ``order_lines`` (label, order) as lines through the origin and the
-    ``natural_hz`` as horizontal lines."""
+    ``natural_hz`` as horizontal lines; ``shaft`` names whose speed it is."""
     order = np.argsort(np.asarray(speed_rpm, float), kind="stable")   # blocks by speed (a ringing drive wavers)
     n = np.asarray(speed_rpm, float)[order]
     o = np.asarray(orders, float)
@@ -337,7 +338,7 @@ def plot_response_campbell(speed_rpm, orders, amplitude, path, order_lines=(), n
                 ax.axhline(fn, color="C3", lw=0.5, ls=":")
         ax.set_ylim(0, top)
         ax.set_xlim(x[0], x[1])
-        ax.set_xlabel("speed [rpm]")
+        ax.set_xlabel(f"speed of {shaft} [rpm]" if shaft else "speed [rpm]")
         ax.set_ylabel("frequency [Hz]")
         ax.set_title(title, fontsize=9)
     return Path(path)

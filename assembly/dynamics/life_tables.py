@@ -275,8 +275,8 @@ def life_result(model, life, time_s, read, units: dict, names, shaft: str | None
     ``shaft``: the LRDs' (:func:`check_life`'s)."""
     t_all = np.asarray(time_s, float)
     t0, t1 = life.window if life.window is not None else (float(t_all[0]), float(t_all[-1]))
-    keep = (t_all >= t0) & (t_all <= t1)
-    if np.count_nonzero(keep) < 2:
+    keep = slice(int(np.searchsorted(t_all, t0, "left")), int(np.searchsorted(t_all, t1, "right")))  # views
+    if keep.stop - keep.start < 2:
         raise check.refuse("simulation.life.window", [t0, t1], "holds fewer than two samples of the record")
     t = t_all[keep]
     n_eq = float(life.cycles_ref) if life.cycles_ref is not None else float(t[-1] - t[0])

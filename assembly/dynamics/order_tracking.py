@@ -126,8 +126,9 @@ class Passage:
     """A resonance passage: ``order`` meets mode ``mode`` (1-based, its ``mode_class``) of
     ``frequency_hz`` at shaft ``speed`` = 2 pi f_n / order (rad/s). ``peak_speed`` and
     ``peak``: the order cut's largest amplitude within the passage's search band;
-    ``quasi_static``: the cut's low-speed asymptote (see :func:`resonance_passages`);
-    ``amplification`` = peak / quasi_static (None without a quasi-static level)."""
+    ``quasi_static``: the cut's low-speed asymptote (see :func:`resonance_passages`), read over
+    the speeds up to ``static_r`` of the passage's; ``amplification`` = peak / quasi_static (None
+    without a quasi-static level, or when the peak is the search band's edge: ``note``)."""
 
     order: float
     mode: int
@@ -138,6 +139,8 @@ class Passage:
     peak: float | None
     quasi_static: float | None
     amplification: float | None
+    static_r: float | None = None
+    note: str = ""
 
 
 def _series(name: str, value, least: int = 4) -> np.ndarray:
@@ -335,7 +338,7 @@ def order_cut(omap: OrderMap, order: float) -> OrderCut:
 
 
 def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below: float = 0.5,
-                       parametric: bool = False) -> list[Passage]:
+                       parametric: bool = False, static_fallback: float = 0.8) -> list[Passage]:
     """Each passage of ``cut``'s order through a natural frequency: ``modes`` a sequence of
     (frequency_hz, mode_class). The passage speed is 2 pi f_n / order (rad/s); the peak is
     the cut's largest amplitude at speeds within ``band`` (relative) of it; the quasi-static
@@ -351,10 +354,16 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
     over static_below x 0.7 <= r <= ``static_below`` (high by sqrt(1 + 4 zeta^2 / r^2) at most,
     4 % at zeta = 0.05 and r = 0.35), so the amplification is over the mesh's own quasi-static
     excitation a F0 (its peak |1 - H| at r = 1, sqrt(1 + 4 zeta^2) / (2 zeta) for a slow sweep).
+    A range too narrow to reach ``static_below`` of a passage (a 5 MW's operating range spans
+    1.75 x) reads its level up to ``static_fallback`` instead (r <= 0.8: the one-mode bias
+    2 zeta^2 r^2 / (1 - r^2)^2, 2.5 % at zeta = 0.05, and more of the neighbouring modes); the
+    passage's ``static_r`` says which. A peak on the search band's edge (the order still rising
+    or falling through it) is no resonance maximum: its amplification is None, said in ``note``.
     SceneError at ``modes[i]`` with a frequency <= 0, at ``cut.speed`` not increasing."""
     arguments.instance("cut", cut, OrderCut, "an OrderCut (order_cut)")
     band = arguments.number("band", band, gt=0.0)
     static_below = arguments.number("static_below", static_below, gt=0.0, lt=1.0)
+    static_fallback = arguments.number("static_fallback", static_fallback, gt=0.0, lt=1.0)
     if isinstance(modes, (str, bytes, dict)) or not isinstance(modes, (list, tuple)):
         raise arguments.refuse("modes", modes, "must be a list of (frequency Hz, mode class) pairs")
     pairs = []
@@ -368,19 +377,28 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
     out = []
     for j, (f, cls) in enumerate(pairs):
         s = 2 * math.pi * f / cut.order
-        near = np.abs(cut.speed / s - 1.0) <= band
+        near = np.flatnonzero(np.abs(cut.speed / s - 1.0) <= band)
         peak_speed = peak = None
-        if np.any(near):
-            i = int(np.flatnonzero(near)[np.argmax(cut.amplitude[near])])
+        note = ""
+        if near.size:
+            i = int(near[np.argmax(cut.amplitude[near])])
             peak_speed, peak = float(cut.speed[i]), float(cut.amplitude[i])
+            inner = (i > near[0] or i == 0) and (i < near[-1] or i == len(cut.speed) - 1)
+            if not inner:
+                note = f"the peak is the search band's edge (+-{100 * band:g} %): the order rises through it"
         r = cut.speed / s
-        if parametric:
-            low = (r <= static_below) & (r >= PARAMETRIC_FROM * static_below)
-            shape = np.abs(1.0 - r[low]**2) / r[low]**2
-        else:
-            low = r <= static_below
-            shape = np.abs(1.0 - r[low]**2)
-        static = float(np.mean(cut.amplitude[low] * shape)) if np.any(low) else None
-        amp = peak / static if (peak is not None and static) else None
-        out.append(Passage(cut.order, j + 1, cls, float(f), s, peak_speed, peak, static, amp))
+        static, top = None, None
+        for top in (static_below, max(static_below, static_fallback)):
+            if parametric:
+                low = (r <= top) & (r >= PARAMETRIC_FROM * top)
+                shape = np.abs(1.0 - r[low]**2) / np.maximum(r[low], 1e-300)**2
+            else:
+                low = r <= top
+                shape = np.abs(1.0 - r[low]**2)
+            if np.any(low):
+                static = float(np.mean(cut.amplitude[low] * shape))
+                break
+        top = top if static is not None else None
+        amp = peak / static if (peak is not None and static and not note) else None
+        out.append(Passage(cut.order, j + 1, cls, float(f), s, peak_speed, peak, static, amp, top, note))
     return out

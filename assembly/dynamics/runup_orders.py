@@ -112,13 +112,14 @@ def runup_orders(time_s, reference_speed, outputs: dict, orders: dict, modes, pa
                                  "mode_class": p.mode_class,
                                  "frequency_hz": p.frequency_hz, "speed_rpm": p.speed * 30 / math.pi,
                                  "peak_speed_rpm": None if p.peak_speed is None else p.peak_speed * 30 / math.pi,
-                                 "peak": p.peak, "quasi_static": p.quasi_static, "amplification": p.amplification})
+                                 "peak": p.peak, "quasi_static": p.quasi_static, "level_r": p.static_r,
+                                 "amplification": p.amplification, "note": p.note})
     passages.sort(key=lambda d: (d["output"], d["speed_rpm"]))
     return RunupOrders(orders, maps, passages, skipped)
 
 
 def run_orders(r, scene, track: str | None = None):
-    """(reference, the ramp's time mask, :class:`RunupOrders`, the modes' (Hz, class)) of a
+    """(reference, the ramp's slice of the record, :class:`RunupOrders`, the modes' (Hz, class)) of a
     run-up's result ``r`` (a
     :class:`~assembly.dynamics.simulate.SimulationResult` of ``scene`` with a
     ``[simulation.drive]``, its histories kept): every recorded load (not the speeds) tracked
@@ -134,7 +135,9 @@ def run_orders(r, scene, track: str | None = None):
     if ref is None or key not in r.outputs:
         return None
     drive = scene.simulation.drive
-    ramp = (r.time_s >= drive.t_start) & (r.time_s <= drive.t_end)      # the sweep, not the settling
+    # the sweep, not the settling: a slice (views of the histories, no copies)
+    ramp = slice(int(np.searchsorted(r.time_s, drive.t_start, "left")), int(np.searchsorted(r.time_s, drive.t_end,
+                                                                                            "right")))
     outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:")}
     res = solve_modes(assemble(scene))
     info = classify_modes(res, nodal_diameters=False)

@@ -192,7 +192,9 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
     sink = None if not streaming else stats if history is None else Tee(
         H5History(history, rec.histories, {"scene": scene.name}, chunk_steps(rec.size)), stats)
     freqs, shaft_hz, side_hz = mesh_frequencies(model, scene, v0)
-    warnings = (step_warnings(dt, freqs, meshes, scene.band) + undamped_band(model, M, K, C, scene.band)
+    top = drive_scale or 1.0                    # a run-up's mesh frequencies grow to its top speed
+    warnings = (step_warnings(dt, {k: f * top for k, f in freqs.items()}, meshes, scene.band)
+                + undamped_band(model, M, K, C, scene.band)
                 + [w for w in (range_warning(h, check_step(dt, t_end) * dt) for h in loads.recorded) if w]
                 + brake_warnings(model, scene, sim, dt, loads.torques) + (turbine.warnings if turbine else []))
     for w in warnings:

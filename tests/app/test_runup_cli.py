@@ -61,3 +61,16 @@ def test_a_bad_life_table_exits_2_naming_it_and_writes_nothing(tmp_path, capsys)
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "simulation.life.gears[0].gear" in err[0]
     assert not out.exists()
+
+
+def test_the_step_warning_counts_a_run_ups_top_speed(tmp_path):
+    # the pair's mesh varies at 20 teeth of the rotor: 20 x 10 rad/s / 2 pi = 31.8 Hz at the start,
+    # 477 Hz at the run-up's 150 rad/s; dt = 1e-3 s gives 31 steps a period at the start and 2.1 at
+    # the top, below the 10 the run asks for (assembly.dynamics.run_checks.STEPS_PER_PERIOD)
+    from assembly.dynamics.simulate import simulate
+    from assembly.scene.schema import load_scene
+    scene = load_scene(pair_file(tmp_path, mesh="variation = { amplitudes = [0.1], teeth = 20 }",
+                                 sim="drive = { end_speed = 150.0, t_end = 1.0 }"))
+    r = simulate(scene, 0.01, 1e-3, ["force:m"])
+    (w,) = [w for w in r.warnings if "mesh harmonic" in w]
+    assert "2.1 steps per period of m's mesh harmonic 1 (477.5 Hz)" in w

@@ -73,3 +73,32 @@ def test_a_parametric_order_is_amplified_over_its_own_excitation(zeta):
     # read as an additive order the same cut's level is a F0 r^2 -- the amplification far too high
     (q,) = resonance_passages(cut, [(fn, "torsional")])
     assert q.amplification > 3 * p.amplification
+
+
+def test_a_narrow_range_reads_its_level_up_to_r_0_8_and_says_so():
+    # one additive mode, |H| = 1 / |1 - r^2 + 2 i zeta r|, over r = 0.6 .. 1.3 only (a 5 MW's range
+    # spans 1.75 x): the level is read up to r = 0.8, low by at most the one-mode bias
+    # 2 zeta^2 r^2 / (1 - r^2)^2 there (the asymptote's module notes)
+    from assembly.dynamics.order_tracking import OrderCut, resonance_passages
+    zeta, order, fn, a = 0.05, 3.0, 12.0, 2.5
+    s = 2 * math.pi * fn / order
+    r = np.linspace(0.6, 1.3, 14001)
+    cut = OrderCut(order, r * s, r, a / np.abs(1 - r ** 2 + 2j * zeta * r))
+    (p,) = resonance_passages(cut, [(fn, "torsional")])
+    assert p.static_r == 0.8 and p.note == ""
+    bias = 2 * zeta ** 2 * 0.8 ** 2 / (1 - 0.8 ** 2) ** 2
+    assert a * (1 - bias) <= p.quasi_static <= a
+    # the range starting below half the passage speed: the level from r <= 0.5 as before
+    r2 = np.linspace(0.3, 1.3, 20001)
+    (q,) = resonance_passages(OrderCut(order, r2 * s, r2, a / np.abs(1 - r2 ** 2 + 2j * zeta * r2)),
+                              [(fn, "torsional")])
+    assert q.static_r == 0.5
+
+
+def test_a_peak_on_the_search_bands_edge_has_no_amplification():
+    # an order rising through the band (no resonance maximum inside +-10 % of the passage)
+    from assembly.dynamics.order_tracking import OrderCut, resonance_passages
+    r = np.linspace(0.3, 1.5, 1201)
+    (p,) = resonance_passages(OrderCut(2.0, r * 10.0, r, r ** 3), [(10.0 * 2.0 / (2 * math.pi), "x")])
+    assert p.peak_speed == pytest.approx(1.1 * 10.0, rel=1e-3) and p.amplification is None
+    assert "edge" in p.note
