@@ -122,7 +122,8 @@ def run_orders(r, scene, track: str | None = None):
     """(reference, the ramp's slice of the record, :class:`RunupOrders`, the modes' (Hz, class)) of a
     run-up's result ``r`` (a
     :class:`~assembly.dynamics.simulate.SimulationResult` of ``scene`` with a
-    ``[simulation.drive]``, its histories kept): every recorded load (not the speeds) tracked
+    ``[simulation.drive]``, its histories kept): every load asked for (not the speeds, nor the
+    channels recorded for the life tables alone) tracked
     against the recorded speed of ``track`` (default the run's reference) over the ramp, the
     passages with the model's elastic modes; None when that speed was not recorded. A record too
     short for it raises SceneError (:func:`runup_orders`)."""
@@ -138,7 +139,8 @@ def run_orders(r, scene, track: str | None = None):
     # the sweep, not the settling: a slice (views of the histories, no copies)
     ramp = slice(int(np.searchsorted(r.time_s, drive.t_start, "left")), int(np.searchsorted(r.time_s, drive.t_end,
                                                                                             "right")))
-    outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:")}
+    skip = set(r.info.get("life_channels", ()))                      # read by the life tables alone
+    outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:") and k not in skip}
     res = solve_modes(assemble(scene))
     info = classify_modes(res, nodal_diameters=False)
     modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]

@@ -70,7 +70,9 @@ class SimulationResult:
     ``history_file``: the HDF5 file the histories were streamed to (then ``time_s`` is empty
     and ``outputs`` {}), None when they are in ``outputs``. ``life``: the loads-to-life tables
     of a complete run whose scene asks for them (``[simulation.life]``:
-    :class:`assembly.dynamics.life_tables.LifeResult`), else None."""
+    :class:`assembly.dynamics.life_tables.LifeResult`), else None; the channels recorded for
+    them alone (a rated bearing's forces, the speeds) are in ``outputs`` and named in
+    ``info["life_channels"]``."""
 
     time_s: np.ndarray
     outputs: dict
@@ -181,7 +183,11 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
     shaft = None
     if sim.life is not None:
         shaft = check_life(model, sim.life, t_end, reference)
+        asked = set(outputs)
         outputs = list(dict.fromkeys([*outputs, *life_channels(model, sim.life, shaft)]))
+        life_only = [k for k in outputs if k not in asked]        # recorded for the tables, not asked for
+    else:
+        life_only = []
     extra = [(k, OUTPUTS[k]) for k in outputs if k in OUTPUTS]
     rec = recorder(model, sim.points, [k for k in outputs if k not in OUTPUTS], G, meshes, tuple(extra))
     observe = rec.observe(meshes)
@@ -209,6 +215,7 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
         run, stopped = exc.partial, exc
     result = _result(run, rec, stats, history, meshes, dt, t_end, n, freqs, shaft_hz, side_hz, warnings,
                      stopped is None, {**(turbine.info() if turbine else {}), "reference": reference,
+                                       **({"life_channels": life_only} if life_only else {}),
                                        **({"speed_scale": drive_scale} if drive_scale else {})})
     if stopped is not None:
         raise Diverged(str(stopped), result)

@@ -177,4 +177,7 @@ def test_bench_runup_times_each_part_of_a_short_runup(tmp_path, capsys):
     for part in ("simulation", "history file", "simulation images", "life", "total (command)"):
         assert float(rows[part]) >= 0.0, part
     assert "steps," in text and (out / "life.csv").exists() and (out / "index.html").exists()
+    # every bearing and gear rated (placeholder ratings): 19 bearings, 26 gears of 13 meshes
+    assert len((out / "life_bearings.csv").read_text().splitlines()) == 1 + 19
+    assert len((out / "life_gears.csv").read_text().splitlines()) == 1 + 26
 

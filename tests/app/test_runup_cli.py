@@ -51,6 +51,8 @@ def test_simulate_writes_the_rated_bearings_and_gears_tables(tmp_path, capsys):
     assert float(row["damage"]) == pytest.approx(cycles * (100 / 80) ** 6 / 1e6, rel=1e-5)
     assert "Gears: equivalent torque and Miner damage" in (out / "index.html").read_text()
     assert json.loads((out / "life.json").read_text())["gears"][0]["gear"] == "rotor"
+    # the speeds recorded for the table alone are in the history, not pictured
+    assert (out / "trace_01.png").exists() and not (out / "trace_02.png").exists()
 
 
 def test_a_bad_life_table_exits_2_naming_it_and_writes_nothing(tmp_path, capsys):

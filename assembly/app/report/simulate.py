@@ -353,7 +353,8 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
         r = dataclasses.replace(r, history_file=str(h5))
     (work / "summary.json").write_text(strict_json.dumps(s, indent=1), encoding="utf-8")
     n = r.steps + 1
-    for i, (k, row) in enumerate(s["outputs"].items()):
+    pictured = {k: row for k, row in s["outputs"].items() if k not in r.info.get("life_channels", ())}
+    for i, (k, row) in enumerate(pictured.items()):      # the channels only the life tables read: no pictures
         unit = row["unit"]
         p = f"trace_{i + 1:02d}.png"
         plot_time_trace(*envelope(blocks(r, k), n), work / p, title=f"{scene}: {k}", ylabel=f"{k} [{unit}]")
