@@ -49,7 +49,7 @@ from .mesh_contact import Meshes
 from .run_checks import brake_warnings, mesh_frequencies, step_warnings, undamped_band
 from .run_loads import RunLoads, run_loads
 from .run_model import model_matrices, scheme_of
-from .run_outputs import recorder
+from .run_outputs import recorded_channels, recorder
 from .run_start import GAP_SLOPE, start_velocity, static_start
 from .speed_drive import speed_drive
 from .transient import Diverged, Stack, check_history, integrate
@@ -179,13 +179,15 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
         outputs = [*(f"stress:{p.name}" for p in sim.points), *(f"force:{mi.name}" for mi in meshes.info),
                    *(OUTPUTS if turbine else ())]
     outputs = list(dict.fromkeys(outputs))
-    counted = [k for k in outputs if not k.startswith("speed:")]       # the loads the life tables count
     shaft = None
     if sim.life is not None:
         shaft = check_life(model, sim.life, t_end, reference)
-        asked = set(outputs)
-        outputs = list(dict.fromkeys([*outputs, *life_channels(model, sim.life, shaft)]))
-        life_only = [k for k in outputs if k not in asked]        # recorded for the tables, not asked for
+        # the channels the outputs asked for record (a bearing's name: one a direction), and those
+        # the tables need besides, recorded for them alone
+        chans, speeds = recorded_channels(model, sim.points, [k for k in outputs if k not in OUTPUTS])
+        asked = {c.name for c in chans} | set(speeds) | set(outputs)
+        life_only = [k for k in life_channels(model, sim.life, shaft) if k not in asked]
+        outputs = [*outputs, *life_only]
     else:
         life_only = []
     extra = [(k, OUTPUTS[k]) for k in outputs if k in OUTPUTS]
@@ -221,6 +223,9 @@ def _run(model, scene, sim, t_end, dt, outputs, n, M, K, C, G, v0, phi, meshes, 
         raise Diverged(str(stopped), result)
     if sim.life is not None:
         t, read = histories_of(result)
+        # the loads the life tables count: every channel recorded (a bearing's name gives one per
+        # direction) but the speeds and the channels recorded for the tables alone
+        counted = [k for k in result.units if not k.startswith("speed:") and k not in life_only]
         result = dataclasses.replace(result, life=life_result(model, sim.life, t, read, result.units, counted, shaft))
     return result
 

@@ -197,6 +197,9 @@ def test_a_streamed_run_counts_what_a_kept_one_does(tmp_path):
     assert streamed.life.window == kept.life.window == pytest.approx((0.02, 0.1), abs=1e-12)
     assert streamed.life.bearings == kept.life.bearings
     assert streamed.life.outputs["force:B:x"].dels == kept.life.outputs["force:B:x"].dels
+    # a bearing named without a direction records one channel a direction: each is counted
+    both = simulate(scene, 0.1, 1e-3, ["force:B"])
+    assert {"force:B:x", "force:B:y", "force:B:z"} <= set(both.life.outputs)
     # a summary-only run keeps the histories its life tables count
     assert simulate(scene, 0.1, 1e-3, ["force:B:x"], arrays=False).life.bearings == kept.life.bearings
 
