@@ -341,7 +341,8 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
                        parametric: bool = False, static_fallback: float = 0.8) -> list[Passage]:
     """Each passage of ``cut``'s order through a natural frequency: ``modes`` a sequence of
     (frequency_hz, mode_class). The passage speed is 2 pi f_n / order (rad/s); the peak is
-    the cut's largest amplitude at speeds within ``band`` (relative) of it; the quasi-static
+    the cut's largest amplitude at speeds within ``band`` (relative) of it, or within half the
+    way to the nearest other mode of ``modes`` where that is closer; the quasi-static
     level is the cut's low-speed asymptote of one mode: the mean of amplitude x |1 - r^2|,
     r = speed / passage speed, over the speeds r <= ``static_below`` (exact for one undamped
     mode; for one of damping ratio zeta, low by 2 zeta^2 r^2 / (1 - r^2)^2 at most, 2.2e-3 at
@@ -375,9 +376,15 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
         i = int(np.argmax(np.diff(cut.speed) <= 0))
         raise SceneError("cut.speed", float(cut.speed[i + 1]), "not increasing: resonance passages need a run-up")
     out = []
+    freqs = np.array([f for f, _ in pairs])
     for j, (f, cls) in enumerate(pairs):
         s = 2 * math.pi * f / cut.order
-        near = np.flatnonzero(np.abs(cut.speed / s - 1.0) <= band)
+        # the search band, no wider than half-way to the next mode either side: a stronger
+        # neighbour's peak is not this mode's
+        others = np.abs(np.delete(freqs, j) / f - 1.0)
+        others = others[others > 0]
+        half = min(band, 0.5 * float(others.min())) if others.size else band
+        near = np.flatnonzero(np.abs(cut.speed / s - 1.0) <= half)
         peak_speed = peak = None
         note = ""
         if near.size:
@@ -385,7 +392,7 @@ def resonance_passages(cut: OrderCut, modes, *, band: float = 0.1, static_below:
             peak_speed, peak = float(cut.speed[i]), float(cut.amplitude[i])
             inner = (i > near[0] or i == 0) and (i < near[-1] or i == len(cut.speed) - 1)
             if not inner:
-                note = f"the peak is the search band's edge (+-{100 * band:g} %): the order rises through it"
+                note = f"the peak is the search band's edge (+-{100 * half:.3g} %): the order rises through it"
         r = cut.speed / s
         static, top = None, None
         for top in (static_below, max(static_below, static_fallback)):

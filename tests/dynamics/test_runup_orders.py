@@ -102,3 +102,19 @@ def test_a_peak_on_the_search_bands_edge_has_no_amplification():
     (p,) = resonance_passages(OrderCut(2.0, r * 10.0, r, r ** 3), [(10.0 * 2.0 / (2 * math.pi), "x")])
     assert p.peak_speed == pytest.approx(1.1 * 10.0, rel=1e-3) and p.amplification is None
     assert "edge" in p.note
+
+
+def test_a_neighbouring_modes_peak_is_not_taken_for_this_ones():
+    # two modes 6 % apart, the upper 1.5 times stronger (its peak 75 against the lower's 52): within
+    # +-10 % of the lower one's passage lies the upper one's peak; the search stops half-way (3 %),
+    # where the pair sums to 42, so each passage finds its own
+    from assembly.dynamics.order_tracking import OrderCut, resonance_passages
+    zeta, order, f1, f2 = 0.01, 2.0, 10.0, 10.6
+    s1 = 2 * math.pi * f1 / order
+    w = np.linspace(0.3 * s1, 1.4 * s1, 40001)
+    amp = np.abs(1 / (1 - (w / s1) ** 2 + 2j * zeta * w / s1)
+                 + 1.5 / (1 - (w * f1 / (f2 * s1)) ** 2 + 2j * zeta * w * f1 / (f2 * s1)))
+    low, high = resonance_passages(OrderCut(order, w, w, amp), [(f1, "a"), (f2, "b")])
+    # each peak inside its own mode's half-power band (+-zeta; the neighbour's skirt shifts it a little)
+    assert low.peak_speed == pytest.approx(s1, rel=zeta) and high.peak_speed == pytest.approx(s1 * f2 / f1, rel=zeta)
+    assert low.note == "" and high.note == ""

@@ -142,7 +142,7 @@ def main(argv=None) -> int:
     parts["spectra"] = parts.pop("_sim_files", 0.0) - sum(parts.get(k, 0.0) for k in
                                                            ("history file", "simulation images", "_report"))
     report = parts.pop("_report", 0.0)
-    parts["run-up report, other"] = report - sum(parts.get(k, 0.0) for k in ("life", "orders", "order images"))
+    parts["run-up report, other"] = report - sum(parts.get(k, 0.0) for k in ("orders", "order images"))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     out = Path(args[args.index("--out") + 1])
     if (out / "summary.json").exists():
