@@ -176,10 +176,9 @@ def _fill_tuple_free_lists() -> None:
     # tuples per block into the list (h5py's selection shapes: 20 kB over 4000 steps in
     # 8-step blocks), so with the lists empty the measure grew with t_end by list filling,
     # not by what the run keeps. In a process that has run for a while (the whole suite) the
-    # lists are full; here they are filled the same way before each measure: a full
-    # collection first (it empties the lists, and leaves the run no full collection pending
-    # that would empty them again), then 2000 tuples of each short length made and freed.
-    gc.collect()
+    # lists are full; here they are filled the same way before each measure: 2000 tuples of
+    # each short length made and freed (a full collection empties the lists: the test makes one
+    # before it starts measuring, so that none is pending during the measured runs).
     held = [tuple(range(n)) for n in (1, 2, 3, 4) for _ in range(2000)]
     del held
 
@@ -208,6 +207,7 @@ def test_memory_is_flat_in_t_end_when_streaming(tmp_path, monkeypatch):
     def run(t_end, h=None):
         integrate(*chain, t_end, observe=lambda q, v, a, nu: np.concatenate([q, v[:1]]), history=h)
 
+    gc.collect()                                                # see _fill_tuple_free_lists
     run(0.01, H5History(tmp_path / "warm.h5", split))          # warm imports and caches
     short, long_ = 1.0, 4.0
     rows = 4001 * (3 * 8 + 12)
