@@ -7,6 +7,7 @@ Models: the torsional gear pair of test_simulate.py (backlash, mesh stiffness va
 nonlinear run) and a unit oscillator x'' + (2 pi)^2 x = 0 (the integrator alone)."""
 from __future__ import annotations
 
+import gc
 import math
 import os
 import signal
@@ -167,7 +168,23 @@ def test_a_killed_process_leaves_a_readable_file_marked_incomplete(tmp_path):
     assert np.array_equal(t, ref.time_s) and np.array_equal(x, ref.y[:, 0])
 
 
+def _fill_tuple_free_lists() -> None:
+    # CPython keeps up to 2000 freed tuples of each length 1-19 for reuse (PyTuple_MAXFREELIST,
+    # Objects/tupleobject.c, 3.11), and tracemalloc counts a tuple from its allocation until its
+    # memory goes back to the allocator: a tuple allocated while tracing, because the list was
+    # empty, stays counted once freed into the list. A streamed file run frees some 1.3 small
+    # tuples per block into the list (h5py's selection shapes: 20 kB over 4000 steps in
+    # 8-step blocks), so with the lists empty the measure grew with t_end by list filling,
+    # not by what the run keeps. In a process that has run for a while (the whole suite) the
+    # lists are full; here they are filled the same way before each measure: 2000 tuples of
+    # each short length made and freed (a full collection empties the lists: the test makes one
+    # before it starts measuring, so that none is pending during the measured runs).
+    held = [tuple(range(n)) for n in (1, 2, 3, 4) for _ in range(2000)]
+    del held
+
+
 def _peak_bytes(run) -> int:
+    _fill_tuple_free_lists()
     tracemalloc.start()
     try:
         run()
@@ -190,6 +207,7 @@ def test_memory_is_flat_in_t_end_when_streaming(tmp_path, monkeypatch):
     def run(t_end, h=None):
         integrate(*chain, t_end, observe=lambda q, v, a, nu: np.concatenate([q, v[:1]]), history=h)
 
+    gc.collect()                                                # see _fill_tuple_free_lists
     run(0.01, H5History(tmp_path / "warm.h5", split))          # warm imports and caches
     short, long_ = 1.0, 4.0
     rows = 4001 * (3 * 8 + 12)

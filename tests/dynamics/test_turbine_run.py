@@ -118,13 +118,19 @@ def _one_mass(J, N, sense, wind, pitch0, omega0, torque0, dt, t_end, period, eta
     return out
 
 
-def test_a_stiff_gearbox_turns_as_the_one_mass_rotor_generator_model(tmp_path):
-    period, dt, t_end = 0.01, 0.01, 30.0
+STIFF = {"period": 0.01, "dt": 0.01, "t_end": 30.0}
+
+
+@pytest.fixture(scope="module")
+def stiff_turbine(tmp_path_factory):
+    """The stiff turbine's scene, model and one-mass reference run: none of them takes a time
+    step of the integrator (the reference is its own Python loop), so they are built once for
+    both steps of step_path, which only the run of the test itself takes."""
+    period, dt, t_end = STIFF["period"], STIFF["dt"], STIFF["t_end"]
+    tmp_path = tmp_path_factory.mktemp("stiff_turbine")
     pitch = _trim_pitch(16.0, 1.2671, RATED_TQ * 96.354)       # nrel5mw.toml's ratio (its teeth)
     scene = _nrel_turbine(tmp_path, "{ steps = [[0.0, 16.0], [10.0, 19.0]] }", pitch, period)
     model = assemble(scene)
-    stiff = dataclasses.replace(model, K=model.K * 1e3)
-    run = simulate(stiff, t_end, dt, base_dir=tmp_path)
     # the one-mass model of the same drivetrain: its inertia and ratio from the rigid-body motion
     phi = start_velocity(model, scene, scene.simulation, 1.0)[0]
     M = model.M.toarray()
@@ -135,6 +141,14 @@ def test_a_stiff_gearbox_turns_as_the_one_mass_rotor_generator_model(tmp_path):
     # the generator torque that balances the start (module notes of turbine_run)
     q0 = rotor_loads(_surface(), RADIUS, RHO, 16.0, 1.2671, pitch).torque
     ref = _one_mass(J, N, 1.0, wind, pitch, 1.2671, q0 / N, dt, t_end, period)
+    return tmp_path, model, ref
+
+
+def test_a_stiff_gearbox_turns_as_the_one_mass_rotor_generator_model(stiff_turbine):
+    dt, t_end = STIFF["dt"], STIFF["t_end"]
+    tmp_path, model, ref = stiff_turbine
+    stiff = dataclasses.replace(model, K=model.K * 1e3)
+    run = simulate(stiff, t_end, dt, base_dir=tmp_path)
     names = ("turbine:rotor_speed", "turbine:generator_torque", "turbine:pitch", "turbine:power")
     for j, name in enumerate(names):
         got, want = run.outputs[name], ref[:, j]
