@@ -16,7 +16,9 @@ other body turning at its ratio from the kinematic chain (:func:`assembly.analys
   can excite that class: mesh orders of a planetary stage by Parker's phasing rule
   (:mod:`assembly.dynamics.phasing`) for modes of that stage (scope the stage, or global)
   in the classes the rule names; ``None`` where the rule says nothing (other classes,
-  modes local to another part); parallel meshes and rotor orders: every class.
+  modes local to another part); parallel meshes and rotor orders: every class -- but never a
+  mode its exciter holds no energy in (a mesh without strain in it, a rotor that does not turn
+  in it: :mod:`assembly.dynamics.participation`), and crossings are ranked by that share.
 """
 from __future__ import annotations
 
@@ -35,6 +37,7 @@ from ..model.assemble import model_of, source_scene
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
 from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
+from .participation import mesh_strain_shares, order_meshes, spin_kinetic_shares
 from .phasing import RULE_CLASSES, excited_class
 
 log = logging.getLogger(__name__)
@@ -44,6 +47,9 @@ RPM = 2 * math.pi / 60.0   # rad/s per rpm
 #: line (the Crossing they may make, with its energy shares); measured: 360-440 B a crossing,
 #: nrel5mw with 100-300 harmonics.
 ORDER_BYTES, CROSSING_BYTES = 1024, 512
+#: An exciter holding less than this share of a mode's energy takes no part in it: round-off of
+#: mass-normalised shapes is some 1e-12, a mesh the mode does strain some 1e-3 and up.
+NEGLIGIBLE = 1e-6
 
 
 def check_size(points: int, harmonics: int, n_sources: int, n_lines: int) -> None:
@@ -66,8 +72,12 @@ class Crossing:
     """An order line meeting a natural-frequency line: ``speed_rpm`` (reference body),
     ``frequency_hz``, ``mode`` (1-based, as in the mode table), its ``mode_class``,
     ``scope`` and ``energy`` ((group, kinetic share, strain share), largest first);
-    ``excitable``: True / False by the phasing rule, None where the rule does not decide;
-    ``rule``: why."""
+    ``excitable``: True / False by the phasing rule, None where the rule does not decide, and
+    False where the exciter holds none of the mode's energy (``share`` below
+    :data:`NEGLIGIBLE`); ``rule``: why. ``share``: how strongly the exciter takes part in the
+    mode (:mod:`assembly.dynamics.participation`: a mesh order's meshes' share of its strain
+    energy, a rotor order's spin share of its kinetic energy), by which crossings are ranked
+    (:meth:`Campbell.ranked`)."""
 
     order: str
     harmonic: int
@@ -79,6 +89,7 @@ class Crossing:
     energy: tuple
     excitable: bool | None
     rule: str
+    share: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -97,6 +108,11 @@ class Campbell:
     ratios: dict
     gyroscopic: bool
     notes: tuple
+
+    def ranked(self) -> list:
+        """The crossings most likely to matter first: those the exciter can drive (excitable
+        not False) by decreasing ``share``, then the rest; ties by speed."""
+        return sorted(self.crossings, key=lambda x: (x.excitable is False, -x.share, x.speed_rpm))
 
 
 def reference_body(scene, reference: str | None) -> str:
@@ -210,14 +226,23 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
     notes += skipped
     notes += [f"{o.stage}: planets not equally spaced, Parker's phasing rule does not hold"
               for o in orders if o.equally_spaced is False and o.harmonic == 1]
+    meshes = mesh_strain_shares(model, res)
+    spin = spin_kinetic_shares(model, res, ref)
     rows = []
     for o in orders:
+        names = order_meshes(o, meshes) if o.kind == "mesh" else []
+        share = sum((meshes[m] for m in names), np.zeros(len(res.eigenvalues))) if o.kind == "mesh" else spin
+        what = "its meshes hold" if o.kind == "mesh" else f"{ref}'s spin holds"
         for j, mi in enumerate(info):
             for n, f in line_crossings(speeds, F[:, j], o.hz_per_rpm):
                 ok, why = phasing_verdict(o, mi)
+                x = float(share[mi.index])
+                if ok is not False and x < NEGLIGIBLE:
+                    ok, why = False, (f"{what} {x:.1e} of the mode's {'strain' if names else 'kinetic'} energy: "
+                                      f"no modal force")
                 energy = tuple(sorted(mi.energy, key=lambda e: -(e[1] + e[2]))[:3])
                 rows.append(Crossing(o.name, o.harmonic, float(n), float(f), mi.index + 1, mi.mode_class,
-                                     mi.scope, energy, ok, why))
+                                     mi.scope, energy, ok, why, x))
     rows.sort(key=lambda c: (c.speed_rpm, c.frequency_hz))
     log.info("campbell %s: %d orders, %d lines, %d crossings", scene.name, len(orders), F.shape[1], len(rows))
     return Campbell(scene.name, ref, speeds, F, tuple(info), tuple(orders), tuple(rows), ratios, gyroscopic,

@@ -25,7 +25,7 @@ import pytest
 
 from assembly import Bearing, Body, Scene, SceneError, assemble
 from assembly.analysis.modal import solve_modes
-from assembly.dynamics.campbell import campbell, check_speed_range, line_crossings
+from assembly.dynamics.campbell import NEGLIGIBLE, campbell, check_speed_range, line_crossings
 from assembly.dynamics.gyroscopic import gyroscopic_matrix, whirl_frequencies
 from assembly.dynamics.phasing import equally_spaced, excited_class
 from assembly.scene.schema import load_scene
@@ -104,15 +104,17 @@ def test_phasing_verdicts_of_the_small_stage(small):
     judged = {(x.mode_class, x.excitable) for x in rows if x.mode_class in (R, T, P)}
     assert (T, False) in judged and (P, False) in judged and (R, True) in judged
     assert all(ok == (cls == R) for cls, ok in judged)
-    # parallel meshes and rotor orders excite every class
-    assert all(x.excitable for x in c.crossings if not x.order.startswith("planetary"))
+    # parallel meshes and rotor orders excite every class their exciter takes part in: ruled
+    # out exactly where it holds none of the mode's energy
+    others = [x for x in c.crossings if not x.order.startswith("planetary")]
+    assert others and all(x.excitable is (x.share >= NEGLIGIBLE) for x in others)
 
 
 def test_unequal_planets_leave_the_rule_undecided(tmp_path):
     p = tmp_path / "unequal.toml"
     p.write_text(campbell_scene((0.0, 86.4, 180.0, 266.4)))
     c = campbell(load_scene(str(p)), (0.0, 3000.0))
-    rows = [x for x in c.crossings if x.order.startswith("planetary mesh")]
+    rows = [x for x in c.crossings if x.order.startswith("planetary mesh") and x.share >= NEGLIGIBLE]
     assert rows and all(x.excitable is None and "not equally spaced" in x.rule for x in rows)
     assert any("not equally spaced" in n for n in c.notes)
 
@@ -209,3 +211,31 @@ def test_scene_without_a_free_chain():
     with pytest.raises(SceneError) as err:
         campbell(held, (0.0, 100.0))
     assert err.value.path == "SCENE" and "no free chain" in str(err.value)
+
+
+def test_crossings_rank_by_the_exciters_share_of_the_mode(small, tmp_path):
+    # every crossing whose exciter holds none of the mode's energy comes below every one whose
+    # exciter holds a positive share
+    ranked = campbell(small, (0.0, 3000.0)).ranked()
+    zero = [i for i, x in enumerate(ranked) if x.share < NEGLIGIBLE]
+    positive = [i for i, x in enumerate(ranked) if x.share >= NEGLIGIBLE and x.excitable is not False]
+    assert zero and positive and max(positive) < min(zero)
+    # ruled out, by the phasing rule or for want of a modal force
+    assert all(x.excitable is False for x in ranked if x.share < NEGLIGIBLE)
+    assert any("no modal force" in x.rule for x in ranked)
+
+
+def test_a_pairs_shares_are_the_closed_form(tmp_path):
+    # a torsional pair (J1 = 2, J2 = 0.5 kg m^2, base radii 0.05 / 0.15 m) has one elastic mode and
+    # one spring: the mesh holds all of its strain energy. The mode is mass-orthogonal to the
+    # rigid turning (theta2 = -(r1/r2) theta1), so theta2 = J1 r2 theta1 / (J2 r1) and the rotor's
+    # spin holds J2 r1^2 / (J2 r1^2 + J1 r2^2) = 0.027 of its kinetic energy
+    from tests.app.test_simulate_cli import pair_file
+    c = campbell(load_scene(pair_file(tmp_path, mesh="variation = { amplitudes = [0.1], teeth = 20 }")),
+                 (0.0, 4000.0))
+    mesh = [x for x in c.crossings if x.order.startswith("m mesh")]
+    rotor = [x for x in c.crossings if x.order.endswith("P")]
+    assert mesh and rotor
+    assert all(x.share == pytest.approx(1.0, rel=1e-9) and x.excitable for x in mesh)
+    j1, j2, r1, r2 = 2.0, 0.5, 0.05, 0.15
+    assert all(x.share == pytest.approx(j2 * r1 ** 2 / (j2 * r1 ** 2 + j1 * r2 ** 2), rel=1e-9) for x in rotor)

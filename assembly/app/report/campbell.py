@@ -19,7 +19,8 @@ from .. import strict_json
 log = logging.getLogger(__name__)
 
 FILES = ("campbell.png", "crossings.csv", "campbell.json")
-CSV_HEAD = ("order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "energy", "excitable", "rule")
+CSV_HEAD = ("rank", "order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "share", "energy",
+            "excitable", "rule")
 
 
 def _verdict(ok) -> str:
@@ -47,19 +48,21 @@ def campbell_json(c: Campbell, rated_rpm: float | None = None) -> dict:
         "crossings": [{"order": x.order, "harmonic": x.harmonic, "speed_rpm": x.speed_rpm,
                        "frequency_hz": x.frequency_hz, "mode": x.mode, "class": x.mode_class, "scope": x.scope,
                        "energy": [{"group": g, "kinetic": k, "strain": s} for g, k, s in x.energy],
-                       "excitable": x.excitable, "rule": x.rule} for x in c.crossings],
+                       "share": x.share, "excitable": x.excitable, "rule": x.rule} for x in c.ranked()],
         "notes": list(c.notes),
     }
 
 
 def write_csv(c: Campbell, path) -> Path:
-    """One row per crossing (:data:`CSV_HEAD`)."""
+    """One row per crossing (:data:`CSV_HEAD`), ranked (:meth:`Campbell.ranked`: the exciter's share
+    of the mode, largest first; what it cannot excite last)."""
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(CSV_HEAD)
-        for x in c.crossings:
-            w.writerow([x.order, x.harmonic, f"{x.speed_rpm:.9g}", f"{x.frequency_hz:.9g}", x.mode, x.mode_class,
-                        x.scope or "", _energy_text(x.energy), _verdict(x.excitable), x.rule])
+        for k, x in enumerate(c.ranked()):
+            w.writerow([k + 1, x.order, x.harmonic, f"{x.speed_rpm:.9g}", f"{x.frequency_hz:.9g}", x.mode,
+                        x.mode_class, x.scope or "", f"{x.share:.3g}", _energy_text(x.energy), _verdict(x.excitable),
+                        x.rule])
     return Path(path)
 
 
@@ -73,14 +76,17 @@ def write_plot(c: Campbell, path, rated_rpm: float | None = None) -> Path:
 
 
 def crossings_text(c: Campbell) -> str:
-    """The crossing table as text, with the notes."""
+    """The crossing table as text, ranked (:meth:`Campbell.ranked`), with the notes."""
+    able = sum(1 for x in c.crossings if x.excitable is not False)
     lines = [f"{c.scene}: Campbell diagram, {c.reference} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, "
-             f"{len(c.orders)} orders, {len(c.crossings)} crossings",
-             f"{'order':<22} {'h':>2} {'speed rpm':>11} {'freq Hz':>10} {'mode':>5}  {'class':<13} {'scope':<10} "
-             f"{'excites':<9} rule"]
-    for x in c.crossings:
-        lines.append(f"{x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} {x.mode:>5}  "
-                     f"{x.mode_class:<13} {x.scope or '':<10} {_verdict(x.excitable):<9} {x.rule}")
+             f"{len(c.orders)} orders, {len(c.crossings)} crossings ({able} the exciter can drive), ranked by the "
+             f"exciter's share of the mode's energy",
+             f"{'#':>4} {'order':<22} {'h':>2} {'speed rpm':>11} {'freq Hz':>10} {'mode':>5}  {'class':<13} "
+             f"{'scope':<10} {'share':>8} {'excites':<9} rule"]
+    for k, x in enumerate(c.ranked()):
+        lines.append(f"{k + 1:>4} {x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} "
+                     f"{x.mode:>5}  {x.mode_class:<13} {x.scope or '':<10} {x.share:>8.2g} "
+                     f"{_verdict(x.excitable):<9} {x.rule}")
     lines += [f"note: {n}" for n in c.notes]
     return "\n".join(lines)
 
