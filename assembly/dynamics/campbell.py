@@ -7,7 +7,9 @@ other body turning at its ratio from the kinematic chain (:func:`assembly.analys
 * Natural frequencies: without gyroscopic coupling they do not depend on speed and are
   solved once (:func:`assembly.analysis.modal.solve_modes`); with it they are solved at every speed
   (:mod:`assembly.dynamics.gyroscopic`), line j being the j-th lowest elastic frequency.
-* Orders: mesh harmonics and rotor orders (:mod:`assembly.dynamics.orders`).
+* Orders (:mod:`assembly.dynamics.orders`): mesh harmonics, their first sidebands, each stage's
+  planet pass, each turning body's 1x, and the rotor orders 1P/3P/6P when the reference is a
+  rotor.
 * Crossings: where an order line f = a n meets natural-frequency line j: f_j(n) = a n.
   A speed-independent line f_0 crosses at n = f_0 / a exactly; a gyroscopic line is
   interpolated linearly between neighbouring speeds.
@@ -36,8 +38,8 @@ from ..errors import MechanismError, SceneError
 from ..model.assemble import model_of, source_scene
 from .budget import check_memory
 from .gyroscopic import gyroscopic_matrix, whirl_frequencies
-from .orders import ROTOR_ORDERS, Order, mesh_orders, rotor_orders
-from .participation import mesh_strain_shares, order_meshes, spin_kinetic_shares
+from .orders import ROTOR_ORDERS, Order, mesh_orders, planet_pass_orders, rotor_orders, shaft_orders, sideband_orders
+from .participation import body_kinetic_shares, mesh_strain_shares, order_meshes, spin_kinetic_shares
 from .phasing import RULE_CLASSES, excited_class
 
 log = logging.getLogger(__name__)
@@ -179,7 +181,7 @@ def line_crossings(speeds, f_line, slope: float) -> list[tuple[float, float]]:
 def phasing_verdict(order: Order, mode) -> tuple[bool | None, str]:
     """Whether ``order`` can excite ``mode`` (a :class:`assembly.analysis.classify.ModeInfo`) and why."""
     if order.kind != "mesh" or order.n_planets is None:
-        return True, "every class" if order.kind == "mesh" else "rotor order"
+        return True, {"mesh": "every class", "rotor": "rotor order"}.get(order.kind, f"{order.kind} order")
     cls = excited_class(order.harmonic, order.sun_teeth, order.n_planets)
     rule = (f"Parker: h Z_s / N = {order.harmonic} x {order.sun_teeth} / {order.n_planets} -> {cls} only")
     if not order.equally_spaced:
@@ -222,7 +224,9 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
         F = np.tile(res.frequencies_hz[res.n_rigid:], (len(speeds), 1))
         notes.append("no gyroscopic coupling: natural frequencies do not depend on speed (solved once)")
     orders, skipped = mesh_orders(scene, ratios, int(harmonics))
-    orders += rotor_orders(ref)
+    orders += sideband_orders(scene, ratios, orders) + planet_pass_orders(scene, ratios) + shaft_orders(ratios)
+    if any(b.role == "rotor" and b.name == ref for b in scene.bodies):        # rotor orders of a rotor only
+        orders += rotor_orders(ref)
     notes += skipped
     notes += [f"{o.stage}: planets not equally spaced, Parker's phasing rule does not hold"
               for o in orders if o.equally_spaced is False and o.harmonic == 1]
@@ -230,9 +234,13 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
     spin = spin_kinetic_shares(model, res, ref)
     rows = []
     for o in orders:
-        names = order_meshes(o, meshes) if o.kind == "mesh" else []
-        share = sum((meshes[m] for m in names), np.zeros(len(res.eigenvalues))) if o.kind == "mesh" else spin
-        what = "its meshes hold" if o.kind == "mesh" else f"{ref}'s spin holds"
+        names = order_meshes(o, meshes) if o.kind in ("mesh", "sideband", "planet-pass") else []
+        if names:
+            share, what = sum((meshes[m] for m in names), np.zeros(len(res.eigenvalues))), "its meshes hold"
+        elif o.kind == "shaft":
+            share, what = body_kinetic_shares(model, res, o.source), f"{o.source} holds"
+        else:
+            share, what = spin, f"{ref}'s spin holds"
         for j, mi in enumerate(info):
             for n, f in line_crossings(speeds, F[:, j], o.hz_per_rpm):
                 ok, why = phasing_verdict(o, mi)

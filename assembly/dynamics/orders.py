@@ -11,6 +11,12 @@ model's rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`: n_i 
   (Willis: teeth times the speed relative to the carrier); with the ring fixed this is
   z_ring |n_c| / 60, and the planet-ring meshes have the same frequency.
 * Rotor orders 1P, 3P, 6P: f = k n / 60 of the reference body (k = 1, 3, 6).
+* Shaft orders: each turning body's 1x, f = |n_i| / 60 (bodies at one speed share a line).
+* Planet pass of a stage: its N planets pass a point of the ring (or sun) N |n_c - n_ring| / 60
+  times a second.
+* Mesh sidebands: a mesh's first harmonic modulated by its carrier (a stage: f_mesh +- |n_c -
+  n_ring| / 60, a planet's once-round against the ring) or by the slower gear of a pair
+  (f_mesh +- min|n_g| / 60).
 
 A mesh without tooth counts on its gears (base radii only) counts the teeth of its stiffness
 variation (``variation.teeth`` of its counting gear) when it has one; else it has no mesh
@@ -102,3 +108,47 @@ def mesh_orders(scene, ratios: dict, harmonics: int) -> tuple[list[Order], list[
 def rotor_orders(reference: str, multiples=ROTOR_ORDERS) -> list[Order]:
     """Rotor orders kP of the reference body: f = k n / 60 (Hz, n in rpm)."""
     return [Order(f"{k}P", "rotor", reference, k, k / 60.0) for k in multiples]
+
+
+def shaft_orders(ratios: dict) -> list[Order]:
+    """The 1x of every turning body (``ratios``: body -> speed over the reference's): f =
+    |ratio| n / 60; bodies turning at the same speed (to 1e-9) share one line, named by the first."""
+    out, seen = [], []
+    for body, r in ratios.items():
+        a = abs(r)
+        if a == 0.0 or any(abs(a - b) <= 1e-9 * a for b in seen):
+            continue
+        seen.append(a)
+        out.append(Order(f"{body} 1x", "shaft", body, 1, a / 60.0))
+    return out
+
+
+def planet_pass_orders(scene, ratios: dict) -> list[Order]:
+    """Each planetary stage's planet pass: N |n_c - n_ring| / 60 (module notes)."""
+    out = []
+    for st in scene.stages:
+        rel = abs(ratios[f"{st.name}.carrier"] - ratios[f"{st.name}.ring"])
+        if rel > 0:
+            out.append(Order(f"{st.name} planet pass", "planet-pass", st.name, 1, st.planets.count * rel / 60.0,
+                             stage=st.name, n_planets=st.planets.count))
+    return out
+
+
+def sideband_orders(scene, ratios: dict, mesh: list) -> list[Order]:
+    """The first sidebands of each first mesh harmonic in ``mesh`` (:func:`mesh_orders`' orders):
+    f_mesh -+ the modulation (module notes); a lower sideband at or below 0 is left out."""
+    out = []
+    for o in mesh:
+        if o.harmonic != 1:
+            continue
+        if o.n_planets is not None:
+            mod = abs(ratios[f"{o.stage}.carrier"] - ratios[f"{o.stage}.ring"]) / 60.0
+        else:
+            m = next(m for m in scene.meshes if (m.name or f"{m.gear1}-{m.gear2}") == o.source)
+            mod = min(abs(ratios[m.gear1]), abs(ratios[m.gear2])) / 60.0
+        for sign, tag in ((-1, "-"), (1, "+")):
+            f = o.hz_per_rpm + sign * mod
+            if mod > 0 and f > 0:
+                out.append(Order(f"{o.source} mesh x1 {tag}1", "sideband", o.source, 1, f, o.teeth, o.stage,
+                                 o.sun_teeth, o.n_planets, o.equally_spaced))
+    return out

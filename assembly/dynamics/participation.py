@@ -12,6 +12,9 @@ energy is w_j^2 / 2 and its kinetic energy (at unit modal velocity) 1/2:
   body's spin row on q); the body's spin holds ``J (s phi_j)^2`` of the mode's kinetic energy, J
   its polar inertia: the share ranked for rotor and shaft orders.
 
+* a body's own 1x (an unbalance, a runout) loads it: the body holds ``phi_b' M_b phi_b`` of the
+  mode's kinetic energy (its block of the absolute shapes and mass).
+
 Rigid-body modes (w = 0) get share 0. Shares of a planetary stage's order sum its meshes'.
 """
 from __future__ import annotations
@@ -52,3 +55,12 @@ def order_meshes(order, mesh_names) -> list:
     if order.stage is not None and order.n_planets is not None:
         return [m for m in mesh_names if m.startswith(f"{order.stage}.")]
     return [m for m in mesh_names if m == order.source or m.endswith(f":{order.source}")]
+
+
+def body_kinetic_shares(model, res, body: str) -> np.ndarray:
+    """(n_modes,) share of each mode's kinetic energy ``body`` holds, all its motions (module notes)."""
+    sl = model.body_slice(body)
+    phi = res.abs_shapes[sl]
+    share = np.einsum("ij,ij->j", phi, model.M_abs[sl][:, sl] @ phi)
+    share[np.asarray(res.eigenvalues, float) <= 0] = 0.0
+    return share

@@ -19,6 +19,7 @@ Closed forms used below:
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -114,7 +115,7 @@ def test_unequal_planets_leave_the_rule_undecided(tmp_path):
     p = tmp_path / "unequal.toml"
     p.write_text(campbell_scene((0.0, 86.4, 180.0, 266.4)))
     c = campbell(load_scene(str(p)), (0.0, 3000.0))
-    rows = [x for x in c.crossings if x.order.startswith("planetary mesh") and x.share >= NEGLIGIBLE]
+    rows = [x for x in c.crossings if re.fullmatch(r"planetary mesh x\d+", x.order) and x.share >= NEGLIGIBLE]
     assert rows and all(x.excitable is None and "not equally spaced" in x.rule for x in rows)
     assert any("not equally spaced" in n for n in c.notes)
 
@@ -239,3 +240,29 @@ def test_a_pairs_shares_are_the_closed_form(tmp_path):
     assert all(x.share == pytest.approx(1.0, rel=1e-9) and x.excitable for x in mesh)
     j1, j2, r1, r2 = 2.0, 0.5, 0.05, 0.15
     assert all(x.share == pytest.approx(j2 * r1 ** 2 / (j2 * r1 ** 2 + j1 * r2 ** 2), rel=1e-9) for x in rotor)
+
+
+def test_shaft_planet_pass_and_sideband_orders_follow_the_chain(small):
+    # each turning body's 1x at |ratio| n / 60; the stage's planet pass N |n_c - n_ring| / 60; the
+    # mesh's first sidebands f_mesh -+ |n_c - n_ring| / 60 (a planet's once-round against the
+    # ring); rotor orders only when the reference is a rotor
+    c = campbell(small, (0.0, 3000.0))
+    by = {o.name: o for o in c.orders}
+    r = c.ratios
+    for o in (o for o in c.orders if o.kind == "shaft"):
+        assert o.hz_per_rpm == pytest.approx(abs(r[o.source]) / 60.0, rel=1e-12)
+    speeds = {round(abs(v), 9) for v in r.values() if v != 0}
+    assert len([o for o in c.orders if o.kind == "shaft"]) == len(speeds)
+    carrier = abs(r["planetary.carrier"] - r["planetary.ring"]) / 60.0
+    assert by["planetary planet pass"].hz_per_rpm == pytest.approx(4 * carrier, rel=1e-12)
+    mesh = by["planetary mesh x1"].hz_per_rpm
+    assert by["planetary mesh x1 +1"].hz_per_rpm == pytest.approx(mesh + carrier, rel=1e-12)
+    assert by["planetary mesh x1 -1"].hz_per_rpm == pytest.approx(mesh - carrier, rel=1e-12)
+    rotor = any(b.role == "rotor" and b.name == c.reference for b in small.bodies)
+    assert rotor == any(o.kind == "rotor" for o in c.orders)
+
+
+def test_no_rotor_orders_without_a_rotor_as_reference():
+    # the quill drive has no rotor: its pinion as the reference draws no 1P/3P/6P lines
+    c = campbell(load_scene("two_stage_quill"), (0.0, 3000.0), reference="pinion")
+    assert not any(o.kind == "rotor" for o in c.orders) and any(o.kind == "shaft" for o in c.orders)
