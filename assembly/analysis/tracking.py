@@ -143,3 +143,49 @@ def _last_side(side: np.ndarray, b: int, k: int) -> np.ndarray:
         s = side[b, :, j]
         last = np.where(s != 0, s, last)
     return last
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Modes of a base scene that the variants of a design study follow by shape: ``shapes``
+    their rigid-equivalent body motions (6 per body, :meth:`AssembledModel.rigid_coordinates`),
+    ``numbers`` their elastic mode numbers (1-based, as ``f1_hz`` counts), ``labels`` their
+    classes, ``frequencies_hz``, ``bodies`` the base's bodies in order and ``groups`` the repeated
+    frequencies among them (column lists). Plain arrays and lists: it pickles to a worker."""
+
+    shapes: np.ndarray
+    numbers: tuple
+    labels: tuple
+    frequencies_hz: tuple
+    bodies: tuple
+    groups: list
+
+
+def reference_modes(result, labels, count: int | None = None, classes=None, band_hz=None) -> Reference:
+    """The :class:`Reference` of a base scene's ``result`` (``labels``: each elastic mode's class):
+    its first ``count`` elastic modes, or those of ``classes`` and within ``band_hz`` (Hz, lo, hi)."""
+    r = result.n_rigid
+    f = np.asarray(result.frequencies_hz[r:], float)
+    keep = [j for j in range(len(f)) if (classes is None or labels[j] in classes)
+            and (band_hz is None or band_hz[0] <= f[j] <= band_hz[1])]
+    if count is not None and classes is None and band_hz is None:
+        keep = keep[:count]
+    R = result.model.rigid_coordinates(result.abs_shapes[:, [r + j for j in keep]])
+    where = {j: i for i, j in enumerate(keep)}
+    groups = [[where[g - r] for g in grp if g - r in where] for grp in result.groups]
+    return Reference(R, tuple(j + 1 for j in keep), tuple(labels[j] for j in keep), tuple(float(f[j]) for j in keep),
+                     tuple(result.model.bodies), [g for g in groups if g])
+
+
+def follow(reference: Reference, result) -> list | None:
+    """Each reference mode's partner among ``result``'s elastic modes by mass-weighted MAC on the
+    rigid-equivalent body motions (:func:`assembly.analysis.classify.pair_shapes`, repeated
+    groups compared as subspaces): (reference column, elastic index, MAC); None when the bodies
+    differ from the base's (no shape to compare)."""
+    m = result.model
+    if tuple(m.bodies) != reference.bodies or not len(reference.numbers):
+        return None
+    r = result.n_rigid
+    B = m.rigid_coordinates(result.abs_shapes[:, r:])
+    groups_b = [[g - r for g in grp if g >= r] for grp in result.groups]
+    return pair_shapes(reference.shapes, B, [g for g in groups_b if g], m.rigid_mass_matrix(), reference.groups)

@@ -26,6 +26,7 @@ FLEX_STUDY = """
 scene = "planetary_flexible_carrier"
 [keep]
 modes = 8
+track = false                        # the cache and the engine here; following modes: test_study_track.py
 [[parameters]]
 path = "stages[0].planets.bearing.k_radial"
 values = [5.0e7, 1.0e8, -1.0]        # N/m; -1: refused by the scene, an error row

@@ -121,7 +121,44 @@ def read_study(path) -> Study:
     vs = variants(scene, {k: data[k] for k in ("parameters", "design") if k in data})
     names = list(vs[0].params)
     check_names(scene, analysis, settings)
+    if analysis == "modes" and keep["track"]:
+        settings = {**settings, "reference": first_reference(scene, vs, keep)}
     return Study(title, str(Path(scene_path).resolve()), analysis, settings, keep, vs, str(p), names)
+
+
+def first_reference(scene, vs, keep: dict):
+    """:func:`tracked_reference` of the first variant the scene takes (a variant it refuses is an
+    error row of the study, not a refusal of it); None when it takes none."""
+    from ..errors import user_errors
+    for v in vs:
+        try:
+            return tracked_reference(scene.with_values(v.values), keep)
+        except SceneError as exc:
+            if exc.path.startswith("keep."):
+                raise
+        except user_errors():
+            pass
+    return None
+
+
+def tracked_reference(scene, keep: dict):
+    """The modes a ``modes`` study follows in every variant, those of ``scene`` -- its first
+    variant, whose reduced parts the variant then finds in the cache
+    (:func:`assembly.analysis.tracking.reference_modes`): the first ``keep["modes"]``, or those of
+    ``keep["classes"]`` within ``keep["band_hz"]``; SceneError at ``keep.classes`` when none is."""
+    from ...analysis.classify import classify_modes
+    from ...analysis.modal import solve_modes
+    from ...analysis.tracking import reference_modes
+    from ...model.assemble import assemble
+    res = solve_modes(assemble(scene))
+    labels = [m.mode_class for m in classify_modes(res)[res.n_rigid:]]
+    classes = keep.get("classes")
+    ref = reference_modes(res, labels, keep["modes"], None if classes is None else set(classes), keep.get("band_hz"))
+    if not ref.numbers:
+        raise SceneError("keep.classes" if classes is not None else "keep.band_hz",
+                         classes if classes is not None else keep.get("band_hz"),
+                         f"no mode of the base scene is of these classes in this band (classes: {sorted(set(labels))})")
+    return ref
 
 
 def check_names(scene, analysis: str, settings: dict) -> None:
@@ -144,8 +181,8 @@ def check_names(scene, analysis: str, settings: dict) -> None:
 
 
 def _keep(analysis: str, keep, scene) -> dict:
-    allowed = {"modes": {"modes"}, "compare": {"modes"}, "frf": set(), "simulate": {"stats", "life", "passages"}}[
-        analysis]
+    allowed = {"modes": {"modes", "track", "classes", "band_hz"}, "compare": {"modes"}, "frf": set(),
+               "simulate": {"stats", "life", "passages"}}[analysis]
     for k in keep:
         if k not in allowed:
             raise SceneError(f"keep.{k}", keep[k], f"not kept by analysis {analysis!r}"
@@ -159,6 +196,14 @@ def _keep(analysis: str, keep, scene) -> dict:
         raise SceneError("keep.passages", True, "the scene has no [simulation.drive]: a run-up's passages need one")
     if out["modes"] < 1:
         raise SceneError("keep.modes", out["modes"], "must be an integer >= 1")
+    out.setdefault("track", analysis == "modes")
+    band = out.get("band_hz")
+    if band is not None and not (len(band) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                         and math.isfinite(v) and v >= 0 for v in band)
+                                 and band[0] < band[1]):
+        raise SceneError("keep.band_hz", band, "must be two frequencies [lo, hi] in Hz, 0 <= lo < hi")
+    if ("classes" in out or band is not None) and not out["track"]:
+        raise SceneError("keep.track", False, "modes kept by class or band are followed by shape: track = true")
     if any(s not in STATS for s in out["stats"]):
         raise SceneError("keep.stats", out["stats"], f"must be a non-empty list of {list(STATS)}")
     return out

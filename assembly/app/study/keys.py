@@ -28,7 +28,8 @@ TEXT, BOOL, INT, NUMBER, TABLE, TABLES, LIST, TEXTS, PATH = (
 
 TOP = {"name": TEXT, "scene": TEXT, "analysis": TEXT, "keep": TABLE, "frf": TABLE, "simulate": TABLE,
        "design": TABLE, "parameters": TABLES}
-KEEP = {"modes": INT, "stats": TEXTS, "life": BOOL, "passages": BOOL}
+KEEP = {"modes": INT, "stats": TEXTS, "life": BOOL, "passages": BOOL, "track": BOOL, "classes": TEXTS,
+        "band_hz": LIST}
 FRF = {"input": TEXT, "outputs": TEXTS, "fmin": NUMBER, "fmax": NUMBER, "points": INT, "log": BOOL,
        "method": TEXT, "modes_hz": NUMBER}
 SIMULATE = {"t_end": NUMBER, "dt": NUMBER, "outputs": TEXTS, "speed": NUMBER, "unreduced": BOOL}

@@ -11,6 +11,10 @@ one-line message and no results, never an exception: one bad variant does not st
 Results per analysis (:mod:`assembly.app.study.file` gives the settings):
 
 * ``modes``: the first ``keep["modes"]`` elastic natural frequencies ``f1_hz``, ``f2_hz``,
+  (sorted), and with ``keep["track"]`` (the default) the first variant's modes followed by
+  shape (:func:`tracked_columns`: ``mode3_hz[rotational]`` is one mode in every row, with its
+  MAC to the first variant's shape) -- the first ``keep["modes"]``, or those of
+  ``keep["classes"]`` within ``keep["band_hz"]``;
   ... and the number of rigid-body modes ``n_rigid``;
 * ``compare``: the same for each fidelity, ``torsional_f1_hz``, ``rigid_f1_hz``, ...;
 * ``frf``: per output its largest magnitude ``peak[OUT]`` (output unit per input unit) and
@@ -93,7 +97,11 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
     scene = load_scene(scene_source).with_values(variant.values)
     if analysis == "modes":
         from ...analysis.modal import solve_modes
-        return _frequencies(solve_modes(assemble(scene)), keep["modes"])
+        res = solve_modes(assemble(scene))
+        out = _frequencies(res, keep["modes"])
+        if settings.get("reference") is not None:
+            out.update(tracked_columns(settings["reference"], res))
+        return out
     if analysis == "compare":
         from ...analysis.compare import compare
         out = {}
@@ -165,6 +173,24 @@ def passage_columns(r, scene) -> dict:
     for k, d in largest_amplifications(got[2]).items():
         out.update({f"amplification[{k}]": d["amplification"], f"amplification_rpm[{k}]": d["peak_speed_rpm"],
                     f"amplification_order[{k}]": d["order"], f"amplification_hz[{k}]": d["frequency_hz"]})
+    return out
+
+
+def tracked_columns(reference, res) -> dict:
+    """Each followed base mode's partner in this variant (:func:`assembly.analysis.tracking.follow`):
+    ``mode{N}_hz[CLASS]`` and ``mode{N}_mac[CLASS]``, N the base mode's elastic number; none for
+    a variant whose bodies differ from the base's (a planet count changed: no shape to follow,
+    its cells stay empty; its sorted frequencies are kept)."""
+    from ...analysis.tracking import follow
+    pairs = follow(reference, res)
+    if pairs is None:
+        return {}
+    f = res.frequencies_hz[res.n_rigid:]
+    out = {}
+    for i, j, mac in sorted(pairs):
+        tag = f"mode{reference.numbers[i]}"
+        out[f"{tag}_hz[{reference.labels[i]}]"] = float(f[j])
+        out[f"{tag}_mac[{reference.labels[i]}]"] = float(mac)
     return out
 
 

@@ -1,0 +1,92 @@
+"""A ``modes`` study follows modes by shape: a column is one mode across the variants, with its
+class, through a crossing where the sorted columns swap; modes kept by class or band.
+
+Scene: two torsional bodies, each on its own torsion spring to the housing, not joined -- two
+decoupled oscillators f = sqrt(k / J) / 2 pi (Rao, Mechanical Vibrations, sec. 2.2): a (J = 1e-3)
+on k_a swept 5e3 -> 2e4 N m/rad, b (J = 2e-3) on 2e4: f_b = 503.3 Hz, met by f_a at k_a = 1e4.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from assembly.app.study.engine import run_study
+from assembly.app.study.file import read_study
+from assembly.errors import SceneError
+
+SCENE = """
+name = "two oscillators"
+fidelity = "torsional"
+[[bodies]]
+name = "a"
+mass = 1.0
+polar_inertia = 1.0e-3
+[[bodies]]
+name = "b"
+mass = 1.0
+polar_inertia = 2.0e-3
+position = [1.0, 0.0, 0.0]
+[[bearings]]
+body = "a"
+k_radial = 1.0e8
+k_axial = 1.0e8
+k_tilt = 1.0e5
+k_torsion = 5.0e3
+[[bearings]]
+body = "b"
+k_radial = 1.0e8
+k_axial = 1.0e8
+k_tilt = 1.0e5
+k_torsion = 2.0e4
+"""
+STUDY = """
+scene = "osc.toml"
+analysis = "modes"
+[keep]
+modes = 2
+{keep}
+[[parameters]]
+path = "bearings[0].k_torsion"
+values = [5.0e3, 7.5e3, 1.0e4, 1.25e4, 1.5e4, 2.0e4]
+"""
+
+
+def _rows(tmp_path, keep: str = ""):
+    (tmp_path / "osc.toml").write_text(SCENE, encoding="utf-8")
+    (tmp_path / "study.toml").write_text(STUDY.format(keep=keep), encoding="utf-8")
+    return run_study(read_study(str(tmp_path / "study.toml")), "serial")
+
+
+def test_a_column_follows_one_mode_through_the_crossing(tmp_path):
+    rows = _rows(tmp_path)
+    k = np.array([r["bearings[0].k_torsion"] for r in rows])
+    f_a = np.sqrt(k / 1e-3) / (2 * math.pi)
+    f_b = math.sqrt(2e4 / 2e-3) / (2 * math.pi)
+    # the first variant's mode 1 is a's (355.9 Hz), mode 2 b's: each column stays on its body
+    col_a = [c for c in rows[0] if c.startswith("mode1_hz[")][0]
+    col_b = [c for c in rows[0] if c.startswith("mode2_hz[")][0]
+    assert [r[col_a] for r in rows] == pytest.approx(f_a, rel=1e-9)
+    assert [r[col_b] for r in rows] == pytest.approx([f_b] * len(rows), rel=1e-9)
+    assert all(r[col_a.replace("_hz", "_mac")] > 0.999 for r in rows)
+    # the sorted columns swap past the crossing (k_a > 1e4): f1 is then b's
+    assert rows[-1]["f1_hz"] == pytest.approx(f_b, rel=1e-9) and rows[-1][col_a] == pytest.approx(f_a[-1], rel=1e-9)
+
+
+def test_modes_kept_by_band(tmp_path):
+    # the first variant's band 400-600 Hz holds b's mode alone (a's is 355.9 Hz there)
+    rows = _rows(tmp_path, "band_hz = [400.0, 600.0]")
+    cols = [c for c in rows[0] if c.startswith("mode") and "_hz[" in c]
+    assert cols == [c for c in cols if c.startswith("mode2_hz[")] and len(cols) == 1
+
+
+@pytest.mark.parametrize("keep,field", [("band_hz = [600.0, 400.0]", "keep.band_hz"),
+                                        ("band_hz = [1.0e5, 2.0e5]", "keep.band_hz"),
+                                        ('classes = ["no such class"]', "keep.classes"),
+                                        ("track = false\nband_hz = [1.0, 2.0]", "keep.track"),
+                                        ('track = "yes"', "keep.track")])
+def test_what_cannot_be_followed_is_refused_before_it_runs(tmp_path, keep, field):
+    with pytest.raises(SceneError) as e:
+        _rows(tmp_path, keep)
+    assert e.value.path == field
