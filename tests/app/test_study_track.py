@@ -90,3 +90,27 @@ def test_what_cannot_be_followed_is_refused_before_it_runs(tmp_path, keep, field
     with pytest.raises(SceneError) as e:
         _rows(tmp_path, keep)
     assert e.value.path == field
+
+
+def test_sensitivity_of_a_power_law_is_its_exponent(tmp_path):
+    # f_a = sqrt(k_a / J) / 2 pi: d ln f_a / d ln k_a = 1/2 exactly; f_b does not depend on k_a: 0
+    from assembly.app.study.sensitivity import sensitivities
+    rows = _rows(tmp_path)
+    col_a = [c for c in rows[0] if c.startswith("mode1_hz[")][0]
+    col_b = [c for c in rows[0] if c.startswith("mode2_hz[")][0]
+    (a, b) = sensitivities(rows, ["bearings[0].k_torsion"], [col_a, col_b])
+    assert a["elasticity"]["bearings[0].k_torsion"] == pytest.approx(0.5, abs=1e-9)
+    assert a["r2"] == pytest.approx(1.0, abs=1e-9)
+    assert b["elasticity"]["bearings[0].k_torsion"] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_study_folder_has_its_sensitivity_table(tmp_path):
+    import csv
+
+    from assembly.app.cli import main
+    _rows(tmp_path)                                       # writes the scene and the study
+    assert main(["study", str(tmp_path / "study.toml"), "--out", str(tmp_path / "out"), "-q", "--serial"]) == 0
+    table = {r["result"]: r for r in csv.DictReader(open(tmp_path / "out" / "sensitivity.csv", encoding="utf-8"))}
+    col_a = [c for c in table if c.startswith("mode1_hz[")][0]
+    assert float(table[col_a]["dln/dln[bearings[0].k_torsion]"]) == pytest.approx(0.5, abs=1e-6)
+    assert "Sensitivities" in (tmp_path / "out" / "index.html").read_text(encoding="utf-8")

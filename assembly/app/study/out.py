@@ -11,6 +11,8 @@
   built, and the worker process;
 * per parameter, the kept results against it: ``frequencies_vs_<P>.png`` (every kept
   natural frequency) or ``<result>_vs_<P>.png``; failed variants are marked on the axis;
+* ``sensitivity.csv``: each result's elasticity to each parameter and the fit's R^2
+  (:mod:`assembly.app.study.sensitivity`), the largest also in index.html;
 * ``index.html`` and ``flexgear_run.json``.
 """
 from __future__ import annotations
@@ -27,6 +29,7 @@ import numpy as np
 
 from ..report.html import figure
 from .run import RUN_COLUMNS
+from .sensitivity import sensitivity_html, write_sensitivity
 
 FIXED = ("variant", "status", "error")
 
@@ -132,7 +135,7 @@ def plot_results(rows: list[dict], parameters: list[str], results: list[str], fo
     return out
 
 
-def index_html(title: str, info: dict, plots: list, rows: list[dict]) -> str:
+def index_html(title: str, info: dict, plots: list, rows: list[dict], more: str = "") -> str:
     e = html.escape
     failed = [r for r in rows if r["status"] != "ok"]
     fail_list = "".join(f"<li>variant {r['variant']}: {e(str(r['error']))}</li>" for r in failed[:50])
@@ -142,7 +145,7 @@ def index_html(title: str, info: dict, plots: list, rows: list[dict]) -> str:
             f"{info['variants']} variants ({info['failed']} failed), run {e(info['mode'])} in {info['time_s']:.1f} s. "
             f'Table: <a href="study.csv">study.csv</a>, <a href="study.parquet">study.parquet</a>; '
             f'run times and cache reuse: <a href="runs.csv">runs.csv</a>.</p>'
-            + (f"<h2>Failed variants</h2><ul>{fail_list}</ul>" if failed else "")
+            + (f"<h2>Failed variants</h2><ul>{fail_list}</ul>" if failed else "") + more
             + f"\n{figs}\n</body></html>\n")
 
 
@@ -155,12 +158,14 @@ def study_to_dir(study, rows: list[dict], out_dir, mode: str, time_s: float) -> 
         with writing(out_dir, work, "study results"):
             results = write_table(rows, study.parameters, work)
             plots = plot_results(rows, study.parameters, results, work, study.name)
+            sens = sensitivity_html(write_sensitivity(rows, study.parameters, results, work), study.parameters)
             info = dict(tool="flexgear study", study=study.name, study_source=study.source, scene=study.scene,
                         analysis=study.analysis, parameters=study.parameters, variants=len(rows),
                         failed=sum(r["status"] != "ok" for r in rows), mode=mode, time_s=round(time_s, 3),
-                        files=["study.parquet", "study.csv", "runs.csv", *(f for f, _ in plots), "index.html"],
+                        files=["study.parquet", "study.csv", "runs.csv", "sensitivity.csv", *(f for f, _ in plots),
+                               "index.html"],
                         python=sys.version.split()[0])
-            (work / "index.html").write_text(index_html(study.name, info, plots, rows), encoding="utf-8")
+            (work / "index.html").write_text(index_html(study.name, info, plots, rows, sens), encoding="utf-8")
             info["write_s"] = round(time.perf_counter() - t0, 3)
             write_manifest(work, info)
     return info
