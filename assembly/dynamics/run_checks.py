@@ -57,6 +57,11 @@ def mesh_frequencies(model, scene, v0: np.ndarray):
     return {o.source: abs(o.frequency_hz(rpm)) for o in orders}, shaft, side
 
 
+def _steps(n: float) -> str:
+    """Steps a period, rounded down to 0.1 (9.96 reads 9.9, never "10.0 ... below 10")."""
+    return f"{math.floor(10 * n) / 10:.1f}"
+
+
 def step_warnings(dt: float, freqs: dict, meshes, band_hz: float) -> list:
     """Warnings when ``dt`` gives fewer than :data:`STEPS_PER_PERIOD` steps per period of a
     nonlinear mesh's highest harmonic kept or of the band (Hz); a linear mesh (constant
@@ -71,11 +76,11 @@ def step_warnings(dt: float, freqs: dict, meshes, band_hz: float) -> list:
             continue
         top = f * harmonics[src]
         if top > 0 and 1.0 / (dt * top) < STEPS_PER_PERIOD:
-            out.append(f"dt = {dt:g} s gives {1 / (dt * top):.1f} steps per period of {src}'s mesh harmonic "
+            out.append(f"dt = {dt:g} s gives {_steps(1 / (dt * top))} steps per period of {src}'s mesh harmonic "
                        f"{harmonics[src]} ({top:.4g} Hz): below {STEPS_PER_PERIOD}, the period error "
                        f"exceeds {100 * (2 * math.pi / STEPS_PER_PERIOD) ** 2 / 12:.1f} %")
     if 1.0 / (dt * band_hz) < STEPS_PER_PERIOD:
-        out.append(f"dt = {dt:g} s gives {1 / (dt * band_hz):.1f} steps per period at the band's top "
+        out.append(f"dt = {dt:g} s gives {_steps(1 / (dt * band_hz))} steps per period at the band's top "
                    f"({band_hz:g} Hz): modes there are not resolved")
     return out
 

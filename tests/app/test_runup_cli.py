@@ -75,4 +75,13 @@ def test_the_step_warning_counts_a_run_ups_top_speed(tmp_path):
                                  sim="drive = { end_speed = 150.0, t_end = 1.0 }"))
     r = simulate(scene, 0.01, 1e-3, ["force:m"])
     (w,) = [w for w in r.warnings if "mesh harmonic" in w]
-    assert "2.1 steps per period of m's mesh harmonic 1 (477.5 Hz)" in w
+    assert "2.0 steps per period of m's mesh harmonic 1 (477.5 Hz)" in w        # 2.09, rounded down
+
+
+def test_a_step_just_short_of_ten_a_period_does_not_read_ten():
+    # 9.96 steps a period is below the 10 asked: the warning says 9.9, not "10.0 ... below 10"
+    from types import SimpleNamespace
+
+    from assembly.dynamics.run_checks import step_warnings
+    (w,) = step_warnings(1.0 / (9.96 * 1000.0), {}, SimpleNamespace(info=()), 1000.0)    # no meshes: the band
+    assert "9.9 steps per period at the band's top" in w

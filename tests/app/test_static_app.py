@@ -91,3 +91,15 @@ def test_static_point_loads_and_supports_in_json_text_and_csv(tmp_path, capsys):
     out = capsys.readouterr().out
     for words in ("2 point load(s); 1 support(s)", "applied loads", "support reactions", "equilibrium"):
         assert words in out
+
+
+def test_round_off_prints_as_zero_in_the_tables(capsys):
+    # the quill drive's torque case: its tables print no load below 1e-10 of the case's largest
+    # (the solve's round-off); the checks keep their residuals, the JSON every digit
+    import re
+    assert main(["static", "two_stage_quill"]) == 0
+    text = capsys.readouterr().out
+    tables = text.split("checks")[0]
+    numbers = [float(x) for x in re.findall(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[-+]\d+)?(?![\w.])", tables)]
+    top = max(abs(x) for x in numbers)
+    assert all(x == 0.0 or abs(x) > 1e-10 * top for x in numbers)

@@ -15,9 +15,25 @@ _WRENCH = ("Fx_N", "Fy_N", "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm")
 _WRENCH_HEAD = ["Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"]
 
 
+#: A load below this fraction of the case's largest is the solve's round-off: printed as 0.
+ROUND_OFF = 1e-10
+
+
+def _scale(rep) -> float:
+    """The case's largest force or moment magnitude (N, N m), for :data:`ROUND_OFF`."""
+    vals = [abs(float(d[k])) for group in (rep.loads, rep.meshes, rep.bearings, rep.supports) for d in group
+            for k in (*_WRENCH, "force_N") if isinstance(d.get(k), (int, float))]
+    return max(vals, default=0.0)
+
+
 def static_tables(rep) -> list:
     """(title, header, rows, left-aligned columns) of one load case: applied loads, meshes,
-    bearings, shafts, supports, held directions, checks."""
+    bearings, shafts, supports, held directions, checks; a load that is round-off of the case's
+    largest (below :data:`ROUND_OFF` of it) is printed as 0 (the JSON keeps every digit)."""
+    tiny = ROUND_OFF * _scale(rep)
+
+    def _g(v) -> str:                      # the tables' numbers, round-off shown as 0
+        return "" if v is None else "0" if abs(v) <= tiny else f"{v:.6g}"
     out = []
     if rep.loads:
         out.append(("applied loads (global axes, at the point)", ["load", "body", "point [m]"] + _WRENCH_HEAD,
