@@ -474,6 +474,8 @@ def main(argv=None) -> int:
         return int(exc.code or 0)
     level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    # scikit-fem logs each form it assembles at INFO (40 lines a flexible body): -vv shows them
+    logging.getLogger("skfem").setLevel(level if args.verbose >= 2 else max(level, logging.WARNING))
     from .output import signal_handler
 
     if args.cache_dir is not None:  # every cache default of this process reads it (CacheDirs)
@@ -506,7 +508,7 @@ def _run(args, signal_handler) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     p = Parser(prog="flexgear", description="Gearbox and drivetrain dynamics (SI units).")
-    p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="log progress (-vv: debug, and scikit-fem's assembly lines)")
     p.add_argument("--cache-dir", metavar="DIR", default=None,
                    help="folder of generated meshes and reductions (flexible bodies; default $FLEXGEAR_CACHE_DIR, "
                         "else $XDG_CACHE_HOME/flexgear or ~/.cache/flexgear)")

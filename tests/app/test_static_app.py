@@ -103,3 +103,16 @@ def test_round_off_prints_as_zero_in_the_tables(capsys):
     numbers = [float(x) for x in re.findall(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[-+]\d+)?(?![\w.])", tables)]
     top = max(abs(x) for x in numbers)
     assert all(x == 0.0 or abs(x) > 1e-10 * top for x in numbers)
+
+
+def test_verbose_shows_progress_not_every_fe_form(capsys):
+    # -v: flexgear's progress at INFO; scikit-fem's per-form assembly lines only with -vv
+    import logging
+    try:
+        assert main(["-v", "modes", "kahraman_beta20", "--json"]) == 0
+        assert logging.getLogger("skfem").getEffectiveLevel() == logging.WARNING
+        assert main(["-vv", "modes", "kahraman_beta20", "--json"]) == 0
+        assert logging.getLogger("skfem").getEffectiveLevel() == logging.DEBUG
+    finally:
+        logging.getLogger("skfem").setLevel(logging.NOTSET)
+        logging.getLogger().setLevel(logging.WARNING)
