@@ -75,3 +75,9 @@ def test_modal_stresses_at_stated_amplitude(run_dir):
     assert all(float(r["peak_displacement_m"]) == 1e-3 and float(r[MODAL_STRESS_COLUMN]) > 0 for r in rows)
     html = (run_dir / "index.html").read_text()
     assert "per unit modal coordinate" not in html and "at 1 mm peak displacement of the flexible bodies" in html
+
+
+def test_the_comparison_heading_names_the_fidelities_compared(run_dir):
+    # a scene with a flexible body is compared at three fidelities: the heading says so
+    html = (run_dir / "index.html").read_text()
+    assert "Fidelity comparison (torsional vs rigid vs flexible, modes paired by MAC)" in html

@@ -89,7 +89,8 @@ def render_index(report: dict) -> str:
 
     comp = report.get("comparison")
     if comp:
-        parts.append("<h2>Fidelity comparison (torsional vs rigid, modes paired by MAC)</h2>")
+        fids = comp.get("fidelities") or ["torsional", "rigid"]
+        parts.append(f"<h2>Fidelity comparison ({_e(' vs '.join(fids))}, modes paired by MAC)</h2>")
         if comp.get("note"):
             parts.append(f'<p class="meta">{_e(comp["note"])}</p>')
         parts.append(_table(comp["header"], comp["rows"], left=set(comp.get("left", ())),

@@ -358,8 +358,9 @@ def build_report(ctx: RunContext) -> dict:
     comp = None
     if ctx.comparison:
         cells = comparison_cells(ctx.comparison, [f for f in ALL_FIDELITIES if f in ctx.variants])
+        fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
         comp = dict(header=cells["header"], rows=cells["rows"], row_classes=cells["row_classes"],
-                    left=cells["left"], note=" ".join(cells["notes"])
+                    left=cells["left"], fidelities=fids, note=" ".join(cells["notes"])
                     + " Orange rows: a MAC < 0.8; grey: no partner one fidelity down.")
     meta = [f"scene: {ctx.scene.name} ({ctx.scene_source})",
             f"{len(ctx.model.bodies)} bodies, {len(ctx.model.elements)} springs, {ctx.model.K.shape[0]} DOFs, "
