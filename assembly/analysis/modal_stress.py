@@ -20,6 +20,19 @@ from .energy import NEGLIGIBLE_STRAIN_SHARE, strain_by_body
 #: Peak displacement (m) over the flexible bodies that each mode is scaled to for its
 #: stresses.
 MODAL_PEAK_DISPLACEMENT_M = 1e-3
+#: A flexible body holding less than this share of a mode's strain energy gets no stress image
+#: in that mode (its stresses stay in modal_stress.csv): a colour scale of a few hundred MPa on a
+#: body that carries 0.03 % of the mode misleads more than it tells.
+IMAGE_STRAIN_SHARE = 0.01
+
+
+def drawn(amplitude, body: str) -> bool:
+    """Whether ``body``'s stress image is drawn in the mode of ``amplitude`` (a
+    :class:`ModalAmplitude`): its share of the mode's strain energy is at least
+    :data:`IMAGE_STRAIN_SHARE`."""
+    return body not in amplitude.skipped and amplitude.strain_share.get(body, 0.0) >= IMAGE_STRAIN_SHARE
+
+
 #: How the scaled modal stresses are labelled (titles, captions, docs) and their CSV column.
 MODAL_AMPLITUDE_LABEL = f"{MODAL_PEAK_DISPLACEMENT_M * 1e3:g} mm peak displacement of the flexible bodies"
 MODAL_STRESS_COLUMN = f"max_von_mises_Pa_at_{MODAL_PEAK_DISPLACEMENT_M * 1e3:g}mm_peak_displacement"

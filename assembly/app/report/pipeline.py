@@ -456,7 +456,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
     peak displacement of the flexible bodies (:mod:`assembly.analysis.modal_stress`), back-expanded
     to the FE meshes; bodies without strain energy in a mode are skipped. Stress images,
     VTU files + one .pvd collection, ``stress.csv`` (load cases) and ``modal_stress.csv``."""
-    from ...analysis.modal_stress import MODAL_AMPLITUDE_LABEL, modal_amplitudes
+    from ...analysis.modal_stress import IMAGE_STRAIN_SHARE, MODAL_AMPLITUDE_LABEL, drawn, modal_amplitudes
     from ..render.fe import StressImages
 
     flex = _flexible_bodies(ctx)
@@ -472,7 +472,7 @@ def step_recovery(ctx: RunContext, bar) -> None:
     bar.update(1)
     rows, mrows, collection = [], [], []
     images = StressImages(ctx.options.window_size) if ctx.options.images else None
-    n_images = 0
+    n_images = undrawn = 0
     try:
         for b in flex:
             bm = ctx.model.bodies[b]
@@ -499,15 +499,22 @@ def step_recovery(ctx: RunContext, bar) -> None:
                 _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label}{what} (VTU)"))
                 collection.append((len(collection), vtu))
                 ctx.timings_detail[f"stress+vtu {b} {tag}"] = time.perf_counter() - t1
-                if images is not None:  # von Mises image for the load case and every drawn mode
+                if a is not None and not drawn(a, b):       # too small a share of the mode: no picture
+                    undrawn += 1
+                elif images is not None:  # von Mises image for the load case and every drawn mode
                     _stress_image(ctx, images, b, st, titled.get(label, label) if a is None else label, tag, a)
-                n_images += 1
+                    n_images += 1
+                else:
+                    n_images += 1
                 bar.update(1)
     finally:
         if images is not None:
             images.close()
     if images is None:
         ctx.skipped.append(f"{n_images} stress images")
+    if undrawn:
+        ctx.notes.append(f"modal stress images: {undrawn} of a body holding less than {IMAGE_STRAIN_SHARE:.0%} of "
+                         f"the mode's strain energy not drawn (their stresses are in modal_stress.csv)")
     _write_recovery_files(ctx, rows, mrows, collection)
 
 
