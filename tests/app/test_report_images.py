@@ -153,5 +153,5 @@ def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tm
     d = max(float(np.max(body_actor(m, n, r.abs_shapes[m.body_slice(n), i], 0.0).point_data["displacement_m"]))
             for n in m.bodies)
     assert dmax == pytest.approx(d, rel=1e-12)
-    assert f"largest displacement {dmax:.3g} m (colour-bar maximum)" in mode_caption(dmax, scale, view.size,
-                                                                                    focus, True)
+    assert f"largest displacement {dmax:.3g} m at modal mass 1 kg (colour bar 1)" in mode_caption(
+        dmax, scale, view.size, focus, True)

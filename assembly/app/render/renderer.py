@@ -360,8 +360,8 @@ class AssemblyRenderer:
         framed on the bodies ``focus`` (default: the mode's dominant bodies,
         :meth:`focus_bodies`); the other bodies are drawn faint, as context. Beam shafts are
         tubes bent with their nodes (:mod:`assembly.app.render.shafts`). The colour bar
-        runs from 0 to the largest displacement stated in the caption line (the same
-        quantity over the same drawn points). ``twist``: arrows of each body's rotation
+        runs from 0 to 1: the displacement over the largest drawn (a mass-normalised shape has
+        no physical size; the caption line states that largest, m at modal mass 1 kg). ``twist``: arrows of each body's rotation
         about its axis referred to the rotor (:mod:`assembly.app.render.twist`)."""
         sign = _sign(result.abs_shapes[:, mode])
         focus = tuple(focus) if focus else self.focus_bodies(result, mode)
@@ -376,23 +376,26 @@ class AssemblyRenderer:
         pl = self._plotter()
         try:
             self._ghost(pl)
-            clim = (0.0, dmax if dmax > 0 else 1.0)
+            clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
+            norm = dmax if dmax > 0 else 1.0
             bar = dict(title="", vertical=False, position_x=0.55, position_y=0.04, width=0.4, height=0.07,
                        fmt=BAR_FMT, n_labels=3, color="black", title_font_size=16, label_font_size=14)
             first = True
             for n in self.model.bodies:
                 m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
-                pl.add_mesh(m, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=first,
+                m["normalised displacement"] = np.asarray(m["displacement_m"]) / norm
+                pl.add_mesh(m, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=first,
                             scalar_bar_args=bar, opacity=1.0 if n in focus else CONTEXT_OPACITY,
                             smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)
                 first = False
             if pl.scalar_bar is not None:
                 pl.scalar_bar.SetTextPositionToPrecedeScalarBar()  # labels below the bar
-            pl.add_text("displacement magnitude [m] (modal mass 1 kg)",
+            pl.add_text("displacement / largest",
                         position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
                         font_size=11, color="black")
             for tube in self._tubes(shape_of, scale):
-                pl.add_mesh(tube, scalars="displacement_m", cmap=CMAP, clim=clim, show_scalar_bar=False,
+                tube["normalised displacement"] = np.asarray(tube["displacement_m"]) / norm
+                pl.add_mesh(tube, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=False,
                             smooth_shading=True)
             pv = load_pyvista()
             for sg in self.segments:
@@ -414,9 +417,9 @@ class AssemblyRenderer:
 
 
 def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:
-    """Caption line of a mode image: the largest displacement (m; the colour-bar maximum,
-    same format), the drawing scale and the framed bodies."""
-    text = f"largest displacement {BAR_FMT % dmax} m (colour-bar maximum); "
+    """Caption line of a mode image: the largest displacement (m at modal mass 1 kg; the colour
+    bar's 1, the bar showing displacement over it), the drawing scale and the framed bodies."""
+    text = f"largest displacement {BAR_FMT % dmax} m at modal mass 1 kg (colour bar 1); "
     text += (f"drawn x {scale:.3g} = {100 * DEFORMATION_FRACTION:.0f} % of the framed size {size:.3g} m" if scale > 0
              else "bodies drawn undeformed, coloured by it")
     if faint:
