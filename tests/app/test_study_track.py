@@ -114,3 +114,19 @@ def test_the_study_folder_has_its_sensitivity_table(tmp_path):
     col_a = [c for c in table if c.startswith("mode1_hz[")][0]
     assert float(table[col_a]["dln/dln[bearings[0].k_torsion]"]) == pytest.approx(0.5, abs=1e-6)
     assert "Sensitivities" in (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
+
+
+def test_a_two_parameter_study_draws_its_results_over_both(tmp_path):
+    from assembly.app.cli import main
+    (tmp_path / "osc.toml").write_text(SCENE, encoding="utf-8")
+    (tmp_path / "study.toml").write_text(STUDY.format(keep="") + """
+[[parameters]]
+path = "bearings[1].k_torsion"
+values = [1.5e4, 2.5e4]                 # b: 435.9, 562.7 Hz; not repeated with a in the first variant
+""", encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["study", str(tmp_path / "study.toml"), "--out", str(out), "-q", "--serial"]) == 0
+    names = {p.name for p in out.iterdir()}
+    assert any(n.startswith("mode1_hz") and n.endswith("_map.png") for n in names), names
+    assert any(n.startswith("tracked_modes_vs_") for n in names)
+    assert not any("_mac" in n for n in names)                  # MACs are in the table, not drawn

@@ -94,15 +94,19 @@ def _slug(name: str) -> str:
 
 
 def plot_results(rows: list[dict], parameters: list[str], results: list[str], folder: Path, title: str) -> list:
-    """One plot per parameter of the kept natural frequencies, and one per other result and
-    parameter; returns [(file, caption)]."""
+    """One plot per parameter of the kept natural frequencies (sorted), one of the tracked modes
+    (a line per mode), and one per other result and parameter; with two parameters, maps of
+    the results over both (:func:`maps`); returns [(file, caption)]."""
     from ..plots import plot_figure
     ok = [r for r in rows if r["status"] == "ok"]
     bad = [r for r in rows if r["status"] != "ok"]
     freq = [c for c in results if re.fullmatch(r"(\w+_)?f\d+_hz", c)]
+    tracked = [c for c in results if re.fullmatch(r"mode\d+_hz\[.*\]", c)]
+    macs = [c for c in results if re.fullmatch(r"mode\d+_mac\[.*\]", c)]        # in the table only
     groups = ([("frequencies", "natural frequency [Hz]", freq)] if freq else []) + \
-             [(c, c, [c]) for c in results if c not in freq and not c.endswith("n_rigid")]
-    out = []
+             ([("tracked modes", "natural frequency [Hz], one mode per line", tracked)] if tracked else []) + \
+             [(c, c, [c]) for c in results if c not in freq + tracked + macs and not c.endswith("n_rigid")]
+    out = maps(ok, parameters, [c for _, _, cs in groups for c in cs if c not in freq], folder, title)
     for p in parameters:
         xs = [r[p] for r in rows]
         if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in xs):
@@ -132,6 +136,40 @@ def plot_results(rows: list[dict], parameters: list[str], results: list[str], fo
                 if ax.get_legend_handles_labels()[0]:
                     ax.legend(fontsize=6, ncol=2 if len(cs) > 6 else 1)
             out.append((name, f"{label} vs {p}"))
+    return out
+
+
+#: Results drawn as maps over two parameters (the first of them, in table order).
+MAP_RESULTS = 8
+
+
+def maps(ok: list, parameters: list, results: list, folder: Path, title: str) -> list:
+    """With exactly two numeric parameters: each of the first :data:`MAP_RESULTS` results as a
+    map over both (a scatter of the variants that ran, coloured by the result); returns
+    [(file, caption)]."""
+    from ..plots import plot_figure
+    num = [p for p in parameters if ok and all(isinstance(r.get(p), (int, float)) and not isinstance(r.get(p), bool)
+                                               for r in ok)]
+    if len(parameters) != 2 or len(num) != 2:
+        return []
+    px, py = num
+    out = []
+    for c in results[:MAP_RESULTS]:
+        pts = [(r[px], r[py], r[c]) for r in ok if isinstance(r.get(c), (int, float)) and math.isfinite(r[c])]
+        if not pts:
+            continue
+        x, y, z = np.array(pts, float).T
+        name = f"{_slug(c)}_map.png"
+        with plot_figure(folder / name, (7.0, 5.5)) as (fig, ax):
+            sc = ax.scatter(x, y, c=z, cmap="viridis", s=40)
+            fig.colorbar(sc, ax=ax, label=c)
+            for v, lo in ((x, ax.set_xscale), (y, ax.set_yscale)):
+                if v.min() > 0 and v.max() / v.min() > 100:
+                    lo("log")
+            ax.set_xlabel(px)
+            ax.set_ylabel(py)
+            ax.set_title(f"{title}: {c} over {px} and {py}", fontsize=10)
+        out.append((name, f"{c} over {px} and {py}"))
     return out
 
 
