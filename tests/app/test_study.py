@@ -242,3 +242,38 @@ def test_the_documented_study_file_reads(tmp_path):
     study = read_study(_study(tmp_path, block))
     assert study.analysis == "modes" and study.keep["modes"] == 8 and len(study.variants) == 10
     assert study.parameters == ["stages[0].planets.bearing.k_radial", "stages[0].carrier.flex.cutoff_hz"]
+
+
+def test_frf_rows_keep_each_bands_own_peak(pair):
+    # the pair's one mode at 342.3 Hz (k = 1e8) and 684.5 Hz (4e8): a band around each holds its
+    # own peak, and a band without the mode its edge value
+    extra = """[frf]
+input = "torque:rotor"
+outputs = ["force:m"]
+fmin = 300.0
+fmax = 800.0
+points = 501
+bands = [[300.0, 500.0], [500.0, 800.0]]
+"""
+    rows = _rows(_study(pair, PAIR_STUDY.format(analysis="frf", extra=extra)))
+    low, high = rows
+    assert abs(low["peak_hz[force:m][300-500 Hz]"] - pair_hz(1e8)) <= 0.5          # the 1 Hz grid
+    assert abs(high["peak_hz[force:m][500-800 Hz]"] - pair_hz(4e8)) <= 0.5
+    assert low["peak[force:m][300-500 Hz]"] == low["peak[force:m]"]
+    assert low["peak[force:m][500-800 Hz]"] < low["peak[force:m]"]
+
+
+@pytest.mark.parametrize("bands,field", [("[[500.0, 300.0]]", "frf.bands[0]"), ("[[100.0, 400.0]]", "frf.bands[0]"),
+                                         ('[[300.0, 400.0], "x"]', "frf.bands[1]")])
+def test_a_bad_frf_band_is_refused_naming_it(pair, bands, field):
+    extra = f"""[frf]
+input = "torque:rotor"
+outputs = ["force:m"]
+fmin = 300.0
+fmax = 800.0
+bands = {bands}
+"""
+    from assembly.errors import SceneError
+    with pytest.raises(SceneError) as e:
+        read_study(_study(pair, PAIR_STUDY.format(analysis="frf", extra=extra)))
+    assert e.value.path == field

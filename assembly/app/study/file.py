@@ -225,6 +225,23 @@ def _names(t: dict, key: str, where: str, required: bool) -> list | None:
     return v
 
 
+def _bands(bands, fmin, fmax) -> list:
+    """``[frf] bands``: a list of [lo, hi] (Hz) inside [fmin, fmax], each kept its own peak;
+    SceneError at ``frf.bands[i]`` naming the band."""
+    if bands is None:
+        return []
+    out = []
+    for i, b in enumerate(bands):
+        ok = (isinstance(b, list) and len(b) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                         and math.isfinite(v) for v in b) and b[0] < b[1])
+        if not ok:
+            raise SceneError(f"frf.bands[{i}]", b, "must be [lo, hi] in Hz, lo < hi")
+        if isinstance(fmin, (int, float)) and isinstance(fmax, (int, float)) and not (fmin <= b[0] and b[1] <= fmax):
+            raise SceneError(f"frf.bands[{i}]", b, f"must lie in fmin .. fmax = {fmin} .. {fmax} Hz")
+        out.append((float(b[0]), float(b[1])))
+    return out
+
+
 def _settings(analysis: str, t: dict) -> dict:
     """The analysis's own settings, checked (Hz, s; keys and types by :func:`check_keys`)."""
     if analysis == "frf":
@@ -234,7 +251,8 @@ def _settings(analysis: str, t: dict) -> dict:
         s = {"input": t["input"], "outputs": _names(t, "outputs", "frf", True),
              "fmin": _number(t, "fmin", "frf", 1.0), "fmax": _number(t, "fmax", "frf"),
              "points": t.get("points", 400), "log": t.get("log", False), "method": t.get("method", "modal"),
-             "modes_hz": None if t.get("modes_hz") is None else _number(t, "modes_hz", "frf")}
+             "modes_hz": None if t.get("modes_hz") is None else _number(t, "modes_hz", "frf"),
+             "bands": _bands(t.get("bands"), t.get("fmin", 1.0), t.get("fmax"))}
         if s["points"] < 2:
             raise SceneError("frf.points", s["points"], "must be an integer >= 2")
         if not s["fmin"] < s["fmax"]:

@@ -31,7 +31,7 @@ TOP = {"name": TEXT, "scene": TEXT, "analysis": TEXT, "keep": TABLE, "frf": TABL
 KEEP = {"modes": INT, "stats": TEXTS, "life": BOOL, "passages": BOOL, "track": BOOL, "classes": TEXTS,
         "band_hz": LIST}
 FRF = {"input": TEXT, "outputs": TEXTS, "fmin": NUMBER, "fmax": NUMBER, "points": INT, "log": BOOL,
-       "method": TEXT, "modes_hz": NUMBER}
+       "method": TEXT, "modes_hz": NUMBER, "bands": LIST}
 SIMULATE = {"t_end": NUMBER, "dt": NUMBER, "outputs": TEXTS, "speed": NUMBER, "unreduced": BOOL}
 DESIGN = {"kind": TEXT, "samples": INT, "seed": INT}
 PARAMETER = {"path": PATH, "name": TEXT, "scale": BOOL, "values": LIST, "range": LIST, "log_range": LIST,

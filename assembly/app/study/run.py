@@ -18,7 +18,8 @@ Results per analysis (:mod:`assembly.app.study.file` gives the settings):
   ... and the number of rigid-body modes ``n_rigid``;
 * ``compare``: the same for each fidelity, ``torsional_f1_hz``, ``rigid_f1_hz``, ...;
 * ``frf``: per output its largest magnitude ``peak[OUT]`` (output unit per input unit) and
-  where it is, ``peak_hz[OUT]`` (Hz);
+  where it is, ``peak_hz[OUT]`` (Hz), and the same in each of ``[frf] bands``
+  (``peak[OUT][LO-HI Hz]``);
 * ``simulate``: per output the ``keep["stats"]`` of its history, ``peak[OUT]``,
   ``mean[OUT]``, ... (a stress output's history is its von Mises stress, Pa), and
   ``contact_losses`` over all meshes. The statistics are accumulated as the run goes and no
@@ -121,6 +122,12 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
             k = int(np.argmax(np.abs(h)))
             out[f"peak[{name}]"] = float(np.abs(h[k]))
             out[f"peak_hz[{name}]"] = float(r.frequency_hz[k])
+            for lo, hi in settings.get("bands", ()):       # each band's own peak
+                inside = np.flatnonzero((r.frequency_hz >= lo) & (r.frequency_hz <= hi))
+                if inside.size:
+                    j = int(inside[np.argmax(np.abs(h[inside]))])
+                    out[f"peak[{name}][{lo:g}-{hi:g} Hz]"] = float(np.abs(h[j]))
+                    out[f"peak_hz[{name}][{lo:g}-{hi:g} Hz]"] = float(r.frequency_hz[j])
         return out
     if analysis == "simulate":
         from ...dynamics.simulate import simulate
