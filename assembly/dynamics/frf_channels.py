@@ -25,6 +25,10 @@ Outputs (one row per output, or two: ``out = (r_k + i omega r_c) q``):
   strain rows, taken about body1's axis (positive when body1 is twisted ahead of body2, as
   the static report, :mod:`assembly.analysis.reactions`); a beam shaft of several elements: its
   first element (at body1), or name an element ``SHAFT:A-B``;
+* ``torque:BODY:INTERFACE``: the torque the body passes through an interface to the springs
+  attached there (shafts, bearings, meshes), about its own axis -- a carrier's output torque
+  without a shaft of its own: equal to a shaft's section torque where a shaft alone is
+  attached (body1 the body);
 * ``force:MESH``: the mesh force along the line of action, ``(k + i omega c) delta``
   (positive: the ``drive_sign`` flank in compression);
 * ``force:BEARING[:x|y|z|rx|ry|rz]``: the force (N) or moment (N m) the bearing exerts on
@@ -127,6 +131,9 @@ def output_channels(model, name: str, arg: str = "outputs") -> list[Channel]:
     if kind == "torque" and rest:
         el = elements.get(rest) or next((e for e in model.elements if e.kind == "shaft"
                                           and e.name.startswith(rest + ":")), None)
+        body, _, iface = rest.rpartition(":")
+        if (el is None or el.kind != "shaft") and body in model.bodies and iface:
+            return [_interface_channel(model, body, iface, arg, name)]
         if el is None or el.kind != "shaft":
             raise SceneError(arg, name, f"no shaft {rest!r}; shafts: {_names(model, 'shaft')}"
                                         f"{nearest(rest, _names(model, 'shaft'))}")
@@ -138,8 +145,33 @@ def output_channels(model, name: str, arg: str = "outputs") -> list[Channel]:
             return [_element_channel(model, el, np.ones(1), name, "N")]
         return _bearing_channels(model, rest, elements, arg, name)
     raise SceneError(arg, name, "outputs are motion:BODY[:INTERFACE]:DOF, acceleration:BODY[:INTERFACE]:DOF, "
-                                "torque:SHAFT, force:MESH, "
+                                "torque:SHAFT, torque:BODY:INTERFACE, force:MESH, "
                                 "force:BEARING[:x|y|z|rx|ry|rz], stress:BODY:X,Y,Z")
+
+
+def _interface_channel(model, body: str, iface: str, arg: str, name: str) -> Channel:
+    """``torque:BODY:INTERFACE``: the torque ``body`` passes through ``iface`` to what is attached
+    there, about its own axis -- the sum over the springs attached at that interface of ``(k +
+    i omega c) e`` weighted by each row's moment about the axis line, ``b . [a x (p - c); a]`` (a
+    the body's axis through c, p the spring's point): a shaft there gives its own section torque."""
+    bm = model.bodies[body]
+    a = np.asarray(bm.axes, float)[:, 2]
+    c = np.asarray(getattr(bm, "axis_point", None) if getattr(bm, "axis_point", None) is not None
+                   else bm.origin, float)
+    parts = []
+    for el in model.elements:
+        for i, (b, f) in enumerate(zip(el.bodies, el.interfaces)):
+            if b == body and f == iface:
+                g = np.concatenate([np.cross(a, np.asarray(el.point, float) - c), a])
+                parts.append((el, el.B[:, 6 * i:6 * i + 6] @ g))
+    if not parts:
+        have = sorted({f for el in model.elements for b, f in zip(el.bodies, el.interfaces) if b == body and f})
+        raise SceneError(arg, name, f"no spring of {body!r} is attached at interface {iface!r}; its interfaces "
+                                    f"with springs: {have}")
+    rows = [_element_channel(model, el, w, name, "N m") for el, w in parts]
+    k_row = sum(ch.k_row for ch in rows)
+    c_rows = [ch.c_row for ch in rows if ch.c_row is not None]
+    return Channel(name, "N m", k_row, sum(c_rows) if c_rows else None, section=True)
 
 
 def _stress_channels(model, rest: str, arg: str, name: str) -> list[Channel]:
