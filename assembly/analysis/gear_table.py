@@ -118,7 +118,7 @@ def gear_table(scene) -> tuple[GearRow, ...]:
         for k, (pair, field) in enumerate((("sun-planet", "k_mesh_sun"), ("planet-ring", "k_mesh_ring"))):
             first = expanded[f"{st.name}.sun-planet0" if k == 0 else f"{st.name}.planet0-ring"]
             # the planets' helix is the sun's, opposite (an external pair); the ring's the planets'
-            beta = st.helix_angle if k == 0 else -st.helix_angle
+            beta = st.helix_angle if k == 0 else -st.helix_angle or 0.0
             teeth = None if st.normal_module is None else (st.normal_pressure_angle, beta, st.normal_module,
                                                            st.face_width, eps[k])
             out.append(_row(f"{st.name}.{pair}", f"stages[{i}].{field}", first, n, _source(given, field), teeth))
