@@ -50,7 +50,9 @@ from .. import strict_json
 from ..errors import ModeSelectionError, user_errors
 from ..output import MANIFEST, staged_output, write_manifest, writing
 from ..progress import Progress
+from .gear_cells import gear_cells
 from .html import render_index
+from .inertia_cells import referred_cells
 from .run_frf import step_frf
 from .static_tables import case_summary, static_json, static_tables, static_text, write_static_csv
 from .tables import (
@@ -377,7 +379,10 @@ def build_report(ctx: RunContext) -> dict:
     cells = body_cells(ctx.model)
     bodies = dict(title=BODY_TABLE_TITLE, header=cells["header"], rows=cells["rows"], left=cells["left"],
                   notes=cells["notes"])
+    gears = gear_cells(ctx.model)
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta, bodies=bodies,
+                gears=gears if gears["rows"] else None,
+                referred=referred_cells(ctx.model),
                 modes=(["mode", "f [Hz]", "mult.", "class", "scope", ENERGY_SPLIT_HEADER, "dominant bodies (kinetic energy)",
                         "strain energy in flexible bodies", ""], modes_rows),
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
