@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from fe_components.gear_pair import pair_geometry, transverse_pressure_angle
 
 from ..scene.gears import ISO_SOURCE, body_teeth, body_tip_alterations, stage_contact_ratios
+from ..scene.tables import scene_argument
 
 
 @dataclass(frozen=True)
@@ -107,6 +108,7 @@ def _source(given, field: str) -> str:
 def gear_table(scene) -> tuple[GearRow, ...]:
     """:class:`GearRow` of every scene mesh, then of each planetary stage's sun-planet and
     planet-ring meshes (one row each, ``count`` planets), in scene order."""
+    scene_argument("scene", scene)
     expanded = {m.name: m for m in scene.expanded().meshes}
     out = []
     for i, (m, given) in enumerate(zip(scene.meshes, scene.as_given("meshes"))):

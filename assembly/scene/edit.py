@@ -156,6 +156,7 @@ def get_value(scene: Scene, path: str, given: bool = False) -> Any:
     import math
     scene_argument("scene", scene)
     steps = parse_path(arguments.text("path", path))
+    given = arguments.flag("given", given)
     found = _locate(to_dict(scene), steps, path, create=False)
     if found is None:  # an optional table on the way is not given
         return None
