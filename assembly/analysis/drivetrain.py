@@ -208,15 +208,21 @@ def referred_inertia(model, shaft: str) -> float:
     return float(Z @ (m.M_abs @ Z))
 
 
-def referred_inertias(model) -> dict[str, float]:
+def referred_inertias(model, shape=None) -> dict[str, float]:
     """Body name -> :func:`referred_inertia` of every body that turns in the rigid-body
-    mode (one mode shape, each body's speed ratio squared)."""
+    mode (one mode shape, each body's speed ratio squared). ``shape``: that mode on the
+    absolute coordinates when the caller has it (a modal result's one rigid-body mode,
+    any scaling), else it is found from the springs (:func:`single_rigid_mode`)."""
     m = model_of("model", model)
-    phi, why = single_rigid_mode(m)
-    if phi is None:
-        raise MechanismError(f"referred inertias need exactly one rigid-body mode: {why}", phi)
-    Z = m.T @ phi[:, 0]
+    if shape is None:
+        phi, why = single_rigid_mode(m)
+        if phi is None:
+            raise MechanismError(f"referred inertias need exactly one rigid-body mode: {why}", phi)
+        shape = m.T @ phi[:, 0]
+    Z = np.asarray(shape, float).ravel()
     energy = float(Z @ (m.M_abs @ Z))
     w = {b: float(axial_rotation(m, Z, b)) for b in m.bodies}
     scale = max(abs(v) for v in w.values())
+    if not scale > 0:
+        raise MechanismError("no body turns in the rigid-body mode: no referred inertia", scale)
     return {b: energy / v**2 for b, v in w.items() if abs(v) > 1e-12 * scale}

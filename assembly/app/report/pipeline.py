@@ -382,7 +382,7 @@ def build_report(ctx: RunContext) -> dict:
     gears = gear_cells(ctx.model)
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta, bodies=bodies,
                 gears=gears if gears["rows"] else None,
-                referred=referred_cells(ctx.model),
+                referred=referred_cells(ctx.model, ctx.result),
                 modes=(["mode", "f [Hz]", "mult.", "class", "scope", ENERGY_SPLIT_HEADER, "dominant bodies (kinetic energy)",
                         "strain energy in flexible bodies", ""], modes_rows),
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),

@@ -59,7 +59,8 @@ def modes_table(result, title: str = "", all_modes: bool = False) -> str:
     lines += flexible_lines(result.model)
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
-    lines += ["", *body_lines(result.model), *gear_lines(result.model), *referred_lines(result.model)]
+    lines += ["", *body_lines(result.model), *gear_lines(result.model),
+              *referred_lines(result.model, result)]
     return "\n".join(lines)
 
 
@@ -101,9 +102,10 @@ def gear_lines(model) -> list:
     return ["", c["title"], text_table(c["header"], c["rows"], set(c["left"]))] if c["rows"] else []
 
 
-def referred_lines(model) -> list:
-    """The referred-inertia table as text lines (blank line, title, table or why there is none)."""
-    c = referred_cells(model)
+def referred_lines(model, result=None) -> list:
+    """The referred-inertia table as text lines (blank line, title, table or why there is
+    none); ``result``: the model's modal result (its rigid-body mode is used)."""
+    c = referred_cells(model, result)
     return ["", c["title"], *([text_table(c["header"], c["rows"], set(c["left"]))] if c["rows"] else []),
             *c["notes"]]
 
@@ -251,7 +253,7 @@ def modes_json(result) -> dict:
         "flexible_bodies": flexible_summary(m),
         "bodies": bodies_json(m),
         "gears": gears_json(m),
-        "referred_inertia_kgm2": referred_json(m),
+        "referred_inertia_kgm2": referred_json(m, result),
         "modes": modes,
     }
 
