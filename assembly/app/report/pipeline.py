@@ -424,9 +424,10 @@ def step_static(ctx: RunContext, bar) -> None:
     write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
                                                                    "checks (CSV; N, N m)"))
     with open(ctx.add_file("static.json", "static load cases: forces, reactions, checks (JSON; N, N m)"), "w") as fh:
-        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports, ctx.model), indent=1))
+        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports, ctx.model, ctx.result), indent=1))
     ctx.add_file("static_table.txt", "static load cases (text)").write_text(
-        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})", model=ctx.model) + "\n")
+        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})", model=ctx.model,
+                    result=ctx.result) + "\n")
     for r in ctx.static_reports:
         note = f"load case {r.case!r}: {case_summary(r)}; equilibrium error {r.equilibrium['relative_error']:.1e}"
         if r.balance:

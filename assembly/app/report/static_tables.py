@@ -99,9 +99,10 @@ def _text_table(header, rows) -> list:
     return [fmt(header), "  ".join("-" * w for w in widths)] + [fmt(r) for r in rows]
 
 
-def static_text(reports, title: str = "", model=None) -> str:
+def static_text(reports, title: str = "", model=None, result=None) -> str:
     """Every load case as plain-text tables, then (``model``: the assembled model solved)
-    the bodies' mass properties and their source."""
+    the bodies' mass properties and their source, the gear table and the inertia referred
+    to each shaft (from ``result``'s rigid-body mode when the model's modes are given)."""
     lines = [title] if title else []
     for rep in reports:
         lines += ["", f"load case {rep.path} {rep.case!r}: {case_summary(rep)}"]
@@ -109,19 +110,21 @@ def static_text(reports, title: str = "", model=None) -> str:
             if rows:
                 lines += ["", t] + _text_table(header, rows)
     if model is not None:
-        lines += ["", *body_lines(model), *gear_lines(model), *referred_lines(model)]
+        lines += ["", *body_lines(model), *gear_lines(model), *referred_lines(model, result)]
     return "\n".join(lines)
 
 
-def static_json(scene_name: str, reports, model=None) -> dict:
-    """JSON-ready load cases; with ``model``, its bodies' mass properties (``bodies``)."""
+def static_json(scene_name: str, reports, model=None, result=None) -> dict:
+    """JSON-ready load cases; with ``model``, its bodies' mass properties (``bodies``), gear
+    table (``gears``) and referred inertias (``referred_inertia_kgm2``; ``result`` as in
+    :func:`static_text`)."""
     out = {"scene": scene_name, "units": {"force": "N", "moment": "N m", "angle": "rad", "mass": "kg",
                                           "inertia": "kg m^2", "length": "m"},
            "load_cases": [r.as_dict() for r in reports]}
     if model is not None:
         out["bodies"] = bodies_json(model)
         out["gears"] = gears_json(model)
-        out["referred_inertia_kgm2"] = referred_json(model)
+        out["referred_inertia_kgm2"] = referred_json(model, result)
     return out
 
 
