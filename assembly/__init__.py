@@ -55,7 +55,7 @@ _EXPORTS = {
     "solve_static": "assembly.analysis.static", "StaticResult": "assembly.analysis.static",
     "static_report": "assembly.analysis.reactions", "StaticReport": "assembly.analysis.reactions",
     "gear_table": "assembly.analysis.gear_table", "GearRow": "assembly.analysis.gear_table",
-    "referred_inertia": "assembly.analysis.drivetrain",
+    "referred_inertia": "assembly.analysis.referred",
     "compare": "assembly.analysis.compare", "Comparison": "assembly.analysis.compare",
     "two_mass": "assembly.analysis.two_mass", "TwoMass": "assembly.analysis.drivetrain",
     "check_part": "assembly.analysis.part_check", "check_body_part": "assembly.analysis.part_check",

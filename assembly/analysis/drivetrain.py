@@ -27,7 +27,6 @@ import numpy as np
 from .. import arguments
 from ..errors import MechanismError, SceneError, SolverError
 from ..mechanics.condensation import condense
-from ..model.assemble import model_of
 from ..model.probes import axial_rotation
 from ..scene.paths import body_origins
 from .load_cases import single_rigid_mode
@@ -193,36 +192,3 @@ def two_mass_stiffness(model, rotor: str, generator: str) -> TwoMass:
                           f"not rank one k (th_R - th_G/s)^2 with the rigid-body mode's ratio s = {s:.9g}")
     log.info("two-mass %s -> %s: N = %.6g, k = %.6g N m/rad", rotor, generator, abs(s), k)
     return TwoMass(rotor, generator, s, energy[rotor], energy[generator] / s**2, rest / s**2, k)
-
-
-def referred_inertia(model, shaft: str) -> float:
-    """The drivetrain's inertia referred to ``shaft`` (a body name; kg m^2): twice the
-    kinetic energy of the rigid-body mode with ``shaft`` turning at 1 rad/s about its own
-    axis, J_ref = sum_b J_b (omega_b / omega_shaft)^2 plus the orbiting masses' m v^2
-    (planets); what a controller designer sees on that shaft. ``model``: an
-    :class:`AssembledModel`, or a Scene assembled as given. MechanismError when the model
-    has not exactly one rigid-body mode or ``shaft`` stands still in it."""
-    m = model_of("model", model)
-    arguments.one_of("shaft", shaft, list(m.bodies))
-    Z = _rigid_motion(m, shaft)
-    return float(Z @ (m.M_abs @ Z))
-
-
-def referred_inertias(model, shape=None) -> dict[str, float]:
-    """Body name -> :func:`referred_inertia` of every body that turns in the rigid-body
-    mode (one mode shape, each body's speed ratio squared). ``shape``: that mode on the
-    absolute coordinates when the caller has it (a modal result's one rigid-body mode,
-    any scaling), else it is found from the springs (:func:`single_rigid_mode`)."""
-    m = model_of("model", model)
-    if shape is None:
-        phi, why = single_rigid_mode(m)
-        if phi is None:
-            raise MechanismError(f"referred inertias need exactly one rigid-body mode: {why}", phi)
-        shape = m.T @ phi[:, 0]
-    Z = np.asarray(shape, float).ravel()
-    energy = float(Z @ (m.M_abs @ Z))
-    w = {b: float(axial_rotation(m, Z, b)) for b in m.bodies}
-    scale = max(abs(v) for v in w.values())
-    if not scale > 0:
-        raise MechanismError("no body turns in the rigid-body mode: no referred inertia", scale)
-    return {b: energy / v**2 for b, v in w.items() if abs(v) > 1e-12 * scale}

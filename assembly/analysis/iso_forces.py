@@ -45,7 +45,10 @@ def load_sharing(scene, forces: dict) -> list:
     out = []
     for st in scene.stages:
         for kind, name in (("sun-planet", "{}.sun-planet{}"), ("planet-ring", "{}.planet{}-ring")):
-            f = np.abs([forces[name.format(st.name, i)] for i in range(st.planets.count)])
+            got = [forces.get(name.format(st.name, i)) for i in range(st.planets.count)]
+            if None in got:          # a model without the stage's meshes (a part of the scene)
+                continue
+            f = np.abs(got)
             mean = float(f.mean())
             out.append({"stage": st.name, "mesh": kind, "forces_N": f.tolist(),
                         "K_gamma": float(f.max()) / mean if mean > 0.0 else None})

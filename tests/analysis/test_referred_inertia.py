@@ -7,8 +7,8 @@ import math
 import pytest
 
 from assembly import Bearing, Body, GearMesh, Scene, load_scene
-from assembly.analysis.drivetrain import referred_inertia, referred_inertias
 from assembly.analysis.modal import solve_modes
+from assembly.analysis.referred import referred_inertia, referred_inertias
 from assembly.app.report.tables import modes_json, modes_table
 from assembly.errors import MechanismError, SceneError
 from assembly.model.assemble import assemble

@@ -34,9 +34,9 @@ from assembly import (
     track_modes,
     with_fidelity,
 )
-from assembly.analysis.drivetrain import referred_inertia
 from assembly.analysis.gear_table import gear_table
 from assembly.analysis.reactions import static_report
+from assembly.analysis.referred import referred_inertia
 from assembly.analysis.static import solve_static, solve_static_cases
 from assembly.analysis.two_mass import two_mass
 from assembly.app import run_report

@@ -1,8 +1,8 @@
 """The referred-inertia table of a report: the drivetrain's inertia seen on each turning
-body's shaft (:func:`assembly.analysis.drivetrain.referred_inertias`)."""
+body's shaft (:func:`assembly.analysis.referred.referred_inertias`)."""
 from __future__ import annotations
 
-from ...analysis.drivetrain import referred_inertias
+from ...analysis.referred import referred_inertias
 from ...errors import MechanismError
 
 #: Title of the referred-inertia table.
