@@ -13,6 +13,9 @@ balance then shows. Conventions (docs/static.md):
 
 * mesh ``force_N`` > 0: the flank ``drive_sign`` names in compression (``drive_flank``);
   < 0: the linear spring is in tension there, i.e. the load case drives the other flank;
+  in ISO terms also F_t (reference circle), F_r, F_a (:mod:`assembly.analysis.iso_forces`);
+* planet load sharing: K_gamma = max / mean of each stage's planet mesh forces
+  (:func:`assembly.analysis.iso_forces.load_sharing`);
 * bearing reaction: the force and moment the bearing exerts on its body, in the body's
   axes at the bearing point (a rigid direction: the constraint reaction of that DOF);
 * shaft section load: ``k`` times (body1 - body2) relative motion, body1's axes; the torque
@@ -37,6 +40,8 @@ from ..model.constraints import constrained_dofs
 from ..model.frame_motion import body_weights
 from ..model.probes import load_point
 from ..scene.tables import DOF_NAMES, HOUSING
+from .gear_table import mesh_rows
+from .iso_forces import iso_mesh_forces, load_sharing
 from .load_cases import Applied, applied_loads, speed_ratio
 from .static import StaticResult
 
@@ -63,13 +68,15 @@ class StaticReport:
     loads: list = field(default_factory=list)
     supports: list = field(default_factory=list)
     equilibrium: dict = field(default_factory=dict)
+    load_sharing: list = field(default_factory=list)
 
     def as_dict(self) -> dict:
         return dict(case=self.case, path=self.path, input=self.input, output=self.output,
                     input_torque_Nm=self.torque_Nm, output_reaction_torque_Nm=self.output_torque_Nm,
                     applied_loads=self.loads, meshes=self.meshes, bearings=self.bearings, shafts=self.shafts,
                     supports=self.supports, constraints=self.constraints, torque_balance=self.balance,
-                    ratio_check=self.ratio, equilibrium=self.equilibrium)
+                    ratio_check=self.ratio, equilibrium=self.equilibrium,
+                    planet_load_sharing=self.load_sharing)
 
 
 def _shift(wrench: np.ndarray, point, to) -> np.ndarray:
@@ -157,12 +164,18 @@ def static_report(st) -> StaticReport:
     external = [(a.wrench, a.point) for a in applied] + housing
     if output is not None:
         external.append((np.concatenate([np.zeros(3), out_torque * model.bodies[output].axes[:, 2]]), refs[output]))
+    src = model.source if model.source is not None else sc
+    rows = mesh_rows(src)
+    for m in meshes:
+        if m["mesh"] in rows:
+            m.update(iso_mesh_forces(m["force_N"], rows[m["mesh"]]))
+    sharing = load_sharing(src, {m["mesh"]: m["force_N"] for m in meshes})
     balance = _torque_balance(model, load, applied, housing, out_torque) if load.has_torque else {}
     ratio = _ratio_check(model, load, out_torque) if load.has_torque else {}
     return StaticReport(load.name, st.path, load.input, output, load.torque, out_torque if output else None,
                         meshes, bearings, shafts, constraints, balance, ratio,
                         [_applied_row(a) for a in applied], [row for row, _, _ in supports],
-                        equilibrium(external, applied[0].point if applied else np.zeros(3)))
+                        equilibrium(external, applied[0].point if applied else np.zeros(3)), sharing)
 
 
 def _applied_row(a) -> dict:

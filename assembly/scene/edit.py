@@ -147,18 +147,28 @@ def _locate(data: dict, steps: list, user_path: str, create: bool, value=None):
     raise AssertionError("unreachable")
 
 
-def get_value(scene: Scene, path: str) -> Any:
-    """The value at ``path`` as stored in the scene (angles in rad; ``<angle>_deg`` in
-    degrees; a table as a plain dict; a field left at its default gives the default)."""
+def get_value(scene: Scene, path: str, given: bool = False) -> Any:
+    """The value at ``path`` as the model uses it (angles in rad; ``<angle>_deg`` in
+    degrees; a table as a plain dict; a field left at its default gives the default): as
+    typed in the scene, or, for a field left out that the scene derives (a mesh stiffness
+    from ISO 6336-1, base radii and pressure angles from teeth, a gear blank's mass), the
+    derived value. ``given``: only what the scene types (None for a derived field)."""
     import math
     scene_argument("scene", scene)
     steps = parse_path(arguments.text("path", path))
+    given = arguments.flag("given", given)
     found = _locate(to_dict(scene), steps, path, create=False)
     if found is None:  # an optional table on the way is not given
         return None
     node, key, cls, _ = found
     if key in node:
         return node[key]
+    if not given:
+        derived = _locate(to_dict(scene, resolved=True), steps, path, create=False)
+        if derived is not None and derived[1] in derived[0]:
+            return derived[0][derived[1]]
+        if derived is not None:
+            node = derived[0]
     if key.endswith("_deg") and cls is not None and key[:-4] in _angle_fields(cls):
         rad = node.get(key[:-4])
         return None if rad is None else tuple(map(math.degrees, rad)) if isinstance(rad, list) else math.degrees(rad)

@@ -365,14 +365,16 @@ def _equally_spaced_planets(data: dict, path: str) -> dict:
     return data
 
 
-def to_dict(obj, defaults: bool = True) -> dict:
+def to_dict(obj, defaults: bool = True, resolved: bool = False) -> dict:
     """Plain-dict view of a dataclass tree (radians kept; None fields dropped; a scene as
-    the user gave it, see :meth:`Scene.as_given`; with
+    the user gave it, see :meth:`Scene.as_given`, or with ``resolved`` as the model uses it:
+    gear numbers derived from teeth, bodies placed; with
     ``defaults=False`` also the fields at their default). A component's parameters
     (fe_components) become a table with its ``kind`` first, as a scene file gives it."""
     from fe_components.params import component_kind
     out = {"kind": component_kind(obj)} if type(obj) in _COMPONENT_CLASSES else {}
-    given = getattr(obj, "as_given", functools.partial(getattr, obj))  # a Scene: as written
+    given = functools.partial(getattr, obj) if resolved else \
+        getattr(obj, "as_given", functools.partial(getattr, obj))  # a Scene: as written
     for f in dataclasses.fields(obj):
         if not f.init:  # derived on construction (a part file's content hash)
             continue

@@ -34,7 +34,9 @@ from assembly import (
     track_modes,
     with_fidelity,
 )
+from assembly.analysis.gear_table import gear_table
 from assembly.analysis.reactions import static_report
+from assembly.analysis.referred import referred_inertia
 from assembly.analysis.static import solve_static, solve_static_cases
 from assembly.analysis.two_mass import two_mass
 from assembly.app import run_report
@@ -118,7 +120,7 @@ TABLE_OF_CALLS = [
     ("track_modes", lambda o, **a: track_modes(**a), {"results": ["<result>", "<result>"]},
      {"results": [None, 5, "x", "R", [None], ["M"], OTHER], "threshold": ["0.8", NAN, -0.1, 1.5, None, OTHER]}),
     ("get_value", lambda o, **a: get_value(**a), {"scene": "<scene>", "path": "meshes[0].stiffness"},
-     {"scene": SCENE, "path": NAME}),
+     {"scene": SCENE, "path": NAME, "given": FLAG}),
     ("with_value", lambda o, **a: with_value(**a), {"scene": "<scene>", "path": "meshes[0].stiffness", "value": 2e8},
      {"scene": SCENE, "path": NAME}),
     ("with_values", lambda o, **a: with_values(**a), {"scene": "<scene>", "changes": {"meshes[0].stiffness": 2e8}},
@@ -177,6 +179,9 @@ TABLE_OF_CALLS = [
     ("solve_static_cases", lambda o, **a: solve_static_cases(**a), {"model": "<model>", "cases": [("load", "<load>")]},
      {"model": MODEL_OR_SCENE, "cases": [5, "x", [5], [("load", None)], ["<load>"], OTHER]}),
     ("static_report", lambda o, **a: static_report(**a), {"st": "<static>"}, {"st": [None, 5, "M", "S", OTHER]}),
+    ("gear_table", lambda o, **a: gear_table(**a), {"scene": "<scene>"}, {"scene": SCENE}),
+    ("referred_inertia", lambda o, **a: referred_inertia(**a), {"model": "<model>", "shaft": "g1"},
+     {"model": MODEL_OR_SCENE, "shaft": NAME + ["g3"]}),
     ("run_report", lambda o, **a: run_report(**a), {"scene": "<scene>", "out": "<folder>/never"},
      {"scene": [None, 5, "M", OTHER], "out": [None, 5, "", OTHER], "progress": FLAG,
       "n_modes": ["3", -1, 1.5, None, OTHER], "compare": FLAG, "images": FLAG,

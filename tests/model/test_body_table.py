@@ -164,3 +164,16 @@ def test_sources_of_plain_bodies():
     assert st.source == "beam shaft" and st.path == "shafts[0].stations[0]"
     assert st.mass == pytest.approx(RHO * math.pi * 0.35 ** 2 * 1.166 / 2, rel=1e-12)
     assert rows["hub"].source == "typed (transverse: polar/2)"
+
+
+def test_fe_masses_are_the_reduced_meshs(flexible_rod):
+    # The body table's FE numbers are the component mesh's as the model holds it: the
+    # superelement's mass matrix seen by the body's exact rigid motions about its centre of
+    # mass (Craig-Bampton constraint modes span rigid motion exactly, so the reduction keeps
+    # the mesh's mass and inertia to rounding): R' M R = diag(m, m, m, J) in local axes.
+    (row,) = body_properties(flexible_rod)
+    bm = flexible_rod.bodies["rod"]
+    MR = bm.rigid_local.T @ (bm.M @ bm.rigid_local)
+    assert row.mass == pytest.approx(MR[0, 0], rel=1e-9) and row.mass == pytest.approx(MR[2, 2], rel=1e-9)
+    assert row.polar_inertia == pytest.approx(MR[5, 5], rel=1e-9)       # local z: the body's axis
+    assert row.transverse_inertia == pytest.approx(0.5 * (MR[3, 3] + MR[4, 4]), rel=1e-9)

@@ -58,7 +58,8 @@ def figure(src: str, caption: str, alt: str = "") -> str:
 def render_index(report: dict) -> str:
     """HTML text of the run page. ``report`` keys: title, scene, meta (list of str),
     modes (header, rows), modes_note (str: rows left out), bodies (title, header, rows, left,
-    notes: the bodies' mass properties; optional), comparison (header, rows, row_classes,
+    notes: the bodies' mass properties; optional), gears (the same keys: the gear table;
+    optional), referred (the same keys: inertia referred to each shaft; optional), comparison (header, rows, row_classes,
     note) or None, sections [{title, note, tables: [(title, header, rows, left columns)]}]
     (optional), key_images [(path, caption)] shown first (optional), overview
     (path, caption) or None, images [(path, caption)], plots [(path, caption)],
@@ -85,6 +86,21 @@ def render_index(report: dict) -> str:
         parts.append(f'<p class="meta">{_e(bodies["title"])}</p>')
         parts.append(_table(bodies["header"], bodies["rows"], left=set(bodies.get("left", ()))))
         for n in bodies.get("notes", []):
+            parts.append(f'<p class="note">{_e(n)}</p>')
+
+    gears = report.get("gears")
+    if gears:
+        parts.append("<h2>Gear meshes: geometry, contact ratios, stiffness</h2>")
+        parts.append(f'<p class="meta">{_e(gears["title"])}</p>')
+        parts.append(_table(gears["header"], gears["rows"], left=set(gears.get("left", ()))))
+
+    referred = report.get("referred")
+    if referred:
+        parts.append("<h2>Inertia referred to each shaft</h2>")
+        parts.append(f'<p class="meta">{_e(referred["title"])}</p>')
+        if referred["rows"]:
+            parts.append(_table(referred["header"], referred["rows"], left=set(referred.get("left", ()))))
+        for n in referred.get("notes", []):
             parts.append(f'<p class="note">{_e(n)}</p>')
 
     comp = report.get("comparison")

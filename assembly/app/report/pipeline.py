@@ -50,7 +50,9 @@ from .. import strict_json
 from ..errors import ModeSelectionError, user_errors
 from ..output import MANIFEST, staged_output, write_manifest, writing
 from ..progress import Progress
+from .gear_cells import gear_cells
 from .html import render_index
+from .inertia_cells import referred_cells
 from .run_frf import step_frf
 from .static_tables import case_summary, static_json, static_tables, static_text, write_static_csv
 from .tables import (
@@ -378,7 +380,10 @@ def build_report(ctx: RunContext) -> dict:
     cells = body_cells(ctx.model)
     bodies = dict(title=BODY_TABLE_TITLE, header=cells["header"], rows=cells["rows"], left=cells["left"],
                   notes=cells["notes"])
+    gears = gear_cells(ctx.model)
     return dict(title=f"flexgear run: {ctx.scene.name}", scene=ctx.scene.name, meta=meta, bodies=bodies,
+                gears=gears if gears["rows"] else None,
+                referred=referred_cells(ctx.model, ctx.result),
                 modes=(["mode", "f [Hz]", "mult.", "class", "scope", ENERGY_SPLIT_HEADER, "dominant bodies (kinetic energy)",
                         "strain energy in flexible bodies", ""], modes_rows),
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
@@ -420,9 +425,10 @@ def step_static(ctx: RunContext, bar) -> None:
     write_static_csv(ctx.static_reports, ctx.add_file("static.csv", "static load cases: forces, reactions, "
                                                                    "checks (CSV; N, N m)"))
     with open(ctx.add_file("static.json", "static load cases: forces, reactions, checks (JSON; N, N m)"), "w") as fh:
-        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports, ctx.model), indent=1))
+        fh.write(strict_json.dumps(static_json(ctx.scene.name, ctx.static_reports, ctx.model, ctx.result), indent=1))
     ctx.add_file("static_table.txt", "static load cases (text)").write_text(
-        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})", model=ctx.model) + "\n")
+        static_text(ctx.static_reports, title=f"{ctx.scene.name}  ({ctx.scene_source})", model=ctx.model,
+                    result=ctx.result) + "\n")
     for r in ctx.static_reports:
         note = f"load case {r.case!r}: {case_summary(r)}; equilibrium error {r.equilibrium['relative_error']:.1e}"
         if r.balance:

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import csv
 
-from .tables import bodies_json, body_lines
+from .gear_cells import gears_json
+from .inertia_cells import referred_json
+from .tables import bodies_json, body_lines, gear_lines, referred_lines
 
 
 def _g(v) -> str:
@@ -39,10 +41,19 @@ def static_tables(rep) -> list:
         out.append(("applied loads (global axes, at the point)", ["load", "body", "point [m]"] + _WRENCH_HEAD,
                     [[a["load"], a["body"], " ".join(_g(x) for x in a["point_m"])] + [_g(a[k]) for k in _WRENCH]
                      for a in rep.loads], (0, 1, 2)))
-    out.append(("gear meshes (force along the line of action; > 0: drive flank in compression)",
-                ["mesh", "gear 1", "gear 2", "force [N]", "transverse [N]", "axial [N]", "flank"],
+    out.append(("gear meshes (force along the line of action; > 0: drive flank in compression; ISO 6336-1: "
+                "F_t tangential at the reference circle (the working pitch circle without teeth), F_r radial, "
+                "F_a axial)",
+                ["mesh", "gear 1", "gear 2", "force [N]", "transverse [N]", "axial [N]", "flank", "F_t [N]",
+                 "F_r [N]", "F_a [N]", "F_t at"],
                 [[m["mesh"], m["gear1"], m["gear2"], _g(m["force_N"]), _g(m["transverse_N"]), _g(m["axial_N"]),
-                  "drive" if m["drive_flank"] else "opposite"] for m in rep.meshes], (0, 1, 2, 6)))
+                  "drive" if m["drive_flank"] else "opposite", _g(m.get("F_t_N")), _g(m.get("F_r_N")),
+                  _g(m.get("F_a_N")), m.get("circle", "")] for m in rep.meshes], (0, 1, 2, 6, 10)))
+    if rep.load_sharing:
+        out.append(("planet load sharing (ISO 6336-1 K_gamma = max / mean of the stage's planet mesh forces)",
+                    ["stage", "mesh", "K_gamma", "planet mesh forces [N]"],
+                    [[s["stage"], s["mesh"], _g(s["K_gamma"]), " ".join(_g(f) for f in s["forces_N"])]
+                     for s in rep.load_sharing], (0, 1, 3)))
     out.append(("bearing reactions on the body (bearing axes, at the bearing point)",
                 ["bearing", "body", "frame"] + _WRENCH_HEAD,
                 [[b["bearing"], b["body"], b["frame"]] + [_g(b[k]) for k in _WRENCH] for b in rep.bearings],
@@ -104,9 +115,10 @@ def _text_table(header, rows) -> list:
     return [fmt(header), "  ".join("-" * w for w in widths)] + [fmt(r) for r in rows]
 
 
-def static_text(reports, title: str = "", model=None) -> str:
+def static_text(reports, title: str = "", model=None, result=None) -> str:
     """Every load case as plain-text tables, then (``model``: the assembled model solved)
-    the bodies' mass properties and their source."""
+    the bodies' mass properties and their source, the gear table and the inertia referred
+    to each shaft (from ``result``'s rigid-body mode when the model's modes are given)."""
     lines = [title] if title else []
     for rep in reports:
         lines += ["", f"load case {rep.path} {rep.case!r}: {case_summary(rep)}"]
@@ -114,17 +126,21 @@ def static_text(reports, title: str = "", model=None) -> str:
             if rows:
                 lines += ["", t] + _text_table(header, rows)
     if model is not None:
-        lines += ["", *body_lines(model)]
+        lines += ["", *body_lines(model), *gear_lines(model), *referred_lines(model, result)]
     return "\n".join(lines)
 
 
-def static_json(scene_name: str, reports, model=None) -> dict:
-    """JSON-ready load cases; with ``model``, its bodies' mass properties (``bodies``)."""
+def static_json(scene_name: str, reports, model=None, result=None) -> dict:
+    """JSON-ready load cases; with ``model``, its bodies' mass properties (``bodies``), gear
+    table (``gears``) and referred inertias (``referred_inertia_kgm2``; ``result`` as in
+    :func:`static_text`)."""
     out = {"scene": scene_name, "units": {"force": "N", "moment": "N m", "angle": "rad", "mass": "kg",
                                           "inertia": "kg m^2", "length": "m"},
            "load_cases": [r.as_dict() for r in reports]}
     if model is not None:
         out["bodies"] = bodies_json(model)
+        out["gears"] = gears_json(model)
+        out["referred_inertia_kgm2"] = referred_json(model, result)
     return out
 
 
@@ -137,8 +153,11 @@ def write_static_csv(reports, path) -> None:
             if rep.output is not None:
                 w.writerow([rep.case, "output", rep.output, "reaction_torque", rep.output_torque_Nm, "N m"])
             for m in rep.meshes:
-                for q in ("force_N", "transverse_N", "axial_N"):
-                    w.writerow([rep.case, "mesh", m["mesh"], q[:-2], m[q], "N"])
+                for q in ("force_N", "transverse_N", "axial_N", "F_t_N", "F_r_N", "F_a_N"):
+                    if q in m:
+                        w.writerow([rep.case, "mesh", m["mesh"], q[:-2], m[q], "N"])
+            for sh in rep.load_sharing:
+                w.writerow([rep.case, "load_sharing", f"{sh['stage']}.{sh['mesh']}", "K_gamma", sh["K_gamma"], ""])
             for kind, rows, key in (("bearing", rep.bearings, "bearing"), ("shaft", rep.shafts, "shaft"),
                                     ("support", rep.supports, "support")):
                 for r in rows:

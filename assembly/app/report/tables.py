@@ -14,6 +14,8 @@ from ...model.body_table import body_properties, replaced, replaced_note
 from ...model.damping import has_damping
 from ...model.flexible import FlexibleBodyModel
 from ...scene.tables import DISPLAY_BAND_FACTOR
+from .gear_cells import gear_cells, gears_json
+from .inertia_cells import referred_cells, referred_json
 
 
 def in_band(result) -> np.ndarray:
@@ -57,7 +59,8 @@ def modes_table(result, title: str = "", all_modes: bool = False) -> str:
     lines += flexible_lines(result.model)
     lines.append(f"{len(infos)} modes, {result.model.K.shape[0]} DOFs, max relative eigen-residual "
                  f"{result.max_residual:.1e}, solve {result.solve_time_s * 1e3:.1f} ms")
-    lines += ["", *body_lines(result.model)]
+    lines += ["", *body_lines(result.model), *gear_lines(result.model),
+              *referred_lines(result.model, result)]
     return "\n".join(lines)
 
 
@@ -91,6 +94,20 @@ def body_lines(model) -> list:
     """The body table as text lines: title, table, one note per replaced body."""
     c = body_cells(model)
     return [BODY_TABLE_TITLE, text_table(c["header"], c["rows"], set(c["left"])), *c["notes"]]
+
+
+def gear_lines(model) -> list:
+    """The gear table as text lines (blank line, title, table; none without meshes)."""
+    c = gear_cells(model)
+    return ["", c["title"], text_table(c["header"], c["rows"], set(c["left"]))] if c["rows"] else []
+
+
+def referred_lines(model, result=None) -> list:
+    """The referred-inertia table as text lines (blank line, title, table or why there is
+    none); ``result``: the model's modal result (its rigid-body mode is used)."""
+    c = referred_cells(model, result)
+    return ["", c["title"], *([text_table(c["header"], c["rows"], set(c["left"]))] if c["rows"] else []),
+            *c["notes"]]
 
 
 def bodies_json(model) -> list:
@@ -235,6 +252,8 @@ def modes_json(result) -> dict:
         "solve_time_s": result.solve_time_s,
         "flexible_bodies": flexible_summary(m),
         "bodies": bodies_json(m),
+        "gears": gears_json(m),
+        "referred_inertia_kgm2": referred_json(m, result),
         "modes": modes,
     }
 

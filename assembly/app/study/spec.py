@@ -233,7 +233,7 @@ def variants(scene, study: dict) -> list[Variant]:
         values.append(vals)
         names.append(name)
         if scale:
-            base = [get_value(scene, q) for q in ps]
+            base = [get_value(scene, q, given=True) for q in ps]
             unset = [q for q, b in zip(ps, base) if b is None]
             if unset:
                 raise SceneError(f"parameters[{i}].scale", True, f"{unset[0]} is not given in the scene (it is "
