@@ -15,7 +15,6 @@ rho A (l_left + l_right) / 2 (lumped mass, assembly/mechanics/beam.py).
 """
 from __future__ import annotations
 
-import copy
 import json
 import logging
 import math
