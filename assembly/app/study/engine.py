@@ -50,7 +50,11 @@ def run_study(study, mode: str = "local", address: str | None = None, workers: i
     order; ``tick(row)`` is called as each one arrives (a progress bar)."""
     if mode not in MODES:
         raise SceneError("mode", mode, f"must be one of {list(MODES)}")
-    args = (study.scene, study.analysis, study.keep, study.settings, cache_dir)
+    settings = study.settings
+    if study.analysis == "modes" and study.keep.get("track"):   # the modes each variant follows
+        from .file import first_reference
+        settings = {**settings, "reference": first_reference(study, cache_dir)}
+    args = (study.scene, study.analysis, study.keep, settings, cache_dir)
     tick = tick or (lambda row: None)
     if mode == "serial":
         rows = []

@@ -121,18 +121,29 @@ def read_study(path) -> Study:
     vs = variants(scene, {k: data[k] for k in ("parameters", "design") if k in data})
     names = list(vs[0].params)
     check_names(scene, analysis, settings)
-    if analysis == "modes" and keep["track"]:
-        settings = {**settings, "reference": first_reference(scene, vs, keep)}
     return Study(title, str(Path(scene_path).resolve()), analysis, settings, keep, vs, str(p), names)
 
 
-def first_reference(scene, vs, keep: dict):
+def first_reference(study, cache_dir: str | None = None):
     """:func:`tracked_reference` of the first variant the scene takes (a variant it refuses is an
-    error row of the study, not a refusal of it); None when it takes none."""
+    error row of the study, not a refusal of it); None when it takes none. Solved as a variant is
+    (:func:`assembly.app.study.run.run_variant`: one BLAS thread, the study's cache), so that the
+    reduced parts it leaves in the cache are bit for bit those a variant would build."""
+    import contextlib
+
+    from threadpoolctl import threadpool_limits
+
+    from cms.linsolve import default_backend
+    from fe_components.meshing import cache_root
+
+    from ...scene.schema import load_scene
     from ..errors import user_errors
-    for v in vs:
+    scene = load_scene(study.scene)
+    default_backend()
+    for v in study.variants:
         try:
-            return tracked_reference(scene.with_values(v.values), keep)
+            with threadpool_limits(1), (cache_root(cache_dir) if cache_dir else contextlib.nullcontext()):
+                return tracked_reference(scene.with_values(v.values), study.keep)
         except SceneError as exc:
             if exc.path.startswith("keep."):
                 raise
