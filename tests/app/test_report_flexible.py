@@ -81,3 +81,17 @@ def test_the_comparison_heading_names_the_fidelities_compared(run_dir):
     # a scene with a flexible body is compared at three fidelities: the heading says so
     html = (run_dir / "index.html").read_text()
     assert "Fidelity comparison (torsional vs rigid vs flexible, modes paired by MAC)" in html
+
+
+def test_the_comparison_table_shows_the_mode_tables_modes(run_dir):
+    # the HTML comparison lists the modes up to the display limit, as the mode table does; the CSV
+    # keeps every one
+    import csv
+    import re
+    html = (run_dir / "index.html").read_text()
+    comp = html.split("Fidelity comparison", 1)[1].split("</table>", 1)[0]
+    rows = len(re.findall(r"<tr", comp)) - 1                          # less the header
+    every = list(csv.DictReader(open(run_dir / "fidelity_comparison.csv")))
+    limit = float(re.search(r"show modes up to (\d+) Hz", html).group(1))
+    shown = [r for r in every if not r["flexible"] or float(r["flexible"]) <= limit]
+    assert rows == len(shown) <= len(every)

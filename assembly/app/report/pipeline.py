@@ -359,8 +359,13 @@ def build_report(ctx: RunContext) -> dict:
                            ("link", f"#fig-mode-{mi.index + 1:03d}", "image") if mi.index in img_of else ""])
     comp = None
     if ctx.comparison:
-        cells = comparison_cells(ctx.comparison, [f for f in ALL_FIDELITIES if f in ctx.variants])
         fids = [f for f in ALL_FIDELITIES if f in ctx.variants]
+        limit = ctx.scene.display_limit_hz           # the mode table's modes: those up to its limit
+        shown = [r for r in ctx.comparison if r.get(fids[-1]) is None or r[fids[-1]] <= limit]
+        cells = comparison_cells(shown, fids)
+        if len(shown) < len(ctx.comparison):
+            cells["notes"] = [*cells["notes"], f"{len(ctx.comparison) - len(shown)} modes above {limit:.0f} Hz left "
+                                               f"out, as in the mode table (fidelity_comparison.csv has them)."]
         comp = dict(header=cells["header"], rows=cells["rows"], row_classes=cells["row_classes"],
                     left=cells["left"], fidelities=fids, note=" ".join(cells["notes"])
                     + " Orange rows: a MAC < 0.8; grey: no partner one fidelity down.")
