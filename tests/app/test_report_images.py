@@ -155,3 +155,11 @@ def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tm
     assert dmax == pytest.approx(d, rel=1e-12)
     assert f"largest displacement {dmax:.3g} m at modal mass 1 kg (colour bar 1)" in mode_caption(
         dmax, scale, view.size, focus, True)
+
+
+def test_a_plain_gear_with_teeth_is_drawn_its_face_width_long():
+    # the quill drive's pinion has teeth (face width 60 mm) and no component: drawn 60 mm long,
+    # not the length its mass and inertia would give a solid cylinder
+    scene = load_scene("two_stage_quill")
+    sh = body_shapes(assemble(scene))["pinion"]
+    assert sh.kind == "gear" and sh.width == pytest.approx(scene.body("pinion").teeth.face_width, rel=1e-12)

@@ -154,13 +154,14 @@ def body_shapes(model) -> dict:
             r = rp[b.name]
             n_teeth = max(6, int(round(2 * abs(r) / module)))
             h = 1.1 * module
+            face = getattr(getattr(b, "teeth", None), "face_width", None)    # the teeth's own width
             if r < 0 or b.role == "ring":
                 r = abs(r)
-                width = width_from_inertia(mp, r, WIDTH_FRACTION * 0.6)
+                width = face or width_from_inertia(mp, r, WIDTH_FRACTION * 0.6)
                 shapes[b.name] = BodyShape(b.name, "ring", bm.position, bm.axes, r, r * 1.18 + h,
                                            width, 0.0, n_teeth, h)
             else:
-                width = width_from_inertia(mp, r, WIDTH_FRACTION)
+                width = face or width_from_inertia(mp, r, WIDTH_FRACTION)
                 shapes[b.name] = BodyShape(b.name, "gear", bm.position, bm.axes, 0.22 * r, r,
                                            width, 0.0, n_teeth, h)
         elif b.name in collars:
