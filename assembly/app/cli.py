@@ -474,7 +474,7 @@ def main(argv=None) -> int:
         return int(exc.code or 0)
     level = logging.WARNING if args.verbose == 0 else (logging.INFO if args.verbose == 1 else logging.DEBUG)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
-    from .output import signal_handler
+    from .signals import signal_handler
 
     if args.cache_dir is not None:  # every cache default of this process reads it (CacheDirs)
         from fe_components.meshing import cache_root
