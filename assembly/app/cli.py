@@ -46,7 +46,8 @@ BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "f
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
               "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream",
-              "turbine": "assembly.app.bench.turbine", "runup": "assembly.app.bench.runup"}
+              "turbine": "assembly.app.bench.turbine", "runup": "assembly.app.bench.runup",
+              "quick": "assembly.app.bench.quick"}
 
 
 def _raise_terminated(signum, frame):
