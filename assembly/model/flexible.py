@@ -348,7 +348,8 @@ def code_digest() -> str:
     import cms.craig_bampton
     import fe_components.coupling
     import fe_components.fe_model
+    import fe_components.mapping_memo
     h = hashlib.sha256()
-    for mod in (fe_components.fe_model, fe_components.coupling, cms.craig_bampton):
+    for mod in (fe_components.fe_model, fe_components.mapping_memo, fe_components.coupling, cms.craig_bampton):
         h.update(Path(mod.__file__).read_bytes())
     return h.hexdigest()[:16]
