@@ -20,6 +20,7 @@ import scipy.sparse as sp
 
 from .errors import MeshingError
 from .geometry import AXIS, characteristic_length, interface_defs
+from .mapping_memo import memoised_mapping
 from .material import STEEL, Material
 from .meshing import MeshOptions, RawMesh, load_mesh
 from .params import CarrierParams, CylinderParams, PinionParams, WheelParams, component_kind, params_as_flat_dict
@@ -214,11 +215,12 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
     elem = ElementVector(ElementTetP2() if p == 2 else ElementTetP1())
     k_order = 2 * p - 2 if stiffness_intorder is None else stiffness_intorder
     m_order = 2 * p if mass_intorder is None else mass_intorder
-    kb = Basis(mesh, elem, intorder=max(k_order, 1))
+    mapping = memoised_mapping(mesh)   # one inverse Jacobian per quadrature, shared by every basis
+    kb = Basis(mesh, elem, mapping=mapping, intorder=max(k_order, 1))
     _check_jacobians(kb, raw, params)
 
     # mass properties integrated over the geometry with the mass quadrature
-    sb = Basis(mesh, ElementTetP1(), intorder=m_order)
+    sb = Basis(mesh, ElementTetP1(), mapping=mapping, intorder=m_order)
     def moment(f):
         return float(Functional(f).assemble(sb))
 
@@ -241,7 +243,7 @@ def assemble(params, raw: RawMesh, material: Material = STEEL, stiffness_intorde
         def _mass(u, v, w):
             return dot(u, v)
 
-        mb = kb if m_order == k_order else Basis(mesh, elem, intorder=m_order)
+        mb = kb if m_order == k_order else Basis(mesh, elem, mapping=mapping, intorder=m_order)
         M = (material.rho * asm(_mass, mb)).tocsr()
         # cheap check: the consistent mass matrix carries the same mass (rigid translation)
         ex = np.zeros(M.shape[0])

@@ -48,12 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import GeometryError, MeshCacheError, MeshingError
-from .geometry import build_solid, characteristic_length, interface_defs
-from .gmsh_session import gmsh_model
 from .params import PartFile, component_kind, params_as_flat_dict, params_digest
-from .part import cad as part_cad
-from .part import mesh as part_mesh
-from .volume_mesh import mesh_volume
 
 log = logging.getLogger(__name__)
 
@@ -348,6 +343,14 @@ def _surface_samples(gmsh, tag: int, n: int = 7) -> np.ndarray:
 
 def generate_mesh(params, options: MeshOptions, path: str | os.PathLike) -> None:
     """Build the solid, tag interface surfaces as physical groups, mesh and write ``path`` (.msh)."""
+    # the geometry, CAD and mesh-file readers and gmsh: loaded only to mesh (reading a cached
+    # mesh, or a model without flexible bodies, needs none of them)
+    from .geometry import build_solid, characteristic_length, interface_defs
+    from .gmsh_session import gmsh_model
+    from .part import cad as part_cad
+    from .part import mesh as part_mesh
+    from .volume_mesh import mesh_volume
+
     if isinstance(params, PartFile):  # the user's CAD or mesh file
         return (part_mesh if params.is_mesh else part_cad).generate_part_mesh(params, options, path)
     kind = component_kind(params)

@@ -21,9 +21,11 @@ depend on the (arbitrary) basis the solver returns for that eigenspace.
 """
 from __future__ import annotations
 
+from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from .. import arguments
 from .energy import kinetic_by_body, kinetic_by_category, strain_by_body
@@ -85,30 +87,33 @@ def classify_modes(result, nodal_diameters: bool = True) -> list[ModeInfo]:
     scopes = mode_scopes(table, ke, se)
     top = [table.group_names[j] for j in total_share(ke, se).argmax(axis=1)]
     out = [None] * len(result.frequencies_hz)
-    for g in result.groups:
-        Eg = E[g].sum(axis=0)  # (n_bodies, 5)
-        total = Eg.sum()
-        body = nd = None
-        i = g[0]
-        st = top[i] if top[i] in stages else None   # the stage holding most of the energy
-        if i < result.n_rigid or total <= 0:
-            cls, st = "rigid-body", None
-        elif U is not None and (body := _elastic_body(U[g].mean(axis=0), Eg[:, 4] / total, names)):
-            cls = "elastic"
-            st = model.scene.body(body).stage
-            if nodal_diameters:
-                bm = model.bodies[body]
-                nd = body_nodal_diameters(bm, result.abs_shapes[model.body_slice(body)][:, g])
-        elif scopes[i] in planetary:
-            stage = [sc_bodies[b].stage for b in names]
-            cls = _planetary_class(Eg, names, sc_bodies, stage, scopes[i])
-        else:
-            cls = _motion_class(Eg.sum(axis=0))
-        split = tuple((s, float(ke[i, j]), float(se[i, j])) for j, s in enumerate(table.group_names)
-                      if ke[i, j] > 0 or se[i, j] > 0)
-        for k in g:
-            out[k] = ModeInfo(k, float(result.frequencies_hz[k]), int(mult[k]), cls, st,
-                              dominant_bodies(share[k], names), body, nd, scopes[i], split)
+    # the nodal-diameter fits are small dense products (a few thousand rim nodes x 25
+    # harmonics): one BLAS thread (threads on a busy 2-core machine made them 10-50x slower)
+    with threadpool_limits(1) if U is not None and nodal_diameters else nullcontext():
+        for g in result.groups:
+            Eg = E[g].sum(axis=0)  # (n_bodies, 5)
+            total = Eg.sum()
+            body = nd = None
+            i = g[0]
+            st = top[i] if top[i] in stages else None   # the stage holding most of the energy
+            if i < result.n_rigid or total <= 0:
+                cls, st = "rigid-body", None
+            elif U is not None and (body := _elastic_body(U[g].mean(axis=0), Eg[:, 4] / total, names)):
+                cls = "elastic"
+                st = model.scene.body(body).stage
+                if nodal_diameters:
+                    bm = model.bodies[body]
+                    nd = body_nodal_diameters(bm, result.abs_shapes[model.body_slice(body)][:, g])
+            elif scopes[i] in planetary:
+                stage = [sc_bodies[b].stage for b in names]
+                cls = _planetary_class(Eg, names, sc_bodies, stage, scopes[i])
+            else:
+                cls = _motion_class(Eg.sum(axis=0))
+            split = tuple((s, float(ke[i, j]), float(se[i, j])) for j, s in enumerate(table.group_names)
+                          if ke[i, j] > 0 or se[i, j] > 0)
+            for k in g:
+                out[k] = ModeInfo(k, float(result.frequencies_hz[k]), int(mult[k]), cls, st,
+                                  dominant_bodies(share[k], names), body, nd, scopes[i], split)
     return out
 
 

@@ -46,7 +46,8 @@ BENCHMARKS = {"fe": "assembly.app.bench.fe", "cms": "assembly.app.bench.cms", "f
               "drivetrain": "assembly.app.bench.drivetrain", "frf": "assembly.app.bench.frf",
               "transient": "assembly.app.bench.transient", "study": "assembly.app.bench.study",
               "part": "assembly.app.bench.part", "stream": "assembly.app.bench.stream",
-              "turbine": "assembly.app.bench.turbine", "runup": "assembly.app.bench.runup"}
+              "turbine": "assembly.app.bench.turbine", "runup": "assembly.app.bench.runup",
+              "quick": "assembly.app.bench.quick"}
 
 
 def _raise_terminated(signum, frame):
@@ -476,7 +477,7 @@ def main(argv=None) -> int:
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     # scikit-fem logs each form it assembles at INFO (40 lines a flexible body): -vv shows them
     logging.getLogger("skfem").setLevel(level if args.verbose >= 2 else max(level, logging.WARNING))
-    from .output import signal_handler
+    from .signals import signal_handler
 
     if args.cache_dir is not None:  # every cache default of this process reads it (CacheDirs)
         from fe_components.meshing import cache_root

@@ -54,6 +54,8 @@ import threading
 from contextlib import contextmanager, suppress
 from pathlib import Path
 
+from .signals import signal_handler
+
 log = logging.getLogger(__name__)
 
 #: Manifest file that marks a folder as a flexgear result (JSON: tool, scene, files, timings).
@@ -310,22 +312,6 @@ def recover_output(out_dir) -> list[str]:
 # --------------------------------------------------------------------------------------
 # Swap
 # --------------------------------------------------------------------------------------
-
-@contextmanager
-def signal_handler(handler, signals):
-    """Install ``handler(signum, frame)`` for ``signals`` while inside; the handlers from
-    before are put back after. Python runs signal handlers in the main thread only:
-    elsewhere nothing is installed."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    before = {s: signal.signal(s, handler) for s in signals}
-    try:
-        yield
-    finally:
-        for s, h in before.items():
-            signal.signal(s, h if h is not None else signal.SIG_DFL)
-
 
 @contextmanager
 def _signals_held():

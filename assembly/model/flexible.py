@@ -69,6 +69,7 @@ class FlexibleBodyModel:
     _proj: np.ndarray = None
     _coupled: object = None
     _stress_projector: object = None
+    _rows: tuple = None
 
     # ---- back-expansion to the FE mesh (lazy: needs only the cached mesh) ----------
     def coupled(self):
@@ -85,13 +86,21 @@ class FlexibleBodyModel:
             self._coupled = (fe, cm)
         return self._coupled
 
-    def expand(self, zb: np.ndarray) -> np.ndarray:
+    def expand(self, zb: np.ndarray, nodes: np.ndarray | None = None) -> np.ndarray:
         """FE displacement field(s) (m, local axes, scikit-fem DOF order) of body DOFs ``zb``:
         Craig-Bampton back-expansion (constraint + fixed-interface modes), then the
-        interface couplings (u = T q_c)."""
+        interface couplings (u = T q_c). ``nodes``: only the DOFs of these FE nodes (3 per
+        node, in their order; the rows of T are kept for the next call with the same nodes)."""
         _, cm = self.coupled()
         qc = self.superelement.reconstruct(zb) if self.reduced else np.asarray(zb)
-        return cm.T @ qc
+        if nodes is None:
+            return cm.T @ qc
+        key = np.asarray(nodes).tobytes()
+        rows = self._rows
+        if rows is None or rows[0] != key:
+            dofs = (3 * np.asarray(nodes)[:, None] + np.arange(3)).ravel()
+            rows = self._rows = (key, cm.T.tocsr()[dofs])
+        return rows[1] @ qc
 
     def stress(self, zb: np.ndarray):
         """Nodal stresses (cms.stress.NodalStress, Pa) of body DOFs ``zb``: von Mises and
@@ -339,7 +348,8 @@ def code_digest() -> str:
     import cms.craig_bampton
     import fe_components.coupling
     import fe_components.fe_model
+    import fe_components.mapping_memo
     h = hashlib.sha256()
-    for mod in (fe_components.fe_model, fe_components.coupling, cms.craig_bampton):
+    for mod in (fe_components.fe_model, fe_components.mapping_memo, fe_components.coupling, cms.craig_bampton):
         h.update(Path(mod.__file__).read_bytes())
     return h.hexdigest()[:16]

@@ -20,7 +20,6 @@ import math
 import numpy as np
 
 from fe_components.errors import GeometryError
-from fe_components.geometry import volume_lower_bound
 from fe_components.params import CarrierParams, component_kind
 from fe_components.part.file import PartFile
 
@@ -555,6 +554,8 @@ def cutoffs_bounded(scene, expanded, origin: dict) -> None:
         opts = b.flex or FlexOptions()
         if b.fidelity != "flexible" or b.component is None or opts.n_modes is not None:
             continue
+        # fe_components.geometry loads the part readers (gmsh, STEP, Nastran): only for a flexible body
+        from fe_components.geometry import volume_lower_bound
         cutoff = opts.cutoff_hz if opts.cutoff_hz is not None else CB_CUTOFF_FACTOR * band
         volume = volume_lower_bound(b.component)
         n = weyl_mode_count(volume, opts.material, cutoff)

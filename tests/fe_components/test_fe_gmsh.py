@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+import fe_components.geometry as geometry
 import fe_components.meshing as meshing
 from cms.eigen import free_free_shift, lowest_modes
 from fe_components.errors import MeshingError
@@ -35,7 +36,7 @@ def test_gmsh_failure_reports_parameter_set(tmp_path, monkeypatch):
     def broken_solid(occ, params, *a):
         return [(3, occ.addCylinder(0, 0, 0, 0, 0, params.length, 0.0))]  # zero radius: OCC refuses
 
-    monkeypatch.setattr(meshing, "build_solid", broken_solid)
+    monkeypatch.setattr(geometry, "build_solid", broken_solid)  # meshing imports it when it meshes
     params = CylinderParams(0.2, 0.04)
     with pytest.raises(MeshingError) as e:
         ensure_mesh(params, MeshOptions(size=0.02), tmp_path)

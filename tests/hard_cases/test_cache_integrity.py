@@ -24,6 +24,7 @@ import pytest
 import scipy.linalg as sl
 
 import assembly.model.flexible as flexible
+import fe_components.geometry as geometry
 import fe_components.meshing as meshing
 from assembly.model.components import CacheDirs, forget_fe_models
 from assembly.model.flexible import flexible_body
@@ -230,7 +231,7 @@ def test_gmsh_failure_after_a_corrupt_entry_is_a_meshing_error(clean, cache, mon
     def broken_solid(occ, params, *a):
         return [(3, occ.addCylinder(0, 0, 0, 0, 0, params.length, 0.0))]   # zero radius: OCC refuses
 
-    monkeypatch.setattr(meshing, "build_solid", broken_solid)
+    monkeypatch.setattr(geometry, "build_solid", broken_solid)  # meshing imports it when it meshes
     with caplog.at_level(logging.WARNING), pytest.raises(MeshingError, match="gmsh failed") as e:
         _build(_caches(cache))
     assert e.value.params["length"] == PARAMS.length and "hash" not in str(e.value)

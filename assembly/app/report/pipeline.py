@@ -50,6 +50,7 @@ from .. import strict_json
 from ..errors import ModeSelectionError, user_errors
 from ..output import MANIFEST, staged_output, write_manifest, writing
 from ..progress import Progress
+from .background import Background
 from .gear_cells import gear_cells
 from .html import render_index
 from .inertia_cells import referred_cells
@@ -115,6 +116,8 @@ class RunContext:
     static_reports: list = field(default_factory=list)  # StaticReport per load case
     timings_detail: dict = field(default_factory=dict)   # sub-parts of steps (per image, per case), s
     skipped: list = field(default_factory=list)        # what --no-images left out
+    overlap_recovery: bool = False   # step_render starts the modal stress recovery (run_pipeline sets it)
+    recovery: Optional[tuple] = None  # (amplitudes, seconds they took, Background job) of that recovery
 
     def add_file(self, rel: str, description: str) -> Path:
         self.files.append((rel, description))
@@ -245,6 +248,8 @@ def _band_text(ctx, i: int) -> str:
 def step_render(ctx: RunContext, bar) -> None:
     from ..render.renderer import AssemblyRenderer
 
+    if ctx.overlap_recovery:
+        _start_modal_recovery(ctx)
     if not ctx.options.images:
         ctx.skipped += ["the overview", f"{len(ctx.drawn_modes())} mode-shape images"]
         bar.update(1)
@@ -474,12 +479,18 @@ def step_recovery(ctx: RunContext, bar) -> None:
     if not flex:
         bar.update(bar.total - bar.n)
         return
-    t0 = time.perf_counter()
     cases = []  # (label, model, z)
     cases += [(st.load.name, st.model, st.z) for st in ctx.statics]   # solved by step_static
     titled = {st.load.name: _case_label(st, r) for st, r in zip(ctx.statics, ctx.static_reports)}
-    amps = modal_amplitudes(ctx.result, ctx.drawn_modes())
-    ctx.timings_detail["stress: modal scaling"] = time.perf_counter() - t0
+    if ctx.recovery is not None:   # the drawn modes' stresses and VTU files, computed during step_render
+        amps, scaling_s, job = ctx.recovery
+        done = job.results()
+        ctx.recovery = None
+    else:
+        t0 = time.perf_counter()
+        amps, done = modal_amplitudes(ctx.result, ctx.drawn_modes()), {}
+        scaling_s = time.perf_counter() - t0
+    ctx.timings_detail["stress: modal scaling"] = scaling_s
     bar.update(1)
     rows, mrows, collection = [], [], []
     images = StressImages(ctx.options.window_size) if ctx.options.images else None
@@ -496,8 +507,15 @@ def step_recovery(ctx: RunContext, bar) -> None:
                     mrows.append(_modal_row(ctx, b, a, None))
                     bar.update(1)
                     continue
-                t1 = time.perf_counter()
-                st = bm.stress(zb)
+                vtu = f"vtu/{b}_{tag}.vtu"
+                what = "" if a is None else f" at {MODAL_AMPLITUDE_LABEL}"
+                path = ctx.add_file(vtu, f"{b}: {label}{what} (VTU)")
+                if a is not None and (b, a.mode) in done:   # written by the background job
+                    st, dt = done[(b, a.mode)]
+                else:
+                    t1 = time.perf_counter()
+                    st = _stress_and_vtu(bm, zb, path)
+                    dt = time.perf_counter() - t1
                 j = int(np.argmax(st.von_mises))
                 loc = bm.origin + bm.axes @ st.points[j]
                 where = {"x_m": float(loc[0]), "y_m": float(loc[1]), "z_m": float(loc[2])}
@@ -505,11 +523,8 @@ def step_recovery(ctx: RunContext, bar) -> None:
                     rows.append({"body": b, "case": label, "max_von_mises_Pa": float(st.von_mises[j]), **where})
                 else:
                     mrows.append(_modal_row(ctx, b, a, (float(st.von_mises[j]), where)))
-                vtu = f"vtu/{b}_{tag}.vtu"
-                what = "" if a is None else f" at {MODAL_AMPLITUDE_LABEL}"
-                _write_body_vtu(bm, zb, st, ctx.add_file(vtu, f"{b}: {label}{what} (VTU)"))
                 collection.append((len(collection), vtu))
-                ctx.timings_detail[f"stress+vtu {b} {tag}"] = time.perf_counter() - t1
+                ctx.timings_detail[f"stress+vtu {b} {tag}"] = dt
                 if a is not None and not drawn(a, b):       # too small a share of the mode: no picture
                     undrawn += 1
                 elif images is not None:  # von Mises image for the load case and every drawn mode
@@ -527,6 +542,40 @@ def step_recovery(ctx: RunContext, bar) -> None:
         ctx.notes.append(f"modal stress images: {undrawn} of a body holding less than {IMAGE_STRAIN_SHARE:.0%} of "
                          f"the mode's strain energy not drawn (their stresses are in modal_stress.csv)")
     _write_recovery_files(ctx, rows, mrows, collection)
+
+
+def _stress_and_vtu(bm, zb, path):
+    """Stresses of flexible body ``bm`` for body DOFs ``zb`` and their VTU file at ``path``."""
+    st = bm.stress(zb)
+    _write_body_vtu(bm, zb, st, path)
+    return st
+
+
+def _start_modal_recovery(ctx: RunContext) -> None:
+    """Start the stresses and VTU files of the drawn modes of every flexible body in a
+    background thread (:class:`assembly.app.report.background.Background`), collected by
+    :func:`step_recovery`; the load cases (solved later, by step_static) stay there. The
+    bodies' FE models are loaded here first, so the thread and the renderer never build one
+    at the same time."""
+    from ...analysis.modal_stress import modal_amplitudes
+
+    flex = _flexible_bodies(ctx)
+    if not flex:
+        return
+    t0 = time.perf_counter()
+    amps = modal_amplitudes(ctx.result, ctx.drawn_modes())
+    scaling_s = time.perf_counter() - t0
+    items = []
+    for b in flex:
+        bm = ctx.model.bodies[b]
+        bm.coupled()
+        for a in amps:
+            if b in a.skipped:
+                continue
+            path = ctx.work / f"vtu/{b}_mode_{a.mode + 1:03d}.vtu"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            items.append(((b, a.mode), (bm, a.factor * ctx.result.abs_shapes[ctx.model.body_slice(b), a.mode], path)))
+    ctx.recovery = (amps, scaling_s, Background(items, _stress_and_vtu, "modal stress recovery"))
 
 
 def _case_label(st, rep) -> str:
@@ -645,12 +694,18 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
     t_all = time.perf_counter()
     with staged_output(out_dir) as work:
         ctx = RunContext(scene_source(scene), out_dir, work, options, scene=scene if isinstance(scene, Scene) else None)
-        for st in steps or DEFAULT_STEPS:
-            t0 = time.perf_counter()
-            with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar, \
-                    (writing(out_dir, work, st.name) if st.writes else nullcontext()):
-                st.run(ctx, bar)
-            ctx.timings[st.name] = time.perf_counter() - t0
+        runs = [st.run for st in steps or DEFAULT_STEPS]
+        ctx.overlap_recovery = step_render in runs and step_recovery in runs[runs.index(step_render):]
+        try:
+            for st in steps or DEFAULT_STEPS:
+                t0 = time.perf_counter()
+                with progress.step(st.name, total=max(1, int(st.total(ctx))), unit=st.unit) as bar, \
+                        (writing(out_dir, work, st.name) if st.writes else nullcontext()):
+                    st.run(ctx, bar)
+                ctx.timings[st.name] = time.perf_counter() - t0
+        finally:   # an interrupted run: no thread keeps writing into the folder being removed
+            if ctx.recovery is not None:
+                ctx.recovery[2].stop()
         ctx.timings["total"] = time.perf_counter() - t_all
         manifest = dict(
             tool="flexgear run", scene=ctx.scene.name if ctx.scene is not None else None,
