@@ -216,3 +216,15 @@ def test_cli_subprocess_bad_scene_exit_code(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "nope.toml" in r.stderr
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_the_run_writes_its_gear_table(run_dir):
+    # Lin & Parker's stage: its sun-planet and planet-ring rows, the base radii the scene gives
+    # (gears.csv: every field of assembly.analysis.gear_table, SI)
+    from assembly.scene.schema import load_scene
+    out, _ = run_dir
+    rows = list(csv.DictReader(open(out / "gears.csv", encoding="utf-8")))
+    st = load_scene(SCENE).stages[0]
+    assert len(rows) == 2 and {int(r["count"]) for r in rows} == {st.planets.count}
+    sun = next(r for r in rows if r["gear1"].endswith("sun"))
+    assert float(sun["base_radius1"]) == pytest.approx(st.sun.base_radius, rel=1e-15)

@@ -40,3 +40,21 @@ def gear_cells(model) -> dict:
 def gears_json(model) -> list:
     """The gear table as JSON-ready dicts (SI units, angles in rad)."""
     return [r.as_dict() for r in gear_table(model_scene(model))]
+
+
+def write_gears_csv(model, path) -> int:
+    """``gears.csv``: every field of each row of the gear table (SI: m, rad, N/m; empty without
+    teeth); returns the rows written (none: no file is wanted)."""
+    import csv
+    import dataclasses
+    rows = gear_table(model_scene(model))
+    if not rows:
+        return 0
+    fields = [f.name for f in dataclasses.fields(rows[0])]
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(fields)
+        for r in rows:
+            w.writerow(["" if getattr(r, f) is None else (f"{getattr(r, f):.17g}" if isinstance(getattr(r, f), float)
+                                                          else getattr(r, f)) for f in fields])
+    return len(rows)

@@ -51,7 +51,7 @@ from ..errors import ModeSelectionError, user_errors
 from ..output import MANIFEST, staged_output, write_manifest, writing
 from ..progress import Progress
 from .background import Background
-from .gear_cells import gear_cells
+from .gear_cells import gear_cells, write_gears_csv
 from .html import render_index
 from .inertia_cells import referred_cells
 from .run_frf import step_frf
@@ -230,6 +230,9 @@ def step_tables(ctx: RunContext, bar) -> None:
         modes_table(res, title=f"{ctx.scene.name}  ({ctx.scene_source})") + "\n")
     write_bodies_csv(ctx.model, ctx.add_file("bodies.csv", "bodies: mass, polar and transverse inertia, centre "
                                                            "of mass and their source (CSV; kg, kg m^2, m)"))
+    if ctx.model.scene.meshes:
+        write_gears_csv(ctx.model, ctx.add_file("gears.csv", "gear table: derived radii, angles, centre distance, "
+                                                             "contact ratios, mesh stiffness and its source (CSV; m, rad, N/m)"))
     if ctx.comparison:
         write_comparison_csv(ctx.comparison, comparison_fields(ctx),
                              ctx.add_file("fidelity_comparison.csv", "fidelities side by side, paired by MAC (CSV; Hz)"))
