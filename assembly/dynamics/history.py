@@ -286,6 +286,13 @@ class Gathered:
         self.history.close(complete, info)
 
 
+def span(time_s, t0: float, t1: float) -> slice:
+    """The rows of a record (``time_s`` increasing) from ``t0`` to ``t1`` inclusive, as a slice:
+    its histories cut to it are views, not copies."""
+    t = np.asarray(time_s)
+    return slice(int(np.searchsorted(t, t0, "left")), int(np.searchsorted(t, t1, "right")))
+
+
 def read_blocks(path, name: str, block: int = CHUNK_STEPS):
     """(t, y) blocks of output ``name`` of an HDF5 history (:class:`H5History`'s layout), in
     order, ``block`` steps at a time: the whole history never in memory."""

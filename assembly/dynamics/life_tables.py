@@ -44,6 +44,7 @@ from ..scene.tables import HOUSING
 from ..scene.time_domain import LifeTables
 from .cycles import damage_equivalent_load, power, rainflow_cycles
 from .frf_channels import bearing_directions
+from .history import span
 from .life import LoadDistribution, equivalent_load, load_duration, load_revolutions, miner_damage, revolutions
 
 
@@ -275,14 +276,21 @@ def life_result(model, life, time_s, read, units: dict, names, shaft: str | None
     ``shaft``: the LRDs' (:func:`check_life`'s)."""
     t_all = np.asarray(time_s, float)
     t0, t1 = life.window if life.window is not None else (float(t_all[0]), float(t_all[-1]))
-    keep = slice(int(np.searchsorted(t_all, t0, "left")), int(np.searchsorted(t_all, t1, "right")))  # views
+    keep = span(t_all, t0, t1)
     if keep.stop - keep.start < 2:
         raise check.refuse("simulation.life.window", [t0, t1], "holds fewer than two samples of the record")
     t = t_all[keep]
     n_eq = float(life.cycles_ref) if life.cycles_ref is not None else float(t[-1] - t[0])
 
+    speeds = {}                 # a body's speed serves every bearing and gear it turns: read it once
+
     def cut(name):
-        return np.asarray(read(name), float)[keep]
+        if name in speeds:
+            return speeds[name]
+        y = np.asarray(read(name), float)[keep]
+        if name.startswith("speed:"):
+            speeds[name] = y
+        return y
     speed = None if shaft is None else cut(f"speed:{shaft}")
     outs = {k: _output_life(t, cut(k), units.get(k, ""), tuple(life.exponents), n_eq, life.bins, speed, k)
             for k in names}

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
+from .history import span
 from .order_tracking import angle_grid, order_cut, order_map, resonance_passages, revolution_samples, shaft_angle
 
 #: Mesh harmonics tracked.
@@ -136,9 +137,7 @@ def run_orders(r, scene, track: str | None = None):
     if ref is None or key not in r.outputs:
         return None
     drive = scene.simulation.drive
-    # the sweep, not the settling: a slice (views of the histories, no copies)
-    ramp = slice(int(np.searchsorted(r.time_s, drive.t_start, "left")), int(np.searchsorted(r.time_s, drive.t_end,
-                                                                                            "right")))
+    ramp = span(r.time_s, drive.t_start, drive.t_end)               # the sweep, not the settling
     skip = set(r.info.get("life_channels", ()))                      # read by the life tables alone
     outputs = {k: v[ramp] for k, v in r.outputs.items() if not k.startswith("speed:") and k not in skip}
     res = solve_modes(assemble(scene))
@@ -146,8 +145,7 @@ def run_orders(r, scene, track: str | None = None):
     modes = [(float(res.frequencies_hz[k]), info[k].label) for k in range(res.n_rigid, len(res.frequencies_hz))]
     orders = excitation_orders(r.mesh_frequencies_hz, r.shaft_speeds_hz, ref,
                                rotor=any(b.role == "rotor" and b.name == ref for b in scene.bodies))
-    mesh = {k for k in orders if any(k == f"{src} x{h}" for src in r.mesh_frequencies_hz
-                                     for h in range(1, MESH_HARMONICS + 1))}
+    mesh = {f"{src} x{h}" for src in r.mesh_frequencies_hz for h in range(1, MESH_HARMONICS + 1)}
     return ref, ramp, runup_orders(r.time_s[ramp], r.outputs[key][ramp], outputs, orders, modes, mesh), modes
 
 

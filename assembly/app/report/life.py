@@ -55,16 +55,12 @@ def life_files(life, work: Path) -> list:
     if life.gears:
         _write_csv(work / "life_gears.csv", GEAR_COLUMNS, [vars(g) for g in life.gears])
         files.append("life_gears.csv")
-    detail = {}
+    doc = life.as_dict()                          # the tables, and each output's distributions beside
     for k, o in life.outputs.items():
-        detail[k] = {"unit": o.unit, "cycles": o.cycles, **{_del_key(m): o.dels[m] for m in life.exponents},
-                     "ldd": {"levels": o.ldd.levels.tolist(), "seconds": o.ldd.amounts.tolist()},
-                     "lrd": None if o.lrd is None else {"levels": o.lrd.levels.tolist(),
-                                                       "revolutions": o.lrd.amounts.tolist(), "shaft": life.shaft},
-                     "note": o.note}
-    doc = {"window_s": list(life.window), "n_eq": life.cycles_ref, "exponents": list(life.exponents),
-           "shaft": life.shaft, "outputs": detail, "bearings": [vars(b) for b in life.bearings],
-           "gears": [vars(g) for g in life.gears]}
+        doc["outputs"][k].update(
+            ldd={"levels": o.ldd.levels.tolist(), "seconds": o.ldd.amounts.tolist()},
+            lrd=None if o.lrd is None else {"levels": o.lrd.levels.tolist(), "revolutions": o.lrd.amounts.tolist(),
+                                            "shaft": life.shaft})
     (work / "life.json").write_text(strict_json.dumps(doc, indent=1), encoding="utf-8")
     files.append("life.json")
     return files
