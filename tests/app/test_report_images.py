@@ -139,22 +139,78 @@ def test_frame_view_fits_the_focus_box(side):
         assert v.direction @ axis > 0.7
 
 
-def test_mode_image_frames_dominant_bodies_and_bar_matches_caption(planetary, tmp_path):
+def test_a_mode_image_never_frames_what_the_ring_surrounds(planetary):
     sc, m, r, infos, rnd = planetary
-    i = r.n_rigid + 5
-    focus = rnd.focus_bodies(r, i)
-    assert focus == tuple(b for b, _ in infos[i].dominant_bodies)
-    view = rnd.mode_view(focus)
-    assert view.size < rnd.view.size or len(focus) == len(m.bodies)
-    scale, dmax = rnd.mode_scale(r, i, view.size)
-    # The colour bar's maximum is the largest displacement over every drawn surface point.
+    for i in range(r.n_rigid, r.n_rigid + 8):
+        focus = rnd.focus_bodies(r, i)
+        assert focus == tuple(b for b, _ in infos[i].dominant_bodies)
+        view, hidden = rnd.mode_frame(focus)
+        assert hidden == ()   # one stage: nothing left out
+        if "stage.ring" not in focus:   # the ring surrounds the stage: a zoom would cut it
+            assert view is rnd.view
+
+
+def test_a_small_body_is_framed_when_that_magnifies_it_enough():
+    """kahraman_beta20's pinion is small beside its gear: a mode held by it is framed on it
+    exactly when that magnifies it MIN_ZOOM times over the whole drawing."""
+    from assembly.app.render.renderer import MIN_ZOOM
+    from assembly.app.render.views import frame_view
+
+    m = assemble(load_scene("kahraman_beta20.toml"))
+    rnd = AssemblyRenderer(m, window_size=SIZE)
+    for name in m.bodies:
+        zoom = frame_view(*_box(m, rnd, (name,)), rnd.shapes[name].axes[:, 2], SIZE, False, None)
+        view, hidden = rnd.mode_frame((name,))
+        assert hidden == ()
+        if rnd.view.parallel_scale >= MIN_ZOOM * zoom.parallel_scale:
+            assert view.parallel_scale == pytest.approx(zoom.parallel_scale, rel=1e-12)
+        else:
+            assert view is rnd.view
+
+
+def test_mode_scale_and_caption(planetary):
+    sc, m, r, infos, rnd = planetary
     from assembly.app.render.renderer import mode_caption
     from assembly.app.render.surfaces import body_actor
+    i = r.n_rigid + 5
+    view = rnd.mode_view(rnd.focus_bodies(r, i))
+    scale, dmax = rnd.mode_scale(r, i, view.size)
+    # The colour bar's 1 is the largest displacement over every drawn surface point, drawn as
+    # DEFORMATION_FRACTION of the framed size (the caption's length).
     d = max(float(np.max(body_actor(m, n, r.abs_shapes[m.body_slice(n), i], 0.0).point_data["displacement_m"]))
             for n in m.bodies)
     assert dmax == pytest.approx(d, rel=1e-12)
-    assert f"largest displacement {dmax:.3g} m at modal mass 1 kg (colour bar 1)" in mode_caption(
-        dmax, scale, view.size, focus, True)
+    from assembly.app.render.views import DEFORMATION_FRACTION
+    assert scale * dmax == pytest.approx(DEFORMATION_FRACTION * view.size, rel=1e-12)
+    text = mode_caption(scale, view.size, ("sun",), True)
+    assert f"drawn as {1e3 * DEFORMATION_FRACTION * view.size:.3g} mm" in text and "modal mass" not in text
+
+
+def _box(m, rnd, names):
+    from assembly.app.render.surfaces import reference_surface
+    P = np.vstack([np.asarray(reference_surface(m, n, rnd.shapes).points) for n in names])
+    return P.min(axis=0), P.max(axis=0)
+
+
+def test_a_stage_mode_of_a_stacked_box_is_seen_from_the_front_without_the_other_stages():
+    """The quill drive's stages lie one behind the other along the shaft: the whole box is seen
+    from the side, where the ring hides the planets. A mode held by the planetary stage is
+    seen along the shaft with the bodies outside the stage's axial span (the helical pair)
+    left out; a mode of the whole box keeps the side view and every body."""
+    sc = load_scene("two_stage_quill.toml")
+    m = assemble(sc)
+    rnd = AssemblyRenderer(m, window_size=SIZE)
+    axis = rnd.shapes["planetary.sun"].axes[:, 2]
+    assert abs(rnd.view.direction @ axis) < 0.35            # the box: side view
+    focus = ("planetary.planet0", "planetary.planet1", "planetary.carrier")
+    view, hidden = rnd.mode_frame(focus)
+    assert view.direction @ axis > 0.7                        # the stage: along the shaft
+    assert set(hidden) == {"pinion", "wheel"}
+    z = {n: rnd.shapes[n].position @ axis for n in m.bodies}
+    stage = [z[n] for n in m.bodies if n.startswith("planetary.")]
+    assert all(not min(stage) - 1e-9 <= z[n] <= max(stage) + 1e-9 for n in hidden)
+    whole, none = rnd.mode_frame(tuple(m.bodies))
+    assert none == () and whole is rnd.view
 
 
 def test_a_plain_gear_with_teeth_is_drawn_its_face_width_long():

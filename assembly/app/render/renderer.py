@@ -10,8 +10,8 @@ stays visible). A faint grey ghost shows the undeformed assembly.
 
 Deformation scale: each mode is drawn with the scale that makes its largest displacement
 :data:`assembly.app.render.views.DEFORMATION_FRACTION` of the assembly's size (bounding-box
-diagonal); the colour is the displacement magnitude (m) of the mass-normalised shape (modal
-mass 1 kg). The camera (parallel projection, :mod:`assembly.app.render.views`), window size
+diagonal); the colour is the displacement magnitude over the largest (a mode shape has no
+physical size). The camera (parallel projection, :mod:`assembly.app.render.views`), window size
 and colours depend only on the undeformed assembly, so images are identical from run to run.
 
 Flexible bodies
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...mechanics.kinematics import rigid_transfer
+from ...mechanics.kinematics import axis_frame, rigid_transfer
 from .labels import CHAR_WIDTH, ROW_HEIGHT, pixel_box, place_labels, stage_groups
 from .plotter import kept_plotter, load_pyvista, save_png
 from .shafts import shaft_segments, shaft_tube
@@ -68,6 +68,21 @@ CMAP = "viridis"
 CONTEXT_OPACITY = 0.25
 #: Number format of the colour-bar labels and of the largest displacement in the caption.
 BAR_FMT = "%.3g"
+#: A mode image frames its dominant bodies only when that magnifies them at least this much
+#: over the whole drawing: a smaller zoom gains little and cuts the faint context bodies at
+#: the title and the colour bar.
+MIN_ZOOM = 2.0
+#: Text drawn over the picture sits on a white band of this opacity (legible over a body).
+TEXT_BACKING = 0.8
+
+
+def _backed(actor):
+    """``actor`` (a pyvista text) on a white, slightly transparent band."""
+    prop = actor.GetTextProperty() if hasattr(actor, "GetTextProperty") else None
+    if prop is not None:
+        prop.SetBackgroundColor(1.0, 1.0, 1.0)
+        prop.SetBackgroundOpacity(TEXT_BACKING)
+    return actor
 
 
 def _nice_length(x: float) -> float:
@@ -127,9 +142,11 @@ class AssemblyRenderer:
         pl.suppress_rendering = True
         return pl
 
-    def _ghost(self, pl):
-        """Undeformed outline (feature edges) of every body, thin grey lines."""
+    def _ghost(self, pl, hidden=()):
+        """Undeformed outline (feature edges) of every body but ``hidden``, thin grey lines."""
         for name in self.model.bodies:
+            if name in hidden:
+                continue
             key = ("ghost", name)
             if key not in self._cache:
                 ref = reference_surface(self.model, name, self.shapes, self._cache)
@@ -138,15 +155,15 @@ class AssemblyRenderer:
             pl.add_mesh(self._cache[key], color=GHOST_COLOR, line_width=1, lighting=False)
         pv = load_pyvista()
         for name, sh in self.shapes.items():
-            if not self.model.bodies[name].flexible:
+            if not self.model.bodies[name].flexible and name not in hidden:
                 pl.add_mesh(pv.Line(*index_mark(sh)), color=GHOST_COLOR, line_width=3)
 
-    def _marks(self, pl, shape_of, scale):
-        """Index lines moved with their bodies (black)."""
+    def _marks(self, pl, shape_of, scale, hidden=()):
+        """Index lines moved with their bodies (black), but ``hidden``'s."""
         pv = load_pyvista()
         for name, sh in self.shapes.items():
             bm = self.model.bodies[name]
-            if bm.flexible:
+            if bm.flexible or name in hidden:
                 continue
             P = index_mark(sh)
             z = shape_of(name)
@@ -171,10 +188,12 @@ class AssemblyRenderer:
             return rigid_transfer(p, bm.position) @ rigid_part(bm, z)
         return motion
 
-    def _tubes(self, shape_of, scale):
-        """Beam shaft tubes (pyvista) moved by ``scale`` x the mode ``shape_of`` (None: undeformed)."""
+    def _tubes(self, shape_of, scale, hidden=()):
+        """Beam shaft tubes (pyvista) moved by ``scale`` x the mode ``shape_of`` (None:
+        undeformed), but those ending on a ``hidden`` body."""
         motion = None if shape_of is None else self._motion(shape_of)
-        return [shaft_tube(sg, motion, scale) for sg in self.segments]
+        return [shaft_tube(sg, motion, scale) for sg in self.segments
+                if sg.body_a not in hidden and sg.body_b not in hidden]
 
     def _scale_bar(self, pl, view=None):
         pv = load_pyvista()
@@ -191,7 +210,7 @@ class AssemblyRenderer:
         for q in (p0, p1):
             pl.add_mesh(pv.Line(q - v.up * 0.012 * v.parallel_scale, q + v.up * 0.012 * v.parallel_scale),
                         color="black", line_width=4)
-        pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black")
+        _backed(pl.add_text(f"{_format_length(L)} (geometry scale)", position=(40, 55), font_size=11, color="black"))
 
     def _finish(self, pl, path, view=None):
         """Scale bar, the camera (the assembly's unless ``view``), and the PNG written to ``path``."""
@@ -202,12 +221,14 @@ class AssemblyRenderer:
         pl.render()
         save_png(pl, path)
 
-    def _springs(self, pl, shape_of, scale, view=None):
+    def _springs(self, pl, shape_of, scale, view=None, hidden=()):
         pv = load_pyvista()
         view = view or self.view
         colors = {"bearing": BEARING_COLOR, "mesh": MESH_COLOR, "shaft": SHAFT_COLOR}
         ground_pts = []
         for g in self.glyphs:
+            if g.body_a in hidden or g.body_b in hidden:
+                continue
             pts, _, _ = spring_points(self.model, g, shape_of, scale, view)
             pl.add_mesh(pv.lines_from_points(pts), color=colors.get(g.kind, BEARING_COLOR), line_width=4,
                         render_lines_as_tubes=True)
@@ -296,23 +317,25 @@ class AssemblyRenderer:
                             color="#202020")
             beams = "beam shafts: grey cylinders of their diameter; " if self.segments else ""
             pl.add_text(f"{beams}springs: bearings (dark grey), gear meshes (red, along the line of action), "
-                        "shafts (blue); grey cubes = housing", position="lower_right", font_size=9,
+                        "shafts (blue); grey cubes = housing", position="lower_right", font_size=11,
                         color="black")
             self._finish(pl, path, view)
         finally:
             pl.close()
         return Path(path)
 
-    def mode_scale(self, result, mode: int, size: float | None = None) -> tuple[float, float]:
+    def mode_scale(self, result, mode: int, size: float | None = None, hidden=()) -> tuple[float, float]:
         """(deformation scale, largest unscaled displacement in m over every drawn surface
-        point) of ``mode``; the scale draws that displacement as :data:`DEFORMATION_FRACTION`
-        of ``size`` (m; default the assembly size)."""
+        point, ``hidden`` bodies' left out) of ``mode``; the scale draws that displacement as
+        :data:`DEFORMATION_FRACTION` of ``size`` (m; default the assembly size)."""
         dmax = 0.0
         for name in self.model.bodies:
+            if name in hidden:
+                continue
             z = result.abs_shapes[self.model.body_slice(name), mode]
             dmax = max(dmax, float(np.asarray(body_actor(self.model, name, z, 0.0, self.shapes, self._cache)
                                               .point_data["displacement_m"]).max(initial=0.0)))
-        for tube in self._tubes(lambda b: result.abs_shapes[self.model.body_slice(b), mode], 0.0):
+        for tube in self._tubes(lambda b: result.abs_shapes[self.model.body_slice(b), mode], 0.0, hidden):
             dmax = max(dmax, float(np.asarray(tube.point_data["displacement_m"]).max(initial=0.0)))
         if dmax <= 0:
             return 0.0, 0.0
@@ -347,12 +370,65 @@ class AssemblyRenderer:
                 f"referred to the {ref} shaft),\nlongest = largest; red turns with {ref}, blue against it")
 
     def mode_view(self, focus) -> View:
-        """Camera framing the bodies ``focus`` (their undeformed surfaces)."""
+        """Camera of a mode image whose dominant bodies are ``focus`` (:meth:`mode_frame`)."""
+        return self.mode_frame(focus)[0]
+
+    def _box(self, names):
         P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
-                       for n in focus])
-        first = next(iter(self.shapes.values()))
-        side, across = wants_side_view(self.shapes)
-        return frame_view(P.min(axis=0), P.max(axis=0), first.axes[:, 2], self.window_size, side, across)
+                       for n in names])
+        return P.min(axis=0), P.max(axis=0)
+
+    def _encloses(self, focus, shown, axis) -> bool:
+        """Whether a drawn body other than ``focus`` surrounds the focus across the shaft
+        ``axis`` (a ring round its planets): framing the focus would cut it at the edges."""
+        R = axis_frame(np.asarray(axis, float))[:, :2]
+
+        def box(names):
+            P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
+                           for n in names]) @ R
+            return P.min(axis=0), P.max(axis=0)
+
+        lo, hi = box(focus)
+        for n in shown:
+            if n not in focus:
+                a, b = box([n])
+                if np.all(a <= lo) and np.all(b >= hi):
+                    return True
+        return False
+
+    def mode_frame(self, focus) -> tuple[View, tuple]:
+        """(camera, bodies left out) of a mode image whose dominant bodies are ``focus``.
+
+        A box whose stages lie one behind another is seen from the side
+        (:func:`assembly.app.render.views.wants_side_view`); a mode held by one of its stages
+        is seen from the front instead, its own stage only: the bodies lying outside the
+        focus's axial span (other stages, in front of or behind it) are left out, so the
+        planets are not hidden behind a ring seen edge-on. The camera frames ``focus`` when
+        that magnifies it at least :data:`MIN_ZOOM` times over the drawn bodies and no drawn
+        body surrounds it (a ring round its planets would be cut at the title and the colour
+        bar); else it frames them all (the assembly's own view when none is left out)."""
+        shapes = self.shapes
+        first = shapes[focus[0]]
+        axis = first.axes[:, 2]
+        side, across = wants_side_view(shapes)
+        hidden: tuple = ()
+        if side and not wants_side_view({n: shapes[n] for n in focus})[0]:
+            z = {n: float(shapes[n].position @ axis) for n in shapes}
+            half = max(0.5 * shapes[n].width + abs(shapes[n].axial_offset) for n in focus)
+            lo, hi = min(z[n] for n in focus) - half, max(z[n] for n in focus) + half
+            hidden = tuple(n for n in shapes if n not in focus and not lo <= z[n] <= hi)
+            side = False
+        zoom = frame_view(*self._box(focus), axis, self.window_size, side, across)
+        shown = [n for n in self.model.bodies if n not in hidden]
+        if hidden:
+            whole = frame_view(*self._box(shown), axis, self.window_size, side, across)
+        else:
+            whole = self.view
+        if self._encloses(focus, shown, axis):
+            return whole, hidden
+        if whole.parallel_scale >= MIN_ZOOM * zoom.parallel_scale or len(focus) == len(shown):
+            return (zoom if len(focus) < len(shown) else whole), hidden
+        return whole, hidden
 
     def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "",
                     focus=None, twist: bool = False) -> Path:
@@ -361,12 +437,12 @@ class AssemblyRenderer:
         :meth:`focus_bodies`); the other bodies are drawn faint, as context. Beam shafts are
         tubes bent with their nodes (:mod:`assembly.app.render.shafts`). The colour bar
         runs from 0 to 1: the displacement over the largest drawn (a mass-normalised shape has
-        no physical size; the caption line states that largest, m at modal mass 1 kg). ``twist``: arrows of each body's rotation
+        no physical size; the caption states the length that largest is drawn as). ``twist``: arrows of each body's rotation
         about its axis referred to the rotor (:mod:`assembly.app.render.twist`)."""
         sign = _sign(result.abs_shapes[:, mode])
         focus = tuple(focus) if focus else self.focus_bodies(result, mode)
-        view = self.mode_view(focus)
-        scale, dmax = self.mode_scale(result, mode, view.size)
+        view, hidden = self.mode_frame(focus)
+        scale, dmax = self.mode_scale(result, mode, view.size, hidden)
         if twist:   # drawn rotations would swell the fast discs over their arrows: the arrows show it
             scale = 0.0
 
@@ -375,56 +451,64 @@ class AssemblyRenderer:
 
         pl = self._plotter()
         try:
-            self._ghost(pl)
+            self._ghost(pl, hidden)
             clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
             norm = dmax if dmax > 0 else 1.0
-            bar = dict(title="", vertical=False, position_x=0.55, position_y=0.04, width=0.4, height=0.07,
-                       fmt=BAR_FMT, n_labels=3, color="black", title_font_size=16, label_font_size=14)
+            bar = dict(title="", vertical=False, position_x=0.55, position_y=0.06, width=0.4, height=0.05,
+                       n_labels=0, color="black")
             first = True
             for n in self.model.bodies:
+                if n in hidden:
+                    continue
                 m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
                 m["normalised displacement"] = np.asarray(m["displacement_m"]) / norm
                 pl.add_mesh(m, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=first,
                             scalar_bar_args=bar, opacity=1.0 if n in focus else CONTEXT_OPACITY,
                             smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)
                 first = False
-            if pl.scalar_bar is not None:
-                pl.scalar_bar.SetTextPositionToPrecedeScalarBar()  # labels below the bar
-            pl.add_text("displacement / largest",
+            W, H = self.window_size
+            for frac, label in ((0.0, "0"), (0.5, "0.5"), (1.0, "1")):   # the bar's labels, below it
+                x = (0.55 + 0.4 * frac) * W - 0.3 * 16 * len(label)
+                pl.add_text(label, position=(int(x), int(0.028 * H)), font_size=12, color="black")
+            _backed(pl.add_text("displacement / largest",
                         position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
-                        font_size=11, color="black")
-            for tube in self._tubes(shape_of, scale):
+                        font_size=11, color="black"))
+            for tube in self._tubes(shape_of, scale, hidden):
                 tube["normalised displacement"] = np.asarray(tube["displacement_m"]) / norm
                 pl.add_mesh(tube, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=False,
                             smooth_shading=True)
             pv = load_pyvista()
             for sg in self.segments:
                 pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
-            self._springs(pl, shape_of, scale, view)
-            self._marks(pl, shape_of, scale)
-            pl.add_text(title, position="upper_left", font_size=15, color="black")
-            text = mode_caption(dmax, scale, view.size, focus, len(focus) < len(self.model.bodies))
+            self._springs(pl, shape_of, scale, view, hidden)
+            self._marks(pl, shape_of, scale, hidden)
+            _backed(pl.add_text(title, position="upper_left", font_size=15, color="black"))
+            text = mode_caption(scale, view.size, focus, len(focus) < len(self.model.bodies), hidden)
             if twist:
                 text += "\n" + self._twist(pl, result, mode, sign, view)
             if subtitle:
                 text = subtitle + "\n" + text
-            pl.add_text(text, position=(12, self.window_size[1] - 85 - 24 * text.count("\n")), font_size=10,
-                        color="#202020")
+            _backed(pl.add_text(text, position=(12, self.window_size[1] - 85 - 24 * text.count("\n")), font_size=10,
+                                color="#202020"))
             self._finish(pl, path, view)
         finally:
             pl.close()
         return Path(path)
 
 
-def mode_caption(dmax: float, scale: float, size: float, focus, faint: bool) -> str:
-    """Caption line of a mode image: the largest displacement (m at modal mass 1 kg; the colour
-    bar's 1, the bar showing displacement over it), the drawing scale and the framed bodies."""
-    text = f"largest displacement {BAR_FMT % dmax} m at modal mass 1 kg (colour bar 1); "
-    text += (f"drawn x {scale:.3g} = {100 * DEFORMATION_FRACTION:.0f} % of the framed size {size:.3g} m" if scale > 0
-             else "bodies drawn undeformed, coloured by it")
+def mode_caption(scale: float, size: float, focus, faint: bool, hidden=()) -> str:
+    """Caption line of a mode image: how the shape is drawn (a mode shape has no physical
+    size: its largest displacement is drawn as a stated length, the colour is the displacement
+    over that largest), the framed bodies, and the bodies left out (:meth:`AssemblyRenderer.mode_frame`)."""
+    text = ("shape scaled: largest displacement drawn as "
+            f"{1e3 * DEFORMATION_FRACTION * size:.3g} mm ({100 * DEFORMATION_FRACTION:.0f} % of the framed size); "
+            "colour = displacement / largest" if scale > 0
+            else "bodies drawn undeformed, coloured by displacement / largest")
     if faint:
         names = ", ".join(focus[:4]) + (f" and {len(focus) - 4} more" if len(focus) > 4 else "")
-        text += "\nframed on " + names + "; other bodies faint"
+        text += "\nmost kinetic energy in " + names + "; other bodies faint"
+    if hidden:
+        text += f"\nseen along the shaft: {len(hidden)} bodies of other stages left out"
     return text
 
 
