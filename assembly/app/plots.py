@@ -130,12 +130,39 @@ def plot_sweep(x, F, path, xlabel: str, title: str = "", logx: bool = False, n_r
     return Path(path)
 
 
+#: Campbell diagram: the ranked crossings numbered on the plot (as in crossings.csv), and the
+#: smallest gap between two order labels at the right edge (fraction of the axis height).
+CAMPBELL_NUMBERED = 10
+LABEL_GAP = 0.022
+
+
+def spread_labels(y, gap: float) -> np.ndarray:
+    """Label heights ``y`` (axis fractions) moved apart to at least ``gap`` from each other,
+    each as little as it can: upward in order, then, if the column ran over the top, the top
+    ones back down (below 0 only when the labels cannot fit at all)."""
+    y = np.asarray(y, float)
+    order = np.argsort(y, kind="stable")
+    out = y[order].copy()
+    for k in range(1, len(out)):
+        out[k] = max(out[k], out[k - 1] + gap)
+    if len(out) and out[-1] > 1.0:   # ran over the top: the top ones step back down
+        out[-1] = 1.0
+        for k in range(len(out) - 2, -1, -1):
+            out[k] = min(out[k], out[k + 1] - gap)
+    res = np.empty_like(out)
+    res[order] = out
+    return res
+
+
 def plot_campbell(speeds, F, orders, crossings, path, title: str = "", rated_rpm: float | None = None,
                   speed_label: str = "reference speed [rpm]") -> Path:
     """Campbell diagram: natural frequencies (Hz; ``F`` is (len(speeds), n_lines), grey) and
     order lines f = slope x n (``orders``: (label, slope in Hz/rpm), coloured, labelled at
-    their end) against speed (rpm); ``crossings``: (speed, frequency, filled) marked by
-    circles, filled where the order can excite the crossed mode, hollow where it cannot.
+    their end, the labels at the right edge spread apart) against speed (rpm);
+    ``crossings``: (speed, frequency, drivable[, share, rank]) -- a drivable crossing is a
+    filled circle whose area grows with the exciter's share of the mode (the ranking of
+    :meth:`assembly.dynamics.campbell.Campbell.ranked`), the first :data:`CAMPBELL_NUMBERED`
+    numbered by their rank; one the exciter cannot drive is a small hollow circle.
     ``rated_rpm``: a dashed vertical line."""
     n = np.asarray(speeds, float)
     F = np.asarray(F, float)
@@ -143,26 +170,44 @@ def plot_campbell(speeds, F, orders, crossings, path, title: str = "", rated_rpm
     with plot_figure(path, (9.0, 6.5)) as (fig, ax):
         for j in range(F.shape[1]):
             if F[:, j].min() <= top:
-                ax.plot(n, F[:, j], "-", color="0.55", lw=0.7)
+                ax.plot(n, F[:, j], "-", color="0.6", lw=0.6)
+        right = []
+        palette = _plt().get_cmap("tab20").colors   # 20 colours, then dashed: each label names one line
         for k, (label, slope) in enumerate(orders):
-            c = f"C{k % 10}"
+            c = palette[(2 * k) % 20 + (2 * k) // 20 % 2]   # dark shades first, then the light ones
             end = min(n[-1], top / slope) if slope > 0 else n[-1]
-            ax.plot([n[0], end], [slope * n[0], slope * end], "-", color=c, lw=1.3)
-            ax.text(end, slope * end, f" {label}", color=c, fontsize=7, va="bottom", ha="right" if end < n[-1] else "left")
-        for fill in (True, False):      # one marker line each: a Line2D per crossing costs ~20 kB
-            xy = np.array([(x, f) for x, f, filled in crossings if bool(filled) == fill]).reshape(-1, 2)
-            if len(xy):
-                ax.plot(xy[:, 0], xy[:, 1], "o", ms=4.5, mec="k", mew=0.7, mfc="k" if fill else "none")
+            ax.plot([n[0], end], [slope * n[0], slope * end], "-" if k < 20 else "--", color=c, lw=1.3)
+            if end < n[-1]:
+                ax.text(end, slope * end, f" {label}", color=c, fontsize=7, va="bottom", ha="right")
+            else:
+                right.append((label, slope * end / top, c))
+        for (label, _, c), y in zip(right, spread_labels([y for _, y, _ in right], LABEL_GAP)):
+            ax.text(1.0, y, f" {label}", color=c, fontsize=7, va="center", ha="left", transform=ax.transAxes)
+        rows = [(*x, 1.0, None)[:5] for x in crossings]   # (speed, f, drivable, share, rank)
+        out = np.array([(x, f) for x, f, ok, *_ in rows if not ok]).reshape(-1, 2)
+        if len(out):
+            ax.plot(out[:, 0], out[:, 1], "o", ms=3.0, mec="0.45", mew=0.6, mfc="none")
+        able = [(x, f, sh, r) for x, f, ok, sh, r in rows if ok]
+        if able:
+            share = np.clip(np.array([a[2] for a in able], float), 0.0, 1.0)
+            ax.scatter([a[0] for a in able], [a[1] for a in able], s=12 + 110 * share, c="k", zorder=3,
+                       edgecolors="white", linewidths=0.5)
+            for x, f, _, r in able:
+                if r is not None and r <= CAMPBELL_NUMBERED:
+                    ax.annotate(str(r), (x, f), xytext=(4, 4), textcoords="offset points", fontsize=8,
+                                color="#b00000", fontweight="bold", zorder=4)
         if rated_rpm is not None:
             ax.axvline(rated_rpm, color="0.2", ls="--", lw=1.0)
             ax.text(rated_rpm, top * 0.98, f" rated {rated_rpm:g} rpm", fontsize=7, va="top")
-        ax.set_xlim(n[0], n[-1] * 1.08 if n[-1] > 0 else 1.0)
+        ax.set_xlim(n[0], n[-1] if n[-1] > n[0] else n[0] + 1.0)
         ax.set_ylim(0, top)
         ax.set_xlabel(speed_label)
         ax.set_ylabel("frequency [Hz]")
         ax.set_title(title or "Campbell diagram", fontsize=10)
-        ax.text(0.01, -0.08, "grey: natural frequencies; circles: crossings (filled: the order can excite the "
-                "mode, hollow: mesh phasing rules it out)", transform=ax.transAxes, fontsize=7, va="top")
+        ax.text(0.0, -0.08, "grey: natural frequencies; filled: crossings the order can drive, area by the "
+                f"exciter's share of the mode,\nthe first {CAMPBELL_NUMBERED} numbered by rank (crossings.csv); "
+                "hollow: ruled out (mesh phasing, or no share of the mode)", transform=ax.transAxes, fontsize=7,
+                va="top")
     return Path(path)
 
 

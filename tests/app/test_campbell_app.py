@@ -69,3 +69,20 @@ def test_bad_input_is_one_line_exit_2(scene, tmp_path, capsys, args, named):
     assert main(["campbell", scene, *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"flexgear: error: {named}")
+
+
+def test_order_labels_at_the_right_edge_are_spread_apart_in_order():
+    """spread_labels: labels closer than the gap move apart to exactly the gap, keep their
+    order, stay inside the axis [0, 1]; labels already apart do not move."""
+    import numpy as np
+
+    from assembly.app.plots import spread_labels
+
+    apart = np.array([0.1, 0.5, 0.9])
+    assert np.array_equal(spread_labels(apart, 0.02), apart)
+    y = np.array([0.30, 0.30, 0.305, 0.99, 1.0, 0.0])
+    out = spread_labels(y, 0.05)
+    order = np.argsort(y, kind="stable")
+    assert np.all(np.diff(out[order]) >= 0.05 - 1e-12)        # apart by the gap, in the same order
+    assert out.min() >= -1e-12 and out.max() <= 1.0 + 1e-12   # inside the axis
+    assert out[5] == 0.0 and out[0] == 0.30 and out[1] == pytest.approx(0.35)   # the lowest stay

@@ -70,7 +70,8 @@ def write_plot(c: Campbell, path, rated_rpm: float | None = None) -> Path:
     from ..plots import plot_campbell
 
     return plot_campbell(c.speeds_rpm, c.frequencies_hz, [(o.name, o.hz_per_rpm) for o in c.orders],
-                         [(x.speed_rpm, x.frequency_hz, x.excitable is not False) for x in c.crossings], path,
+                         [(x.speed_rpm, x.frequency_hz, x.excitable is not False, x.share, k + 1)
+                          for k, x in enumerate(c.ranked())], path,
                          title=f"{c.scene}: Campbell diagram" + (" (gyroscopic)" if c.gyroscopic else ""),
                          rated_rpm=rated_rpm, speed_label=f"{c.reference} speed [rpm]")
 
