@@ -196,7 +196,8 @@ def test_a_stage_mode_of_a_stacked_box_is_seen_from_the_front_without_the_other_
     """The quill drive's stages lie one behind the other along the shaft: the whole box is seen
     from the side, where the ring hides the planets. A mode held by the planetary stage is
     seen along the shaft with the bodies outside the stage's axial span (the helical pair)
-    left out; a mode of the whole box keeps the side view and every body."""
+    left out; a mode of the whole box or of the helical pair keeps the side view and every
+    body."""
     sc = load_scene("two_stage_quill.toml")
     m = assemble(sc)
     rnd = AssemblyRenderer(m, window_size=SIZE)
@@ -211,6 +212,9 @@ def test_a_stage_mode_of_a_stacked_box_is_seen_from_the_front_without_the_other_
     assert all(not min(stage) - 1e-9 <= z[n] <= max(stage) + 1e-9 for n in hidden)
     whole, none = rnd.mode_frame(tuple(m.bodies))
     assert none == () and whole is rnd.view
+    # A mode of the helical pair (no planets there) keeps the side view and every body.
+    view, hidden = rnd.mode_frame(("wheel",))
+    assert hidden == () and abs(view.direction @ axis) < 0.35
 
 
 def test_a_plain_gear_with_teeth_is_drawn_its_face_width_long():

@@ -378,6 +378,15 @@ class AssemblyRenderer:
                        for n in names])
         return P.min(axis=0), P.max(axis=0)
 
+    def _planetary_stage(self, focus) -> bool:
+        """Whether the bodies ``focus`` all belong to one planetary stage (one with planets)."""
+        by_name = {b.name: b for b in self.model.scene.bodies}
+        stages = {getattr(by_name.get(n), "stage", None) for n in focus}
+        if len(stages) != 1 or None in stages:
+            return False
+        (stage,) = stages
+        return any(b.stage == stage and b.role == "planet" for b in self.model.scene.bodies)
+
     def _encloses(self, focus, shown, axis) -> bool:
         """Whether a drawn body other than ``focus`` surrounds the focus across the shaft
         ``axis`` (a ring round its planets): framing the focus would cut it at the edges."""
@@ -400,8 +409,8 @@ class AssemblyRenderer:
         """(camera, bodies left out) of a mode image whose dominant bodies are ``focus``.
 
         A box whose stages lie one behind another is seen from the side
-        (:func:`assembly.app.render.views.wants_side_view`); a mode held by one of its stages
-        is seen from the front instead, its own stage only: the bodies lying outside the
+        (:func:`assembly.app.render.views.wants_side_view`); a mode held by one of its
+        planetary stages is seen from the front instead, its own stage only: the bodies lying outside the
         focus's axial span (other stages, in front of or behind it) are left out, so the
         planets are not hidden behind a ring seen edge-on. The camera frames ``focus`` when
         that magnifies it at least :data:`MIN_ZOOM` times over the drawn bodies and no drawn
@@ -412,7 +421,7 @@ class AssemblyRenderer:
         axis = first.axes[:, 2]
         side, across = wants_side_view(shapes)
         hidden: tuple = ()
-        if side and not wants_side_view({n: shapes[n] for n in focus})[0]:
+        if side and self._planetary_stage(focus) and not wants_side_view({n: shapes[n] for n in focus})[0]:
             z = {n: float(shapes[n].position @ axis) for n in shapes}
             half = max(0.5 * shapes[n].width + abs(shapes[n].axial_offset) for n in focus)
             lo, hi = min(z[n] for n in focus) - half, max(z[n] for n in focus) + half
