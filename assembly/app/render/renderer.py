@@ -72,6 +72,8 @@ BAR_FMT = "%.3g"
 #: over the whole drawing: a smaller zoom gains little and cuts the faint context bodies at
 #: the title and the colour bar.
 MIN_ZOOM = 2.0
+#: A carrier seen along the shaft is drawn at most this opaque (its cheek covers the planets).
+CARRIER_OPACITY = 0.45
 #: Text drawn over the picture sits on a white band of this opacity (legible over a body).
 TEXT_BACKING = 0.8
 
@@ -119,6 +121,7 @@ class AssemblyRenderer:
         self.view = assembly_view(self.shapes, self.window_size, ends)
         self._cache: dict = {}
         self._pl = None
+        self._roles = {b.name: b.role for b in model.scene.bodies}
 
     def close(self) -> None:
         """Release the plotter (its OpenGL context); the renderer can still draw after."""
@@ -378,6 +381,15 @@ class AssemblyRenderer:
                        for n in names])
         return P.min(axis=0), P.max(axis=0)
 
+    def _opacity(self, name, focus, hidden) -> float:
+        """A dominant body opaque, the others faint; seen along the shaft (``hidden``: other
+        stages left out) a carrier is drawn at :data:`CARRIER_OPACITY` at most: its cheek
+        would cover the planets it carries."""
+        o = 1.0 if name in focus else CONTEXT_OPACITY
+        if hidden and self._roles.get(name) == "carrier":
+            o = min(o, CARRIER_OPACITY)
+        return o
+
     def _planetary_stage(self, focus) -> bool:
         """Whether the bodies ``focus`` all belong to one planetary stage (one with planets)."""
         by_name = {b.name: b for b in self.model.scene.bodies}
@@ -472,7 +484,7 @@ class AssemblyRenderer:
                 m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
                 m["normalised displacement"] = np.asarray(m["displacement_m"]) / norm
                 pl.add_mesh(m, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=first,
-                            scalar_bar_args=bar, opacity=1.0 if n in focus else CONTEXT_OPACITY,
+                            scalar_bar_args=bar, opacity=self._opacity(n, focus, hidden),
                             smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)
                 first = False
             W, H = self.window_size
@@ -488,7 +500,8 @@ class AssemblyRenderer:
                             smooth_shading=True)
             pv = load_pyvista()
             for sg in self.segments:
-                pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
+                if sg.body_a not in hidden and sg.body_b not in hidden:
+                    pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
             self._springs(pl, shape_of, scale, view, hidden)
             self._marks(pl, shape_of, scale, hidden)
             _backed(pl.add_text(title, position="upper_left", font_size=15, color="black"))
