@@ -22,8 +22,10 @@ from assembly.analysis.classify import ModeInfo
 from assembly.dynamics.campbell import NEGLIGIBLE, campbell
 from assembly.dynamics.phasing import excited_class
 from assembly.dynamics.safe import (
+    INTERFERENCE,
     class_indices,
     folded,
+    judge,
     mode_indices,
     phase_index,
     safe_diagrams,
@@ -96,14 +98,15 @@ def _agrees_with_campbell(c):
         crossings = [x for x in c.crossings if x.order in orders]
         assert len(crossings) == len(d.rows)
         hit = {(r.order, r.mode) for r in d.interferences}
-        # an interference is exactly a crossing the Campbell ranks as drivable with a share
-        # (its phasing verdict True: the rule decides every placed rigid-member class)
-        assert hit == {(x.order, x.mode) for x in crossings if x.excitable is True and x.share >= NEGLIGIBLE}
-        ranked = c.ranked()
-        drivable = {(x.order, x.mode) for x in ranked if x.excitable is not False and x.share >= NEGLIGIBLE}
-        assert hit <= drivable
-        # what SAFE rules out, the Campbell rules out
-        assert all(r.excitable is False for r in d.rows if r.verdict == "ruled out")
+        # an interference is exactly a crossing the Campbell ranks as drivable with a share, and
+        # of a rigid-member class exactly one whose phasing verdict is True; the Campbell leaves
+        # elastic modes undecided, the index decides them
+        assert hit <= {(x.order, x.mode) for x in c.ranked() if x.excitable is not False and x.share >= NEGLIGIBLE}
+        rigid = {(x.order, x.mode) for x in crossings if x.excitable is True and x.share >= NEGLIGIBLE}
+        assert {(r.order, r.mode) for r in d.interferences if r.mode_class != "elastic"} == rigid
+        # what SAFE rules out, the Campbell rules out (elastic modes: undecided there)
+        assert all(r.excitable is False or (r.mode_class == "elastic" and r.excitable is None)
+                   for r in d.rows if r.verdict == "ruled out")
     return diagrams
 
 
@@ -182,3 +185,30 @@ def test_zigzag_passes_through_every_harmonic(zs, n):
     for lh in range(1, 6):
         assert np.interp(lh * zs, nu, x) == pytest.approx(folded(phase_index(lh, zs, n), n), abs=1e-9)
     assert folded(3, 4) == 1 and folded(2, 4) == 2 and math.isclose(folded(4.5, 3), 1.5)
+
+
+def test_a_matching_index_without_a_modal_force_is_ruled_out():
+    # the index is necessary, not sufficient: meshes holding none of the mode's strain energy
+    # put no modal force into it (assembly.dynamics.participation); the Campbell rules it out too
+    assert judge(0, (0,), 0.5 * NEGLIGIBLE, True)[0] == "ruled out"
+    assert judge(0, (0,), NEGLIGIBLE, True)[0] == INTERFERENCE
+    assert judge(2, (1, 3), 0.5, True)[0] == "ruled out"
+    assert judge(0, (0,), 0.5, False)[0] == "no index"
+    assert judge(0, (), 0.5, True, stage_planet_mode=True)[0] == "ruled out"
+    assert judge(0, (), 0.5, True)[0] == "no index"
+
+
+@pytest.mark.slow
+def test_flexible_carrier_modes_sit_at_their_nodal_diameters():
+    # N = 3, Z_s = 31 (counted by a stiffness variation: the modes do not change): harmonics at
+    # 31, 62, 93 mod 3 = 1, 2, 0; the carrier's n-ND modes at +-(n mod 3)
+    s = with_values(load_scene("planetary_flexible_carrier"),
+                    {"stages.stage.variation_sun": {"amplitudes": [0.1], "teeth": 31}})
+    c = campbell(s, (0.0, 3000.0), reference="stage.sun")
+    (d,) = _agrees_with_campbell(c)
+    assert [e.index for e in d.excitations] == [1, 2, 0]
+    nds = {m.index + 1: m.nodal_diameters for m in c.modes}
+    elastic = [(m, nds[m.mode]) for m in d.modes if m.label.startswith("elastic stage.carrier")]
+    assert {nd % 3 for _, nd in elastic} == {0, 1, 2}
+    assert all(m.indices == ((0,) if nd % 3 == 0 else (1, 2)) for m, nd in elastic)
+    assert any(r.mode_class == "elastic" for r in d.rows)

@@ -85,7 +85,8 @@ def write_plot(c: Campbell, path, rated_rpm: float | None = None) -> Path:
 
 
 def crossings_text(c: Campbell) -> str:
-    """The crossing table as text, ranked (:meth:`Campbell.ranked`), with the notes."""
+    """The crossing table as text, ranked (:meth:`Campbell.ranked`), each planetary stage's SAFE
+    summary and the notes."""
     able = sum(1 for x in c.crossings if x.excitable is not False)
     lines = [f"{c.scene}: Campbell diagram, {c.reference} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, "
              f"{len(c.orders)} orders, {len(c.crossings)} crossings ({able} the exciter can drive), ranked by the "
@@ -96,6 +97,10 @@ def crossings_text(c: Campbell) -> str:
         lines.append(f"{k + 1:>4} {x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} "
                      f"{x.mode:>5}  {x.mode_class:<13} {x.scope or '':<10} {x.share:>8.2g} "
                      f"{_verdict(x.excitable):<9} {x.rule}")
+    for d in safe_diagrams(c):
+        at = ", ".join(f"x{e.harmonic} {e.index}" for e in d.excitations)
+        lines.append(f"SAFE {d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}, phase index k = (l Z_s) mod N: {at}; "
+                     f"{len(d.interferences)} interferences" + ("" if d.equally_spaced else " (not equally spaced)"))
     lines += [f"note: {n}" for n in c.notes]
     return "\n".join(lines)
 
