@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import arguments
 from .campbell import NEGLIGIBLE, Campbell
 from .phasing import excited_class
 
@@ -181,12 +182,17 @@ def judge(index: int, indices: tuple, share: float, equal: bool, stage_planet_mo
     return INTERFERENCE, f"k = {index} on the mode's index; meshes hold {share:.3g} of its strain energy"
 
 
+def _campbell(c) -> Campbell:
+    return arguments.instance("campbell", c, Campbell, "a Campbell diagram (assembly.dynamics.campbell.campbell)")
+
+
 def stage_diagram(c: Campbell, stage: str) -> SafeDiagram:
     """The SAFE diagram of ``stage`` from the Campbell diagram ``c`` (its mesh orders, modes and
-    crossings). ValueError when ``c`` has no mesh order of that stage (no sun teeth)."""
+    crossings). SceneError naming ``stage`` when ``c`` has no mesh order of that stage (not a
+    planetary stage, or no sun teeth)."""
+    have = _stages(_campbell(c))
+    arguments.one_of("stage", stage, have, "planetary stage with a mesh order")
     mesh = [o for o in c.orders if o.kind == "mesh" and o.stage == stage and o.n_planets is not None]
-    if not mesh:
-        raise ValueError(f"stage = {stage!r}: no mesh order in the Campbell diagram (no sun teeth)")
     n, zs, equal = mesh[0].n_planets, mesh[0].sun_teeth, bool(mesh[0].equally_spaced)
     exc = tuple(SafeExcitation(o.name, o.harmonic, phase_index(o.harmonic, zs, n), o.hz_per_rpm,
                                excited_class(o.harmonic, zs, n)) for o in mesh)
@@ -221,8 +227,12 @@ def stage_diagram(c: Campbell, stage: str) -> SafeDiagram:
                        tuple(notes))
 
 
+def _stages(c: Campbell) -> list:
+    """The planetary stages with a mesh order in ``c``, in scene order."""
+    return list(dict.fromkeys(o.stage for o in c.orders if o.kind == "mesh" and o.n_planets is not None))
+
+
 def safe_diagrams(c: Campbell) -> tuple:
-    """One :class:`SafeDiagram` per planetary stage of ``c`` that has a mesh order, in
-    scene order."""
-    stages = dict.fromkeys(o.stage for o in c.orders if o.kind == "mesh" and o.n_planets is not None)
-    return tuple(stage_diagram(c, s) for s in stages)
+    """One :class:`SafeDiagram` per planetary stage of ``c`` (a :class:`Campbell`) that has a
+    mesh order, in scene order."""
+    return tuple(stage_diagram(c, s) for s in _stages(_campbell(c)))

@@ -18,6 +18,7 @@ import math
 import numpy as np
 import pytest
 
+from assembly import SceneError
 from assembly.analysis.classify import ModeInfo
 from assembly.dynamics.campbell import NEGLIGIBLE, campbell
 from assembly.dynamics.phasing import excited_class
@@ -212,3 +213,18 @@ def test_flexible_carrier_modes_sit_at_their_nodal_diameters():
     assert {nd % 3 for _, nd in elastic} == {0, 1, 2}
     assert all(m.indices == ((0,) if nd % 3 == 0 else (1, 2)) for m, nd in elastic)
     assert any(r.mode_class == "elastic" for r in d.rows)
+
+
+@pytest.mark.parametrize("bad", [None, 5, "campbell", [], object()])
+def test_a_campbell_is_required(bad):
+    with pytest.raises(SceneError) as err:
+        safe_diagrams(bad)
+    assert err.value.path == "campbell"
+
+
+def test_unknown_stage_is_named(lp4):
+    zs, c, d = lp4
+    for bad in ("stag", "", 5, None):
+        with pytest.raises(SceneError) as err:
+            stage_diagram(c, bad)
+        assert err.value.path == "stage"
