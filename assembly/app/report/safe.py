@@ -72,8 +72,9 @@ def plot_safe(d: SafeDiagram, path, rated_rpm: float | None = None, speed_label:
     top = max(h_max * d.mesh_hz_per_rpm * max(hi, ref), 1e-9) * 1.08
     xmax = n // 2
     with plot_figure(path, (7.5, 6.0)) as (fig, ax):
-        nu, x = zigzag(h_max * d.sun_teeth * 1.04, n)
-        ax.plot(x, nu * d.mesh_hz_per_rpm * ref / d.sun_teeth, "-", color="0.6", lw=0.6)
+        if n > 1:                                  # one planet: a single index, nothing to fold
+            nu, x = zigzag(h_max * d.sun_teeth * 1.04, n)
+            ax.plot(x, nu * d.mesh_hz_per_rpm * ref / d.sun_teeth, "-", color="0.6", lw=0.6)
         for e in d.excitations:
             k = int(folded(e.index, n))
             ax.plot([k, k], [e.hz_per_rpm * lo, e.hz_per_rpm * hi], "-", color="C3", lw=9, alpha=0.18,
