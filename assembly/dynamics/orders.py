@@ -19,8 +19,8 @@ model's rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`: n_i 
   (f_mesh +- min|n_g| / 60).
 
 A mesh without tooth counts on its gears (base radii only) counts the teeth of its stiffness
-variation (``variation.teeth`` of its counting gear) when it has one; else it has no mesh
-frequency: it is left out and named in the notes.
+variation (``variation.teeth`` of its counting gear; a stage's sun: ``variation_sun.teeth``)
+when it has one; else it has no mesh frequency: it is left out and named in the notes.
 """
 from __future__ import annotations
 
@@ -75,6 +75,8 @@ def mesh_orders(scene, ratios: dict, harmonics: int) -> tuple[list[Order], list[
     orders, notes = [], []
     for st in scene.stages:
         zs = st.sun.teeth
+        if zs is None and st.variation_sun is not None:          # the sun-planet variation's count
+            zs = st.variation_sun.teeth
         if zs is None:
             notes.append(f"stage {st.name}: no sun teeth, no mesh order")
             continue

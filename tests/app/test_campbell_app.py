@@ -30,6 +30,25 @@ def test_out_writes_image_table_and_json(scene, tmp_path, capsys):
     assert "crossings" in capsys.readouterr().out
 
 
+def test_out_writes_the_safe_diagram_its_table_and_page(scene, tmp_path):
+    # one planetary stage ("planetary", Z_s = 20, N = 4: every harmonic at k = 0)
+    from assembly.app.report.html import missing_references
+    out = tmp_path / "cb"
+    assert main(["campbell", scene, "--speed-range", "0", "3000", "--out", str(out), "-q"]) == 0
+    png = (out / "safe_planetary.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
+    rows = list(csv.DictReader(open(out / "safe.csv")))
+    (safe,) = json.loads((out / "campbell.json").read_text())["safe"]
+    assert len(rows) == len(safe["crossings"]) > 0 and {r["stage"] for r in rows} == {"planetary"}
+    assert {r["index_k"] for r in rows} == {"0"} and {e["index"] for e in safe["excitations"]} == {0}
+    hits = [r for r in rows if r["safe"] == "interference"]
+    assert hits and all(r["class"] == "rotational" and r["campbell_excitable"] == "yes" for r in hits)
+    page = (out / "index.html").read_text()
+    assert "safe_planetary.png" in page and "SAFE" in page and missing_references(out / "index.html") == []
+    manifest = json.loads((out / "flexgear_run.json").read_text())
+    assert "safe_planetary.png" in manifest["files"] and "safe.csv" in manifest["files"]
+
+
 def test_json_prints_one_object(scene, capsys):
     assert main(["campbell", scene, "--speed-range", "0", "500", "--json", "--gyroscopic", "--points", "3"]) == 0
     data = json.loads(capsys.readouterr().out)

@@ -169,7 +169,7 @@ def test_extra_carrier_keys_are_accepted():
 #: replaces. The walk-through's blocks are the shipped two_stage_quill.toml (tested below),
 #: README's are whole scenes (tests/app/test_readme_examples.py).
 SNIPPETS = {"static.md": "hs_parallel_stage.toml", "user_parts.md": "planetary_step_carrier.toml",
-            "simulate.md": "variant", "study.md": "study", "turbine.md": "nrel5mw.toml"}
+            "simulate.md": "variant", "study.md": "study", "turbine.md": "nrel5mw.toml", "campbell.md": "variant"}
 
 
 def _doc_snippets() -> list[tuple[str, int, str]]:

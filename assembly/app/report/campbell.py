@@ -2,23 +2,29 @@
 
 Builds the diagram (:func:`assembly.dynamics.campbell.campbell`) and writes it: a crossing
 table on stdout, one JSON object (``--json``), or ``--out DIR`` with ``campbell.png``,
-``crossings.csv`` and ``campbell.json`` (atomically, with the folder rules of ``flexgear run``,
-:mod:`assembly.app.output`). Speeds in rpm of the reference body, frequencies in Hz.
+``crossings.csv``, ``campbell.json``, each planetary stage's interference (SAFE) diagram
+``safe_STAGE.png`` with ``safe.csv`` (:mod:`.safe`) and ``index.html`` (atomically, with the
+folder rules of ``flexgear run``, :mod:`assembly.app.output`). Speeds in rpm of the reference
+body, frequencies in Hz.
 """
 from __future__ import annotations
 
 import csv
+import html
 import logging
 import sys
 import time
 from pathlib import Path
 
 from ...dynamics.campbell import Campbell
+from ...dynamics.safe import safe_diagrams
 from .. import strict_json
+from . import safe
+from .html import figure
 
 log = logging.getLogger(__name__)
 
-FILES = ("campbell.png", "crossings.csv", "campbell.json")
+FILES = ("campbell.png", "crossings.csv", "campbell.json", "safe.csv", "index.html")   # and safe_STAGE.png
 CSV_HEAD = ("rank", "order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "share", "energy",
             "excitable", "rule")
 
@@ -32,8 +38,10 @@ def _energy_text(energy) -> str:
     return "; ".join(f"{g} ke {k:.3g} se {s:.3g}" for g, k, s in energy)
 
 
-def campbell_json(c: Campbell, rated_rpm: float | None = None) -> dict:
-    """The diagram as one JSON-ready object (rpm, Hz)."""
+def campbell_json(c: Campbell, rated_rpm: float | None = None, diagrams=None) -> dict:
+    """The diagram as one JSON-ready object (rpm, Hz), with each planetary stage's SAFE diagram
+    (``diagrams``: :func:`assembly.dynamics.safe.safe_diagrams` of ``c``, made here if None)."""
+    diagrams = safe_diagrams(c) if diagrams is None else diagrams
     return {
         "scene": c.scene, "reference": c.reference, "units": {"speed": "rpm", "frequency": "Hz"},
         "speed_range_rpm": [float(c.speeds_rpm[0]), float(c.speeds_rpm[-1])], "gyroscopic": c.gyroscopic,
@@ -49,6 +57,7 @@ def campbell_json(c: Campbell, rated_rpm: float | None = None) -> dict:
                        "frequency_hz": x.frequency_hz, "mode": x.mode, "class": x.mode_class, "scope": x.scope,
                        "energy": [{"group": g, "kinetic": k, "strain": s} for g, k, s in x.energy],
                        "share": x.share, "excitable": x.excitable, "rule": x.rule} for x in c.ranked()],
+        "safe": safe.safe_json(diagrams),
         "notes": list(c.notes),
     }
 
@@ -77,7 +86,8 @@ def write_plot(c: Campbell, path, rated_rpm: float | None = None) -> Path:
 
 
 def crossings_text(c: Campbell) -> str:
-    """The crossing table as text, ranked (:meth:`Campbell.ranked`), with the notes."""
+    """The crossing table as text, ranked (:meth:`Campbell.ranked`), each planetary stage's SAFE
+    summary and the notes."""
     able = sum(1 for x in c.crossings if x.excitable is not False)
     lines = [f"{c.scene}: Campbell diagram, {c.reference} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, "
              f"{len(c.orders)} orders, {len(c.crossings)} crossings ({able} the exciter can drive), ranked by the "
@@ -88,8 +98,24 @@ def crossings_text(c: Campbell) -> str:
         lines.append(f"{k + 1:>4} {x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} "
                      f"{x.mode:>5}  {x.mode_class:<13} {x.scope or '':<10} {x.share:>8.2g} "
                      f"{_verdict(x.excitable):<9} {x.rule}")
+    for d in safe_diagrams(c):
+        at = ", ".join(f"x{e.harmonic} {e.index}" for e in d.excitations)
+        lines.append(f"SAFE {d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}, phase index k = (l Z_s) mod N: {at}; "
+                     f"{len(d.interferences)} interferences" + ("" if d.equally_spaced else " (not equally spaced)"))
     lines += [f"note: {n}" for n in c.notes]
     return "\n".join(lines)
+
+
+def index_html(c: Campbell, diagrams) -> str:
+    """The Campbell page: the diagram, the data files and the SAFE section (:func:`.safe.safe_section`)."""
+    e = html.escape
+    able = sum(1 for x in c.crossings if x.excitable is not False)
+    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(c.scene)}: Campbell</title></head><body>"
+            f"<h1>{e(c.scene)}: Campbell diagram</h1>"
+            f"<p>{e(c.reference)} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, {len(c.orders)} orders, "
+            f"{len(c.crossings)} crossings ({able} the exciter can drive). Data: "
+            f'<a href="crossings.csv">crossings.csv</a>, <a href="campbell.json">campbell.json</a>.</p>\n'
+            f"{figure('campbell.png', 'Campbell diagram')}\n{safe.safe_section(diagrams)}\n</body></html>\n")
 
 
 def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_source: str = "") -> dict:
@@ -99,12 +125,18 @@ def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_
     out_dir = Path(out_dir).absolute()
     t0 = time.perf_counter()
     check_output_dir(out_dir)
+    diagrams = safe_diagrams(c)
     with staged_output(out_dir) as work:
         with writing(out_dir, work, "campbell results"):
             write_plot(c, work / "campbell.png", rated_rpm)
             write_csv(c, work / "crossings.csv")
-            (work / "campbell.json").write_text(strict_json.dumps(campbell_json(c, rated_rpm), indent=1), encoding="utf-8")
-            info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source), files=list(FILES),
+            (work / "campbell.json").write_text(strict_json.dumps(campbell_json(c, rated_rpm, diagrams), indent=1),
+                                                encoding="utf-8")
+            safe.write_csv(diagrams, work / "safe.csv")
+            pngs = safe.write_plots(diagrams, work, rated_rpm, f"{c.reference} speed")
+            (work / "index.html").write_text(index_html(c, diagrams), encoding="utf-8")
+            info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source),
+                        files=list(FILES) + pngs,
                         n_crossings=len(c.crossings), time_s=round(time.perf_counter() - t0, 4),
                         python=sys.version.split()[0])
             write_manifest(work, info)
