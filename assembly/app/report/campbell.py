@@ -2,7 +2,7 @@
 
 Builds the diagram (:func:`assembly.dynamics.campbell.campbell`) and writes it: a crossing
 table on stdout, one JSON object (``--json``), or ``--out DIR`` with ``campbell.png``,
-``crossings.csv`` and ``campbell.json`` (atomically, with the folder rules of ``flexgear run``,
+``crossings.csv``, ``campbell.json`` and ``index.html`` (atomically, with the folder rules of ``flexgear run``,
 :mod:`assembly.app.output`). Speeds in rpm of the reference body, frequencies in Hz.
 """
 from __future__ import annotations
@@ -15,16 +15,13 @@ from pathlib import Path
 
 from ...dynamics.campbell import Campbell
 from .. import strict_json
+from .campbell_page import campbell_page, verdict
 
 log = logging.getLogger(__name__)
 
-FILES = ("campbell.png", "crossings.csv", "campbell.json")
+FILES = ("campbell.png", "crossings.csv", "campbell.json", "index.html")
 CSV_HEAD = ("rank", "order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "share", "energy",
             "excitable", "rule")
-
-
-def _verdict(ok) -> str:
-    return {True: "yes", False: "no", None: "undecided"}[ok]
 
 
 def _energy_text(energy) -> str:
@@ -61,7 +58,7 @@ def write_csv(c: Campbell, path) -> Path:
         w.writerow(CSV_HEAD)
         for k, x in enumerate(c.ranked()):
             w.writerow([k + 1, x.order, x.harmonic, f"{x.speed_rpm:.9g}", f"{x.frequency_hz:.9g}", x.mode,
-                        x.mode_class, x.scope or "", f"{x.share:.3g}", _energy_text(x.energy), _verdict(x.excitable),
+                        x.mode_class, x.scope or "", f"{x.share:.3g}", _energy_text(x.energy), verdict(x.excitable),
                         x.rule])
     return Path(path)
 
@@ -86,7 +83,7 @@ def crossings_text(c: Campbell) -> str:
     for k, x in enumerate(c.ranked()):
         lines.append(f"{k + 1:>4} {x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} "
                      f"{x.mode:>5}  {x.mode_class:<13} {x.scope or '':<10} {x.share:>8.2g} "
-                     f"{_verdict(x.excitable):<9} {x.rule}")
+                     f"{verdict(x.excitable):<9} {x.rule}")
     lines += [f"note: {n}" for n in c.notes]
     return "\n".join(lines)
 
@@ -103,6 +100,7 @@ def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_
             write_plot(c, work / "campbell.png", rated_rpm)
             write_csv(c, work / "crossings.csv")
             (work / "campbell.json").write_text(strict_json.dumps(campbell_json(c, rated_rpm), indent=1), encoding="utf-8")
+            (work / "index.html").write_text(campbell_page(c, rated_rpm), encoding="utf-8")
             info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source), files=list(FILES),
                         n_crossings=len(c.crossings), time_s=round(time.perf_counter() - t0, 4),
                         python=sys.version.split()[0])
