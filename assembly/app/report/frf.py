@@ -60,25 +60,30 @@ def write_csv(r: FRF, path) -> Path:
     return Path(path)
 
 
+def peaks(r: FRF) -> list:
+    """Per output (name, the largest magnitude, its frequency in Hz)."""
+    out = []
+    for k, h in r.outputs.items():
+        j = int(np.argmax(np.abs(h)))
+        out.append((k, float(abs(h[j])), float(r.frequency_hz[j])))
+    return out
+
+
 def summary_text(r: FRF, scene: str) -> str:
     """Per output: the largest magnitude and where."""
     lines = [f"{scene}: FRF from {r.input}, {len(r.frequency_hz)} points "
              f"{r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz ({r.method}, {r.time_s:.3g} s)"]
-    for k, h in r.outputs.items():
-        j = int(np.argmax(np.abs(h)))
-        lines.append(f"  {k}: max |H| {abs(h[j]):.6g} {r.units[k]} at {r.frequency_hz[j]:.6g} Hz")
+    for k, m, f in peaks(r):
+        lines.append(f"  {k}: max |H| {m:.6g} {r.units[k]} at {f:.6g} Hz")
     lines += [f"  warning: {w}" for w in r.warnings]
     return "\n".join(lines)
 
 
 def _index(r: FRF, scene: str, plots: list) -> str:
-    peaks = []
-    for n, h in r.outputs.items():
-        j = int(np.argmax(np.abs(h)))
-        peaks.append([n, r.units[n], f"{abs(h[j]):.6g}", f"{r.frequency_hz[j]:.6g}"])
+    rows = [[n, r.units[n], f"{m:.6g}", f"{f:.6g}"] for n, m, f in peaks(r)]
     lead = "".join(note(f"Warning: {w}") for w in r.warnings)
     sections = [
-        Section("Largest response per output", table(["output", "unit", "max |H|", "at [Hz]"], peaks), "Peaks"),
+        Section("Largest response per output", table(["output", "unit", "max |H|", "at [Hz]"], rows), "Peaks"),
         Section("Bode plots", para("Dotted lines: undamped natural frequencies.", "meta")
                 + grid(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots), "Plots"),
         Section("Files", files_list([("frf.csv", "real and imaginary part, magnitude and phase per output and "

@@ -20,13 +20,13 @@ def render_index(report: dict) -> str:
     (title, header, rows, left, notes: the bodies' mass properties; optional), gears (the same
     keys: the gear table; optional), referred (the same keys: inertia referred to each shaft;
     optional), comparison (header, rows, row_classes, note) or None, sections [{title, note,
-    tables: [(title, header, rows, left columns)]}] (optional), key_images [(path, caption)]
+    tables: [(title, header, rows, left columns)], label (optional: the navigation's name, by
+    default the title without its parenthesis)}] (optional), key_images [(path, caption)]
     shown first (optional), overview (path, caption) or None, images [(path, caption)], plots
-    [(path, caption)], files [(path, description)], notes [str] (at the top), pages [(file,
+    [(path, caption)], files [(path, description)], notes [str] (after the pictures), pages [(file,
     label)]: the folder's pages (optional)."""
     return page(report["title"], run_sections(report), command="flexgear run", scene=report.get("scene", ""),
-                meta=report.get("meta", []), lead="".join(note(n) for n in report.get("notes", [])),
-                pages=report.get("pages", ()))
+                meta=report.get("meta", []), pages=report.get("pages", ()))
 
 
 def _described(title: str, label: str, t: dict) -> Section:
@@ -43,6 +43,8 @@ def run_sections(report: dict) -> list:
     out = []
     if report.get("key_images"):   # the drivetrain pictures come first
         out.append(Section("Drivetrain pictures", grid(report["key_images"]), "Pictures"))
+    if report.get("notes"):
+        out.append(Section("Notes", "".join(note(n) for n in report["notes"])))
     hdr, rows = report["modes"]
     body = table(hdr, rows, left=range(3, len(hdr)))
     if report.get("modes_note"):
@@ -63,7 +65,7 @@ def run_sections(report: dict) -> list:
         body = para(sec["note"], "meta") if sec.get("note") else ""
         body += "".join(f"<h3>{esc(title)}</h3>" + table(header, rows, left=left)
                         for title, header, rows, left in sec["tables"])
-        out.append(Section(sec["title"], body))
+        out.append(Section(sec["title"], body, sec.get("label") or sec["title"].split(" (")[0]))
     if report.get("plots"):
         out.append(Section("Plots", grid(report["plots"])))
     if report.get("overview") or report.get("images"):
