@@ -250,7 +250,7 @@ def add_campbell(sub, func) -> None:
                    help="add each spinning body's gyroscopic coupling (frequencies then depend on speed)")
     p.add_argument("--harmonics", type=int, default=3, metavar="H", help="mesh harmonics 1..H (default 3)")
     p.add_argument("--rated-rpm", type=float, default=None, metavar="RPM", help="mark the rated speed")
-    add_out_json(p, "campbell.png, crossings.csv, campbell.json")
+    add_out_json(p, "campbell.png, crossings.csv, campbell.json, index.html")
     p.set_defaults(func=func)
 
 
