@@ -9,7 +9,6 @@ ends with exit code 143 (128 + 15).
 from __future__ import annotations
 
 import argparse
-import html
 import importlib
 import logging
 import math
@@ -298,27 +297,29 @@ def cmd_runup(args) -> int:
 
 
 def runup_report(r, scene, work, track=None):
-    """(file names, HTML) of a run-up's order analysis (:mod:`assembly.app.report.runup`,
+    """(file names, sections of index.html) of a run-up's order analysis (:mod:`assembly.app.report.runup`,
     :func:`assembly.dynamics.runup_orders.run_orders`): every load tracked against the recorded
     speed of ``track`` (default the reference) over the ramp, the passages with the model's modes
     -- a record too short for it is said on the page, the run kept (the life tables of the ramp
     are the run's own, :mod:`assembly.app.report.life`)."""
     from ..dynamics.runup_orders import run_orders
     from ..errors import SceneError
+    from .report.page import Section, link, para
     from .report.runup import runup_files
 
     try:
         got = run_orders(r, scene, track)
     except SceneError as exc:
         log.warning("orders of the run-up not tracked: %s", exc)
-        return [], f"<p>Orders of the run-up not tracked: {html.escape(str(exc))}</p>"
+        return [], [Section("Orders of the run-up", para(f"Orders of the run-up not tracked: {exc}"), "Orders")]
     if got is None:
-        return [], ""
+        return [], []
     ref, _, ro, modes = got
     top = max((o for o in ro.orders.values()), default=1.0) * abs(r.outputs[f"speed:{ref}"]).max() / (2 * math.pi)
     files = runup_files(ro, work, scene.name, [f for f, _ in modes], 1.1 * top, ref)
-    return files, (f'<p><a href="orders.html">Orders of the run-up</a>: {len(ro.passages)} resonance '
-                   f'passages (<a href="passages.csv">passages.csv</a>).</p>')
+    return files, [Section("Orders of the run-up", f"<p>{link('orders.html', 'Orders of the run-up')}: "
+                                                   f"{len(ro.passages)} resonance passages ({link('passages.csv')})."
+                                                   "</p>", "Orders")]
 
 
 def cmd_simulate(args, prepare=None, report=None) -> int:

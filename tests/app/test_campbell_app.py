@@ -7,6 +7,7 @@ import json
 import pytest
 
 from assembly.app.cli import main
+from assembly.app.report.links import folder_problems
 from tests.support.campbell_scene import campbell_scene
 
 
@@ -28,6 +29,7 @@ def test_out_writes_image_table_and_json(scene, tmp_path, capsys):
     assert {r["excitable"] for r in rows} >= {"yes", "no"}       # Z_s = 20, N = 4: some ruled out
     assert data["rated_rpm"] == 1500.0 and data["units"] == {"speed": "rpm", "frequency": "Hz"}
     assert "crossings" in capsys.readouterr().out
+    assert folder_problems(out) == []      # index.html: the shared style, the navigation, every link and anchor
 
 
 def test_out_writes_the_safe_diagram_its_table_and_page(scene, tmp_path):

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
+from assembly.app.report.links import folder_problems
 
 J1, J2, K, C = 2.0, 3.0, 1.0e4, 30.0
 
@@ -92,6 +93,7 @@ def test_out_writes_csv_json_plots_index(scene, tmp_path, capsys):
     f = float(rows[1][0])
     assert float(rows[1][3]) == pytest.approx(abs(_closed(f)), rel=1e-8)     # magnitude column of torque:s
     assert "bode_02.png" in (out / "index.html").read_text()
+    assert folder_problems(out) == []      # the shared style, the navigation, every link and anchor
     assert json.loads((out / "frf.json").read_text())["input"] == "torque:a"
     assert "index.html" in capsys.readouterr().out
 

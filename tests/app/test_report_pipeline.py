@@ -14,6 +14,7 @@ import pytest
 from assembly.app.cli import build_parser
 from assembly.app.output import MANIFEST, OutputDirError
 from assembly.app.report.html import local_references, missing_references
+from assembly.app.report.links import folder_problems
 from assembly.app.report.pipeline import RunOptions, run_pipeline
 
 SCENE = "lin_parker_n4.toml"
@@ -98,10 +99,11 @@ def test_index_references_exist(run_dir):
     assert all(not os.path.isabs(r) and ".." not in r for r in refs)
     assert len(re.findall(r"<img ", text)) == N_IMAGES + 3  # modes, overview, stage-local mode, fidelity plot
     assert "Fidelity comparison" in text and "Hz" in text
-    # In-page links from the mode table land on figures that exist.
+    # In-page links from the mode table land on figures that exist; the navigation's on sections.
     anchors = re.findall(r'href="#([^"]+)"', text)
-    assert len(anchors) == N_IMAGES
+    assert len([a for a in anchors if a.startswith("fig-mode-")]) == N_IMAGES
     assert all(f'id="{a}"' in text for a in anchors)
+    assert folder_problems(out) == []      # the shared style, the navigation, every link and anchor
 
 
 def _chromium():

@@ -13,6 +13,7 @@ import math
 import pytest
 
 from assembly.app.cli import main
+from assembly.app.report.links import folder_problems, read_page
 from tests.app.test_simulate_cli import pair_file
 
 
@@ -33,6 +34,9 @@ def test_a_run_up_writes_its_orders_and_life_tables(tmp_path, capsys):
     # the rotor of the pair (the driven body): its revolutions over the ramp
     assert sum(d["lrd"]["revolutions"]) == pytest.approx(turns, abs=1e-3 + 1e-3 * n1 / 60)
     assert "Loads to life" in (out / "index.html").read_text()
+    assert folder_problems(out) == []      # both pages: the shared style, the navigation, links and anchors
+    for page, other in (("index.html", "orders.html"), ("orders.html", "index.html")):
+        assert other in read_page((out / page).read_text()).nav          # each page's navigation names the other
     assert math.isfinite(d["del_m4"])
 
 

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from assembly.app.cli import main
+from assembly.app.report.links import folder_problems
 
 # Jonkman et al. (2009): rated generator torque 43 093.55 N m; the scene's gear ratio 96.354
 # (Nejad et al. 2016 teeth) makes the rated rotor torque the scene applies, 4.152243e6 N m.
@@ -91,6 +92,7 @@ def test_out_writes_hdf5_plots_index(tmp_path, capsys):
         # the energy-consistent torque at the static twist (phi ~ 1e-3 rad: a relative 1e-8)
         assert h["outputs/force:m"][0] == pytest.approx(2000.0, rel=1e-6)
     assert "contact losses" in (out / "index.html").read_text()
+    assert folder_problems(out) == []      # the shared style, the navigation, every link and anchor
 
 
 BAD = [
@@ -194,6 +196,7 @@ def test_a_stopped_run_replaces_an_earlier_result_marked_partial(tmp_path, capsy
     assert json.loads((out / "flexgear_run.json").read_text())["complete"] is False
     page = (out / "index.html").read_text()
     assert "Partial result: the run stopped" in page and 'href="partial_simulation.h5"' in page
+    assert folder_problems(out) == []
 
 
 def test_a_stopped_run_without_out_writes_nothing(tmp_path, capsys, monkeypatch):

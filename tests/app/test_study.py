@@ -12,6 +12,7 @@ import pytest
 
 from assembly import assemble, load_scene, scale_bearings, solve_modes
 from assembly.app.cli import main
+from assembly.app.report.links import folder_problems
 from assembly.app.study.engine import run_study
 from assembly.app.study.file import read_study
 from tests.app.test_simulate_cli import pair_file
@@ -191,6 +192,7 @@ def test_cli_writes_the_table_plots_and_index(pair, capsys):
     assert [float(r["f1_hz"]) for r in rows] == [t["f1_hz"] for t in table]     # CSV keeps every digit
     assert [t["status"] for t in table] == ["ok", "ok"]
     assert "time_s" not in rows[0] and "time_s" in next(csv.DictReader(open(out / "runs.csv")))
+    assert folder_problems(out) == []      # the shared style, the navigation, every link and anchor
 
 
 @pytest.mark.parametrize("text, where, words", [

@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+from assembly.app.report.links import folder_problems, read_page
 from assembly.app.study.engine import run_study
 from assembly.app.study.file import read_study
 from assembly.errors import SceneError
@@ -114,6 +115,8 @@ def test_the_study_folder_has_its_sensitivity_table(tmp_path):
     col_a = [c for c in table if c.startswith("mode1_hz[")][0]
     assert float(table[col_a]["dln/dln[bearings[0].k_torsion]"]) == pytest.approx(0.5, abs=1e-6)
     assert "Sensitivities" in (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
+    assert "#s-sensitivities" in read_page((tmp_path / "out" / "index.html").read_text(encoding="utf-8")).nav
+    assert folder_problems(tmp_path / "out") == []     # the shared style, the navigation, links and anchors
 
 
 def test_a_two_parameter_study_draws_its_results_over_both(tmp_path):

@@ -19,6 +19,8 @@ import math
 import numpy as np
 import pytest
 
+from assembly.app.report.coupling import coupling_files
+from assembly.app.report.links import folder_problems
 from assembly.dynamics.coupling import DIFFER_DB, compare_coupling
 from assembly.dynamics.rosco_data import NREL5MW_SURFACE, rosco_file
 from assembly.dynamics.rotor_surface import read_surface, rotor_loads
@@ -63,9 +65,12 @@ def _chain(**turbine):
         "simulation": {"speed": 12.1 * RPM}, "turbine": tb})
 
 
-def test_a_two_mass_drivetrain_gives_the_same_spectra_coupled_and_one_way():
+def test_a_two_mass_drivetrain_gives_the_same_spectra_coupled_and_one_way(tmp_path, step_path):
     c = compare_coupling(_chain(), 16.0, 0.01, tooth_force="torque:shaft", bearing_axial="torque:shaft",
                          t_skip=2.0, segment=4.0)
+    if step_path == "python":                  # flexgear coupling's files of it, once (the step does not matter)
+        coupling_files(c, tmp_path, "two-mass chain", 10.0)
+        assert folder_problems(tmp_path) == []    # index.html: the shared style, the navigation, every link
     # the two-mass equivalent is the chain itself (its shaft, its inertias)
     assert c.two_mass.stiffness == pytest.approx(K, rel=1e-12)
     assert c.two_mass.damping == pytest.approx(C, rel=1e-9)

@@ -10,7 +10,6 @@ body, frequencies in Hz.
 from __future__ import annotations
 
 import csv
-import html
 import logging
 import sys
 import time
@@ -20,17 +19,13 @@ from ...dynamics.campbell import Campbell
 from ...dynamics.safe import safe_diagrams
 from .. import strict_json
 from . import safe
-from .html import figure
+from .campbell_page import campbell_page, verdict
 
 log = logging.getLogger(__name__)
 
 FILES = ("campbell.png", "crossings.csv", "campbell.json", "safe.csv", "index.html")   # and safe_STAGE.png
 CSV_HEAD = ("rank", "order", "harmonic", "speed_rpm", "frequency_hz", "mode", "class", "scope", "share", "energy",
             "excitable", "rule")
-
-
-def _verdict(ok) -> str:
-    return {True: "yes", False: "no", None: "undecided"}[ok]
 
 
 def _energy_text(energy) -> str:
@@ -70,7 +65,7 @@ def write_csv(c: Campbell, path) -> Path:
         w.writerow(CSV_HEAD)
         for k, x in enumerate(c.ranked()):
             w.writerow([k + 1, x.order, x.harmonic, f"{x.speed_rpm:.9g}", f"{x.frequency_hz:.9g}", x.mode,
-                        x.mode_class, x.scope or "", f"{x.share:.3g}", _energy_text(x.energy), _verdict(x.excitable),
+                        x.mode_class, x.scope or "", f"{x.share:.3g}", _energy_text(x.energy), verdict(x.excitable),
                         x.rule])
     return Path(path)
 
@@ -97,25 +92,13 @@ def crossings_text(c: Campbell) -> str:
     for k, x in enumerate(c.ranked()):
         lines.append(f"{k + 1:>4} {x.order:<22} {x.harmonic:>2} {x.speed_rpm:>11.5g} {x.frequency_hz:>10.4f} "
                      f"{x.mode:>5}  {x.mode_class:<13} {x.scope or '':<10} {x.share:>8.2g} "
-                     f"{_verdict(x.excitable):<9} {x.rule}")
+                     f"{verdict(x.excitable):<9} {x.rule}")
     for d in safe_diagrams(c):
         at = ", ".join(f"x{e.harmonic} {e.index}" for e in d.excitations)
         lines.append(f"SAFE {d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}, phase index k = (l Z_s) mod N: {at}; "
                      f"{len(d.interferences)} interferences" + ("" if d.equally_spaced else " (not equally spaced)"))
     lines += [f"note: {n}" for n in c.notes]
     return "\n".join(lines)
-
-
-def index_html(c: Campbell, diagrams) -> str:
-    """The Campbell page: the diagram, the data files and the SAFE section (:func:`.safe.safe_section`)."""
-    e = html.escape
-    able = sum(1 for x in c.crossings if x.excitable is not False)
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(c.scene)}: Campbell</title></head><body>"
-            f"<h1>{e(c.scene)}: Campbell diagram</h1>"
-            f"<p>{e(c.reference)} {c.speeds_rpm[0]:g}-{c.speeds_rpm[-1]:g} rpm, {len(c.orders)} orders, "
-            f"{len(c.crossings)} crossings ({able} the exciter can drive). Data: "
-            f'<a href="crossings.csv">crossings.csv</a>, <a href="campbell.json">campbell.json</a>.</p>\n'
-            f"{figure('campbell.png', 'Campbell diagram')}\n{safe.safe_section(diagrams)}\n</body></html>\n")
 
 
 def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_source: str = "") -> dict:
@@ -134,7 +117,8 @@ def campbell_to_dir(c: Campbell, out_dir, rated_rpm: float | None = None, scene_
                                                 encoding="utf-8")
             safe.write_csv(diagrams, work / "safe.csv")
             pngs = safe.write_plots(diagrams, work, rated_rpm, f"{c.reference} speed")
-            (work / "index.html").write_text(index_html(c, diagrams), encoding="utf-8")
+            (work / "index.html").write_text(campbell_page(c, rated_rpm, more=[safe.safe_section(diagrams)]),
+                                             encoding="utf-8")
             info = dict(tool="flexgear campbell", scene=c.scene, scene_source=str(scene_source),
                         files=list(FILES) + pngs,
                         n_crossings=len(c.crossings), time_s=round(time.perf_counter() - t0, 4),

@@ -5,10 +5,10 @@ peak table with the nearest modes' strain shares), ``coupling.json``, ``peaks.cs
 from __future__ import annotations
 
 import csv
-import html
 from pathlib import Path
 
 from .. import strict_json
+from .page import Section, esc, files_list, grid, page, para, table
 
 
 def coupling_json(c, scene: str) -> dict:
@@ -52,23 +52,19 @@ def coupling_files(c, work: Path, scene: str, f_max: float) -> None:
 
 
 def _index(c, scene: str, figs: list) -> str:
-    e = html.escape
-    rows = "".join(
-        f"<tr><td>{e(p['channel'])}</td><td>{p['frequency_hz']:.4g}</td><td>{p['coupled']:.4g}</td>"
-        f"<td>{p['one_way']:.4g}</td><td>{p['ratio_db']:+.1f}</td><td>"
-        + ("-" if p["mode_hz"] is None else f"{p['mode_hz']:.4g} ({e(p['mode_class'])})") + "</td><td>"
-        + e(", ".join(f"{n} {100 * v:.0f} %" for n, v in p["strain_shares"])) + "</td></tr>" for p in c.peaks)
+    rows = [[p["channel"], f"{p['frequency_hz']:.4g}", f"{p['coupled']:.4g}", f"{p['one_way']:.4g}",
+             f"{p['ratio_db']:+.1f}", "-" if p["mode_hz"] is None else f"{p['mode_hz']:.4g} ({p['mode_class']})",
+             ", ".join(f"{n} {100 * v:.0f} %" for n, v in p["strain_shares"])] for p in c.peaks]
     tm = c.two_mass
-    imgs = "".join(f'<figure><img src="{e(p)}" alt="{e(cap)}"><figcaption>{e(cap)}</figcaption></figure>'
-                   for p, cap in figs)
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: coupled vs one-way</title>"
-            f"</head><body><h1>{e(scene)}: coupled against one-way</h1>"
-            f"<p>Spectra over {c.window_s[0]:g} .. {c.window_s[1]:g} s. One-way: the detailed drivetrain driven by "
-            f"the rotor torque, thrust and generator torque of the same turbine with the two-mass drivetrain "
-            f"(J_R {tm.rotor_inertia:.6g} kg m^2, J_G {tm.generator_inertia:.6g} kg m^2, ratio "
-            f"{abs(tm.speed_ratio):.6g}, k {tm.stiffness:.6g} N m/rad, c {tm.damping or 0.0:.6g} N m s/rad).</p>"
-            "<h2>Where they differ</h2><ul>" + "".join(f"<li>{e(v)}</li>" for v in c.verdicts) + "</ul>"
-            "<h2>Peaks</h2><table border=1><tr><th>channel</th><th>Hz</th><th>coupled</th><th>one-way</th>"
-            "<th>dB</th><th>nearest mode [Hz]</th><th>its strain energy</th></tr>" + rows + "</table>"
-            f"{imgs}<p>Data: <a href=\"coupling.json\">coupling.json</a>, <a href=\"peaks.csv\">peaks.csv</a>.</p>"
-            "</body></html>\n")
+    lead = para(f"Spectra over {c.window_s[0]:g} .. {c.window_s[1]:g} s. One-way: the detailed drivetrain driven by "
+                f"the rotor torque, thrust and generator torque of the same turbine with the two-mass drivetrain "
+                f"(J_R {tm.rotor_inertia:.6g} kg m^2, J_G {tm.generator_inertia:.6g} kg m^2, ratio "
+                f"{abs(tm.speed_ratio):.6g}, k {tm.stiffness:.6g} N m/rad, c {tm.damping or 0.0:.6g} N m s/rad).")
+    sections = [
+        Section("Where they differ", "<ul>" + "".join(f"<li>{esc(v)}</li>" for v in c.verdicts) + "</ul>", "Verdicts"),
+        Section("Peaks", table(["channel", "Hz", "coupled", "one-way", "dB", "nearest mode [Hz]", "its strain energy"],
+                               rows, left=(0, 5, 6))),
+        Section("Spectra", grid(figs)),
+        Section("Files", files_list([("coupling.json", "the runs, spectra, peaks and verdicts (JSON)"),
+                                     ("peaks.csv", "the peak table (CSV)")]))]
+    return page(f"{scene}: coupled against one-way", sections, command="flexgear coupling", scene=scene, lead=lead)

@@ -11,7 +11,6 @@ responses per unit input (SI units in ``units``).
 from __future__ import annotations
 
 import csv
-import html
 import sys
 import time
 from pathlib import Path
@@ -20,7 +19,7 @@ import numpy as np
 
 from ...dynamics.frf import FRF
 from .. import strict_json
-from .html import figure
+from .page import Section, figure, files_list, grid, note, page, para, table
 
 
 def frequencies(fmin: float, fmax: float, points: int, log: bool) -> np.ndarray:
@@ -61,27 +60,38 @@ def write_csv(r: FRF, path) -> Path:
     return Path(path)
 
 
+def peaks(r: FRF) -> list:
+    """Per output (name, the largest magnitude, its frequency in Hz)."""
+    out = []
+    for k, h in r.outputs.items():
+        j = int(np.argmax(np.abs(h)))
+        out.append((k, float(abs(h[j])), float(r.frequency_hz[j])))
+    return out
+
+
 def summary_text(r: FRF, scene: str) -> str:
     """Per output: the largest magnitude and where."""
     lines = [f"{scene}: FRF from {r.input}, {len(r.frequency_hz)} points "
              f"{r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz ({r.method}, {r.time_s:.3g} s)"]
-    for k, h in r.outputs.items():
-        j = int(np.argmax(np.abs(h)))
-        lines.append(f"  {k}: max |H| {abs(h[j]):.6g} {r.units[k]} at {r.frequency_hz[j]:.6g} Hz")
+    for k, m, f in peaks(r):
+        lines.append(f"  {k}: max |H| {m:.6g} {r.units[k]} at {f:.6g} Hz")
     lines += [f"  warning: {w}" for w in r.warnings]
     return "\n".join(lines)
 
 
 def _index(r: FRF, scene: str, plots: list) -> str:
-    e = html.escape
-    figs = "\n".join(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots)
-    warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
-    warn = f"<p><b>Warnings</b></p><ul>{warn}</ul>" if warn else ""
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: FRF</title></head><body>"
-            f"<h1>{e(scene)}: frequency response from {e(r.input)}</h1>"
-            f"<p>{len(r.frequency_hz)} points, {r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz, {e(r.method)}; "
-            f'dotted lines: undamped natural frequencies. Data: <a href="frf.csv">frf.csv</a>, '
-            f'<a href="frf.json">frf.json</a>.</p>\n{warn}{figs}\n</body></html>\n')
+    rows = [[n, r.units[n], f"{m:.6g}", f"{f:.6g}"] for n, m, f in peaks(r)]
+    lead = "".join(note(f"Warning: {w}") for w in r.warnings)
+    sections = [
+        Section("Largest response per output", table(["output", "unit", "max |H|", "at [Hz]"], rows), "Peaks"),
+        Section("Bode plots", para("Dotted lines: undamped natural frequencies.", "meta")
+                + grid(figure(p, f"{n} [{r.units[n]}]", alt=n) for n, p in plots), "Plots"),
+        Section("Files", files_list([("frf.csv", "real and imaginary part, magnitude and phase per output and "
+                                                 "frequency (CSV)"), ("frf.json", "magnitude and phase (JSON)")]))]
+    meta = [f"{len(r.frequency_hz)} points, {r.frequency_hz[0]:g}-{r.frequency_hz[-1]:g} Hz, {r.method}; "
+            f"input {r.input}, responses per unit input"]
+    return page(f"{scene}: frequency response from {r.input}", sections, command="flexgear frf", scene=scene,
+                meta=meta, lead=lead)
 
 
 def frf_to_dir(r: FRF, out_dir, scene: str, scene_source: str = "", log: bool = False) -> dict:

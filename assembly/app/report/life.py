@@ -9,10 +9,10 @@ not finite is written empty (CSV), null (JSON) or "-" (HTML), with the row's not
 from __future__ import annotations
 
 import csv
-import html
 from pathlib import Path
 
 from .. import strict_json
+from .page import Section, esc, link, table
 
 BEARING_COLUMNS = ("bearing", "rating_n", "exponent", "equivalent_load_n", "peak_load_n", "revolutions", "l10_mrev",
                    "l10_hours", "note")
@@ -67,22 +67,18 @@ def life_files(life, work: Path) -> list:
 
 
 def _table(cols, rows, heads) -> str:
-    e = html.escape
-
     def cell(v):
-        return "-" if v is None else e(v) if isinstance(v, str) else f"{v:.4g}"
-    return ("<table border=1><tr>" + "".join(f"<th>{e(h)}</th>" for h in heads) + "</tr>"
-            + "".join("<tr>" + "".join(f"<td>{cell(r[c])}</td>" for c in cols) + "</tr>" for r in rows) + "</table>")
+        return "-" if v is None else v if isinstance(v, str) else f"{v:.4g}"
+    return table(heads, [[cell(r[c]) for c in cols] for r in rows])
 
 
-def life_html(life) -> str:
+def life_section(life) -> Section:
     """The index.html section: the DEL table, and the bearings' and gears' tables when rated."""
     t0, t1 = life.window
     dels = [_del_key(m) for m in life.exponents]
-    out = (f"<h2>Loads to life</h2><p>From {t0:g} s to {t1:g} s: rainflow (ASTM E1049-85), damage-equivalent "
+    out = (f"<p>From {t0:g} s to {t1:g} s: rainflow (ASTM E1049-85), damage-equivalent "
            f"loads at N_eq = {life.cycles_ref:g} cycles; load duration and load revolution distributions (revolutions "
-           f"of {html.escape(str(life.shaft))}) in <a href=\"life.json\">life.json</a>, the table in "
-           f"<a href=\"life.csv\">life.csv</a>.</p>"
+           f"of {esc(life.shaft)}) in {link('life.json')}, the table in {link('life.csv')}.</p>"
            + _table(("output", "unit", "cycles", *dels, "note"), output_rows(life),
                     ("output", "unit", "cycles", *(f"DEL m = {m:g}" for m in life.exponents), "note")))
     rated = (("Bearings: ISO 281 basic rating life", "P = X F_r + Y F_a, its mean over the bearing's revolutions "
@@ -91,6 +87,6 @@ def life_html(life) -> str:
               "gear's frame", "life_gears.csv", GEAR_COLUMNS, life.gears, GEAR_HEADS))
     for title, how, name, cols, rows, heads in rated:
         if rows:
-            out += (f'<h3>{title}</h3><p>{html.escape(how)} (<a href="{name}">{name}</a>).</p>'
+            out += (f"<h3>{title}</h3><p>{esc(how)} ({link(name)}).</p>"
                     + _table(cols, [vars(r) for r in rows], heads))
-    return out
+    return Section("Loads to life", out, "Life")

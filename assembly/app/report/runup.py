@@ -6,11 +6,15 @@ files and linked from its ``index.html``."""
 from __future__ import annotations
 
 import csv
-import html
 import math
 from pathlib import Path
 
 import numpy as np
+
+from .page import Section, esc, files_list, grid, page, para, table
+
+#: The pages of a run-up's folder: the run and its orders.
+PAGES = (("index.html", "The run"), ("orders.html", "Orders of the run-up"))
 
 
 def runup_files(ro, work: Path, scene: str, natural_hz, f_max: float | None, shaft: str = "") -> list:
@@ -39,22 +43,25 @@ def runup_files(ro, work: Path, scene: str, natural_hz, f_max: float | None, sha
 
 
 def _page(ro, scene: str, files: list, shaft: str = "") -> str:
-    e = html.escape
-
     def num(x):
         return "-" if x is None or (isinstance(x, float) and not np.isfinite(x)) else f"{x:.4g}"
-    rows = "".join(f"<tr><td>{e(d['output'])}</td><td>{e(d['order_label'])}</td><td>{d['order']:.4g}</td>"
-                   f"<td>{e(d['excitation'])}</td><td>{e(d['mode_class'])}</td><td>{d['frequency_hz']:.4g}</td><td>{d['speed_rpm']:.4g}</td>"
-                   f"<td>{num(d['peak_speed_rpm'])}</td><td>{num(d['peak'])}</td><td>{num(d['quasi_static'])}</td>"
-                   f"<td>{num(d['amplification'])}</td><td>{e(d['note'])}</td></tr>" for d in ro.passages)
-    imgs = "".join(f'<figure><img src="{e(p)}" alt="{e(p)}"></figure>' for p in files if p.endswith(".png"))
-    skipped = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in ro.skipped.items())
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: run-up orders</title></head><body>"
-            f"<h1>{e(scene)}: orders of the run-up</h1><p>Orders per revolution of the reference; dashed lines: the "
-            f"excitation orders; dotted: natural frequencies; speeds of {e(shaft or 'the reference')}. Amplification: the peak over the order's "
-            f"quasi-static level (a mesh order's: the parametric level, its low-speed r^2 rise taken out). "
-            f"<a href=\"index.html\">The run</a>, "
-            f"<a href=\"passages.csv\">passages.csv</a>.</p><h2>Resonance passages</h2><table border=1><tr>"
-            f"<th>output</th><th>order</th><th></th><th>excitation</th><th>mode class</th><th>f_n [Hz]</th><th>passage [rpm]</th>"
-            f"<th>peak at [rpm]</th><th>peak</th><th>quasi-static</th><th>amplification</th><th>note</th></tr>{rows}</table>"
-            + (f"<h2>Orders not tracked</h2><ul>{skipped}</ul>" if skipped else "") + f"{imgs}</body></html>\n")
+    rows = [[d["output"], d["order_label"], f"{d['order']:.4g}", d["excitation"], d["mode_class"],
+             f"{d['frequency_hz']:.4g}", f"{d['speed_rpm']:.4g}", num(d["peak_speed_rpm"]), num(d["peak"]),
+             num(d["quasi_static"]), num(d["amplification"]), d["note"]] for d in ro.passages]
+    head = ["output", "order", "", "excitation", "mode class", "f_n [Hz]", "passage [rpm]", "peak at [rpm]", "peak",
+            "quasi-static", "amplification", "note"]
+    body = table(head, rows, left=(0, 1, 3, 4, 11)) if rows else para("No resonance passage in the run-up.")
+    sections = [Section("Resonance passages", body, "Passages")]
+    if ro.skipped:
+        sections.append(Section("Orders not tracked", "<ul>" + "".join(
+            f"<li>{esc(k)}: {esc(v)}</li>" for k, v in ro.skipped.items()) + "</ul>", "Not tracked"))
+    imgs = [p for p in files if p.endswith(".png")]             # one per map, in order
+    if imgs:
+        sections.append(Section("Order maps", grid((p, f"{name}: order map over the run-up")
+                                                   for p, name in zip(imgs, ro.maps)), "Maps"))
+    sections.append(Section("Files", files_list([("passages.csv", "the resonance passages (CSV)")])))
+    lead = para(f"Orders per revolution of the reference; dashed lines: the excitation orders; dotted: natural "
+                f"frequencies; speeds of {shaft or 'the reference'}. Amplification: the peak over the order's "
+                f"quasi-static level (a mesh order's: the parametric level, its low-speed r^2 rise taken out).")
+    return page(f"{scene}: orders of the run-up", sections, command="flexgear runup", scene=scene, lead=lead,
+                pages=PAGES, here="orders.html")

@@ -6,14 +6,12 @@ the Campbell reference body.
 from __future__ import annotations
 
 import csv
-import html
 import re
 from pathlib import Path
 
 import numpy as np
 
 from ...dynamics.safe import SafeDiagram, folded, zigzag
-from .html import figure
 
 CSV_HEAD = ("stage", "order", "harmonic", "index_k", "abs_k", "mode", "class", "mode_indices", "frequency_hz",
             "speed_rpm", "share", "safe", "why", "campbell_excitable")
@@ -115,25 +113,25 @@ def write_plots(diagrams, out_dir, rated_rpm: float | None = None, speed_label: 
     return names
 
 
-def safe_section(diagrams) -> str:
-    """The HTML section of the Campbell page: each stage's picture and its interferences."""
-    e = html.escape
+def safe_section(diagrams):
+    """The Campbell page's section (:class:`assembly.app.report.page.Section`): each stage's
+    picture and its interferences."""
+    from .page import Section, figure, note, para, table
+
     if not diagrams:
-        return "<h2>Interference (SAFE) diagrams</h2><p>No planetary stage with a mesh order.</p>"
-    out = ["<h2>Interference (SAFE) diagrams</h2>",
-           "<p>Phase index k = (l Z<sub>s</sub>) mod N of mesh harmonic l across, frequency up: a mode is excited "
-           "only where its index (rotational 0, translational ±1, planet the others) matches the harmonic's and "
-           'its frequency lies in the harmonic\'s band. Table: <a href="safe.csv">safe.csv</a>.</p>']
+        return Section("Interference (SAFE) diagrams", para("No planetary stage with a mesh order."), "SAFE")
+    out = [para("Phase index k = (l Z_s) mod N of mesh harmonic l across, frequency up: a mode is excited only "
+                "where its index (rotational 0, translational ±1, planet the others) matches the harmonic's and "
+                "its frequency lies in the harmonic's band. Every crossing of the stages' mesh harmonics with its "
+                "verdict: safe.csv.")]
     for d in diagrams:
         out.append(figure(png_name(d.stage), f"{d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}"))
-        rows = "".join(f"<tr><td>{e(r.order)}</td><td>{r.index}</td><td>{r.mode}</td><td>{e(r.mode_class)}</td>"
-                       f"<td>{r.frequency_hz:.4g}</td><td>{r.speed_rpm:.5g}</td><td>{r.share:.3g}</td></tr>"
-                       for r in d.interferences)
         ruled = sum(1 for r in d.rows if r.verdict == "ruled out")
-        out.append(f"<p>{len(d.interferences)} interferences, {ruled} crossings ruled out by phasing or no modal "
-                   f"force.</p>")
-        if rows:
-            out.append("<table><tr><th>harmonic</th><th>k</th><th>mode</th><th>class</th><th>frequency Hz</th>"
-                       f"<th>speed rpm</th><th>share</th></tr>{rows}</table>")
-        out += [f"<p class=\"note\">{e(n)}</p>" for n in d.notes]
-    return "\n".join(out)
+        out.append(para(f"{d.stage}: {len(d.interferences)} interferences, {ruled} crossings ruled out by phasing "
+                        "or no modal force."))
+        if d.interferences:
+            out.append(table(["harmonic", "k", "mode", "class", "frequency [Hz]", "speed [rpm]", "share"],
+                             [[r.order, r.index, r.mode, r.mode_class, f"{r.frequency_hz:.4g}", f"{r.speed_rpm:.5g}",
+                               f"{r.share:.3g}"] for r in d.interferences]))
+        out += [note(n) for n in d.notes]
+    return Section("Interference (SAFE) diagrams", "\n".join(out), "SAFE")

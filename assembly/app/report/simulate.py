@@ -31,7 +31,6 @@ until the next run into DIR clears it (:mod:`assembly.app.output`).
 from __future__ import annotations
 
 import dataclasses
-import html
 import sys
 import time
 from pathlib import Path
@@ -41,7 +40,7 @@ import numpy as np
 from ...dynamics.history import read_blocks
 from ...dynamics.simulate import SimulationResult
 from .. import strict_json
-from .html import figure
+from .page import Section, esc, figure, files_list, grid, page, para, table
 
 #: Mesh harmonics marked on the spectra.
 MARKED_HARMONICS = 3
@@ -280,34 +279,37 @@ def finish_h5(path, scene: str, facts: dict) -> Path:
     return Path(path)
 
 
-def _index(r: SimulationResult, scene: str, s: dict, plots: list, more: str = "") -> str:
-    e = html.escape
-    rows = "".join(f"<tr><td>{e(k)}</td><td>{e(v['unit'])}</td><td>{v['mean']:.6g}</td><td>{v['rms']:.6g}</td>"
-                   f"<td>{v['min']:.6g}</td><td>{v['max']:.6g}</td><td>{v['peak_time_s']:.6g}</td></tr>"
-                   for k, v in s["outputs"].items())
-    meshes = "".join(f"<tr><td>{e(m['name'])}</td><td>{m['backlash_m'] if m['backlash_m'] is not None else '-'}"
-                     f"</td><td>{m['harmonics']}</td><td>{m['contact_losses']}</td></tr>" for m in r.meshes)
-    warn = "".join(f"<li>{e(w)}</li>" for w in r.warnings)
-    figs = "\n".join(figure(p, n) for n, p in plots)
+def _index(r: SimulationResult, scene: str, s: dict, plots: list, more=(), pages=()) -> str:
+    """The page; ``more``: sections of the same run (a run-up's orders, the life tables)."""
+    rows = [[k, v["unit"], *(f"{v[c]:.6g}" for c in ("mean", "rms", "min", "max", "peak_time_s"))]
+            for k, v in s["outputs"].items()]
+    sections = [Section("Outputs", table(["output", "unit", "mean", "RMS", "min", "max", "peak at [s]"], rows))]
+    if r.meshes:
+        sections.append(Section("Nonlinear meshes", table(
+            ["mesh", "backlash [m]", "harmonics", "contact losses"],
+            [[m["name"], "-" if m["backlash_m"] is None else m["backlash_m"], str(m["harmonics"]), m["contact_losses"]]
+             for m in r.meshes]), "Meshes"))
+    if "turbine_sources" in r.info:
+        sections.append(Section("The turbine", para(f"Controller: {r.info['controller_calls']} calls, every "
+                                                    f"{r.info['controller_period_s']:g} s.")
+                                + table(["value", "from"], [[k, str(v)] for k, v in r.info["turbine_sources"].items()]),
+                                "Turbine"))
+    if r.warnings:
+        sections.append(Section("Warnings", "<ul>" + "".join(f"<li>{esc(w)}</li>" for w in r.warnings) + "</ul>"))
+    sections += list(more)
+    sections.append(Section("Plots", para("Spectra: mesh harmonics (red) and sidebands (green dotted) at the "
+                                          "starting speed.", "meta") + grid(figure(p, n) for n, p in plots)))
     h5, partial = h5_name(r), "" if r.complete else " (partial)"
-    stopped = "" if r.complete else (f"<p><strong>Partial result: the run stopped</strong> at t = {s['t_end_s']:g} s "
-                                     f"of {r.info['t_end_s']:g} s: {e(str(s['stopped']))}</p>")
+    sections.append(Section("Files", files_list([
+        (h5, "the histories (HDF5: /time_s, /outputs/NAME with units)" + partial),
+        ("summary.json", "the statistics and run facts (JSON)")])))
+    stopped = "" if r.complete else (f'<p class="stopped"><strong>Partial result: the run stopped</strong> at t = '
+                                     f"{s['t_end_s']:g} s of {r.info['t_end_s']:g} s: {esc(str(s['stopped']))}</p>")
     wall = f", {r.info['wall_s']:.3g} s wall" if "wall_s" in r.info else ""
-    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{e(scene)}: simulation{partial}</title>"
-            f"</head><body><h1>{e(scene)}: time-domain simulation{partial}</h1>{stopped}<p>{s['steps']} steps of "
-            f"{r.info['dt_s']:g} s to {s['t_end_s']:g} s, {e(r.info['scheme'])}, {r.info['dofs']} DOFs{wall}. "
-            f'Data: <a href="{h5}">{h5}</a>, <a href="summary.json">summary.json</a>.</p>'
-            f"<table border=1><tr><th>output</th><th>unit</th><th>mean</th><th>RMS</th><th>min</th><th>max</th>"
-            f"<th>peak at [s]</th></tr>{rows}</table>"
-            + (f"<h2>Nonlinear meshes</h2><table border=1><tr><th>mesh</th><th>backlash [m]</th><th>harmonics"
-               f"</th><th>contact losses</th></tr>{meshes}</table>" if r.meshes else "")
-            + (f"<h2>The turbine</h2><p>Controller: {r.info['controller_calls']} calls, every "
-               f"{r.info['controller_period_s']:g} s.</p><table border=1><tr><th>value</th><th>from</th></tr>"
-               + "".join(f"<tr><td>{e(k)}</td><td>{e(str(v))}</td></tr>" for k, v in r.info["turbine_sources"].items())
-               + "</table>" if "turbine_sources" in r.info else "")
-            + (f"<h2>Warnings</h2><ul>{warn}</ul>" if warn else "")
-            + f"<p>Spectra: mesh harmonics (red) and sidebands (green dotted) at the starting speed.</p>\n"
-            f"{more}{figs}\n</body></html>\n")
+    meta = [f"{s['steps']} steps of {r.info['dt_s']:g} s to {s['t_end_s']:g} s, {r.info['scheme']}, "
+            f"{r.info['dofs']} DOFs{wall}"]
+    return page(f"{scene}: time-domain simulation{partial}", sections, command="flexgear simulate", scene=scene,
+                meta=meta, lead=stopped, pages=pages)
 
 
 def sim_to_dir(r: SimulationResult, out_dir, scene: str, scene_source: str = "", window=None, extra=None) -> dict:
@@ -328,14 +330,16 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
     file from the arrays, or the streamed one (``r.history_file``: moved there, named for a
     complete or partial run, when it is in ``work``, else copied); the pictures from it read
     back in blocks (module notes). ``window`` (t0, t1): the spectra's part of the record
-    (default all of it). ``extra(work)`` -> (file names, HTML for index.html): more files of
-    the same run (a run-up's orders); the life tables' (:mod:`assembly.app.report.life`) when
-    the run has them. Returns the manifest."""
+    (default all of it). ``extra(work)`` -> (file names, sections of index.html,
+    :class:`~assembly.app.report.page.Section`): more files of the same run (a run-up's orders);
+    the life tables' (:mod:`assembly.app.report.life`) when the run has them. Returns the
+    manifest."""
     import shutil
 
     from ..output import write_manifest
     from ..plots import plot_spectrogram, plot_spectrum, plot_time_trace
-    from .life import life_files, life_html
+    from .life import life_files, life_section
+    from .runup import PAGES
 
     work, t0 = Path(work), time.perf_counter()
     s = summary(r, scene)
@@ -381,10 +385,11 @@ def sim_files(r: SimulationResult, work, scene: str, scene_source: str = "", win
                              f_max=None if top is None else 1.1 * top * r.info.get("speed_scale", 1.0))
             plots.append((f"{k}: short-time spectrum{span}", p))
         release_memory()
-    more_files, more = extra(work) if extra is not None else ([], "")
+    more_files, more = extra(work) if extra is not None else ([], [])
     if r.life is not None:                                  # [simulation.life], or a run-up's ramp
-        more_files, more = [*more_files, *life_files(r.life, work)], more + life_html(r.life)
-    (work / "index.html").write_text(_index(r, scene, s, plots, more), encoding="utf-8")
+        more_files, more = [*more_files, *life_files(r.life, work)], [*more, life_section(r.life)]
+    pages = PAGES if "orders.html" in more_files else ()
+    (work / "index.html").write_text(_index(r, scene, s, plots, more, pages), encoding="utf-8")
     files = [h5_name(r), "summary.json", *(p for _, p in plots), *more_files, "index.html"]
     info = dict(tool="flexgear simulate", scene=scene, scene_source=str(scene_source), files=files,
                 complete=r.complete, outputs=list(s["outputs"]), time_s=round(time.perf_counter() - t0, 4),

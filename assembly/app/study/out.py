@@ -18,7 +18,6 @@
 from __future__ import annotations
 
 import csv
-import html
 import math
 import re
 import sys
@@ -27,9 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..report.html import figure
+from ..report.page import Section, esc, files_list, grid, page
 from .run import RUN_COLUMNS
-from .sensitivity import sensitivity_html, write_sensitivity
+from .sensitivity import sensitivity_section, write_sensitivity
 
 FIXED = ("variant", "status", "error")
 
@@ -173,18 +172,23 @@ def maps(ok: list, parameters: list, results: list, folder: Path, title: str) ->
     return out
 
 
-def index_html(title: str, info: dict, plots: list, rows: list[dict], more: str = "") -> str:
-    e = html.escape
+def index_html(title: str, info: dict, plots: list, rows: list[dict], more=()) -> str:
+    """The study's page; ``more``: further sections (the sensitivities)."""
     failed = [r for r in rows if r["status"] != "ok"]
-    fail_list = "".join(f"<li>variant {r['variant']}: {e(str(r['error']))}</li>" for r in failed[:50])
-    figs = "\n".join(figure(f, c) for f, c in plots)
-    return (f'<!DOCTYPE html><html><head><meta charset="utf-8"><title>{e(title)}: study</title></head><body>'
-            f"<h1>{e(title)}</h1><p>Scene {e(info['scene'])}, analysis {e(info['analysis'])}, "
-            f"{info['variants']} variants ({info['failed']} failed), run {e(info['mode'])} in {info['time_s']:.1f} s. "
-            f'Table: <a href="study.csv">study.csv</a>, <a href="study.parquet">study.parquet</a>; '
-            f'run times and cache reuse: <a href="runs.csv">runs.csv</a>.</p>'
-            + (f"<h2>Failed variants</h2><ul>{fail_list}</ul>" if failed else "") + more
-            + f"\n{figs}\n</body></html>\n")
+    sections = []
+    if failed:
+        sections.append(Section("Failed variants", "<ul>" + "".join(
+            f"<li>variant {r['variant']}: {esc(str(r['error']))}</li>" for r in failed[:50]) + "</ul>", "Failed"))
+    sections += [s for s in more if s is not None]
+    if plots:
+        sections.append(Section("Plots", grid(plots)))
+    sections.append(Section("Files", files_list([
+        ("study.csv", "one row per variant: its parameters, status and kept results (CSV)"),
+        ("study.parquet", "the same table (Parquet)"), ("runs.csv", "run times and cache reuse per variant (CSV)"),
+        ("sensitivity.csv", "each result's elasticity to each parameter (CSV)")])))
+    meta = [f"Scene {info['scene']}, analysis {info['analysis']}, {info['variants']} variants "
+            f"({info['failed']} failed), run {info['mode']} in {info['time_s']:.1f} s."]
+    return page(f"{title}: study", sections, command="flexgear study", scene=info["scene"], meta=meta)
 
 
 def study_to_dir(study, rows: list[dict], out_dir, mode: str, time_s: float) -> dict:
@@ -196,14 +200,14 @@ def study_to_dir(study, rows: list[dict], out_dir, mode: str, time_s: float) -> 
         with writing(out_dir, work, "study results"):
             results = write_table(rows, study.parameters, work)
             plots = plot_results(rows, study.parameters, results, work, study.name)
-            sens = sensitivity_html(write_sensitivity(rows, study.parameters, results, work), study.parameters)
+            sens = sensitivity_section(write_sensitivity(rows, study.parameters, results, work), study.parameters)
             info = dict(tool="flexgear study", study=study.name, study_source=study.source, scene=study.scene,
                         analysis=study.analysis, parameters=study.parameters, variants=len(rows),
                         failed=sum(r["status"] != "ok" for r in rows), mode=mode, time_s=round(time_s, 3),
                         files=["study.parquet", "study.csv", "runs.csv", "sensitivity.csv", *(f for f, _ in plots),
                                "index.html"],
                         python=sys.version.split()[0])
-            (work / "index.html").write_text(index_html(study.name, info, plots, rows, sens), encoding="utf-8")
+            (work / "index.html").write_text(index_html(study.name, info, plots, rows, [sens]), encoding="utf-8")
             info["write_s"] = round(time.perf_counter() - t0, 3)
             write_manifest(work, info)
     return info

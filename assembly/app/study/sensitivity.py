@@ -15,6 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..report.page import Section, esc, link
+from ..report.page import table as html_table
+
 
 def _logs(values) -> np.ndarray | None:
     try:
@@ -63,19 +66,17 @@ def write_sensitivity(rows: list, parameters: list, results: list, folder: Path)
     return table
 
 
-def sensitivity_html(table: list, parameters: list, top: int = 30) -> str:
-    """The index.html section: the results with the largest elasticity first."""
-    import html
-    e = html.escape
+def sensitivity_section(table: list, parameters: list, top: int = 30):
+    """The index.html section (:class:`~assembly.app.report.page.Section`): the results with the
+    largest elasticity first; None when no result has one."""
     rows = [t for t in table if any(v is not None for v in t["elasticity"].values())]
     rows.sort(key=lambda t: -max(abs(v) for v in t["elasticity"].values() if v is not None))
     if not rows:
-        return ""
-    head = "".join(f"<th>d ln / d ln {e(p)}</th>" for p in parameters)
-    body = "".join("<tr><td>" + e(t["result"]) + "</td>" + "".join(
-        "<td>-</td>" if t["elasticity"][p] is None or not math.isfinite(t["elasticity"][p])
-        else f"<td>{t['elasticity'][p]:.3g}</td>" for p in parameters)
-        + f"<td>{'-' if t['r2'] is None else format(t['r2'], '.3g')}</td></tr>" for t in rows[:top])
-    return (f'<h2>Sensitivities</h2><p>Elasticity of each result to each parameter (a least-squares fit of the '
-            f'logarithms over the variants that ran; <a href="sensitivity.csv">sensitivity.csv</a>), the largest '
-            f'first.</p><table border=1><tr><th>result</th>{head}<th>R^2</th></tr>{body}</table>')
+        return None
+    cells = [[t["result"], *("-" if t["elasticity"][p] is None or not math.isfinite(t["elasticity"][p])
+                             else f"{t['elasticity'][p]:.3g}" for p in parameters),
+              "-" if t["r2"] is None else format(t["r2"], ".3g")] for t in rows[:top]]
+    intro = esc("Elasticity of each result to each parameter (a least-squares fit of the logarithms over the "
+                "variants that ran), the largest first; every result in ")
+    return Section("Sensitivities", f"<p>{intro}{link('sensitivity.csv')}.</p>"
+                   + html_table(["result", *(f"d ln / d ln {p}" for p in parameters), "R^2"], cells, left=(0,)))
