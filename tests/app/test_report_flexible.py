@@ -95,3 +95,22 @@ def test_the_comparison_table_shows_the_mode_tables_modes(run_dir):
     limit = float(re.search(r"show modes up to (\d+) Hz", html).group(1))
     shown = [r for r in every if not r["flexible"] or float(r["flexible"]) <= limit]
     assert rows == len(shown) <= len(every)
+
+
+def test_stress_images_sit_under_their_own_headings_not_plots(run_dir):
+    """Load-case stresses under "Stresses under the load cases", modal stresses under "Modal
+    stresses"; the "Plots" section holds no stress image."""
+    import re
+
+    html = (run_dir / "index.html").read_text()
+    sections = dict(re.findall(r'<h2 id="([^"]+)">([^<]*)</h2>', html))
+    assert "Stresses under the load cases" in sections.values()
+    assert "Modal stresses (drawn modes)" in sections.values()
+    parts = re.split(r"<h2 ", html)
+    plots = next(p for p in parts if p.split(">", 1)[1].startswith("Plots"))
+    load = next(p for p in parts if p.split(">", 1)[1].startswith("Stresses under"))
+    modal = next(p for p in parts if p.split(">", 1)[1].startswith("Modal stresses"))
+    assert "stress_" not in plots
+    assert re.search(r'src="images/stress_[^"]+_load[^"]*\.png"', load)
+    assert re.search(r'src="images/stress_[^"]+_mode_\d+\.png"', modal)
+    assert "_mode_" not in re.sub(r"<figcaption>.*?</figcaption>", "", load)

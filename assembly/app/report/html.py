@@ -23,7 +23,8 @@ def render_index(report: dict) -> str:
     tables: [(title, header, rows, left columns)], label (optional: the navigation's name, by
     default the title without its parenthesis)}] (optional), key_images [(path, caption)]
     shown first (optional), overview (path, caption) or None, images [(path, caption)], plots
-    [(path, caption)], files [(path, description)], notes [str] (after the pictures), pages [(file,
+    [(path, caption)], stresses and modal_stresses [(path, caption)]: the von Mises images of
+    the load cases and of the drawn modes (optional), files [(path, description)], notes [str] (after the pictures), pages [(file,
     label)]: the folder's pages (optional)."""
     return page(report["title"], run_sections(report), command="flexgear run", scene=report.get("scene", ""),
                 meta=report.get("meta", []), pages=report.get("pages", ()))
@@ -68,6 +69,10 @@ def run_sections(report: dict) -> list:
         out.append(Section(sec["title"], body, sec.get("label") or sec["title"].split(" (")[0]))
     if report.get("plots"):
         out.append(Section("Plots", grid(report["plots"])))
+    if report.get("stresses"):
+        out.append(Section("Stresses under the load cases", grid(report["stresses"]), "Stresses"))
+    if report.get("modal_stresses"):
+        out.append(Section("Modal stresses (drawn modes)", grid(report["modal_stresses"]), "Modal stresses"))
     if report.get("overview") or report.get("images"):
         figs = ([report["overview"]] if report.get("overview") else []) + list(report.get("images", []))
         out.append(Section("Mode shapes", grid(figs)))

@@ -109,6 +109,8 @@ class RunContext:
     key_images: list = field(default_factory=list)    # (relpath, caption): shown first (_render_key_images)
     images: list = field(default_factory=list)        # (relpath, caption, mode index)
     plots: list = field(default_factory=list)         # (relpath, caption)
+    stresses: list = field(default_factory=list)      # (relpath, caption): von Mises under the load cases
+    modal_stresses: list = field(default_factory=list)  # (relpath, caption): von Mises of the drawn modes
     files: list = field(default_factory=list)         # (relpath, description)
     notes: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
@@ -402,6 +404,7 @@ def build_report(ctx: RunContext) -> dict:
                 modes_note=band_note(res, int(len(ctx.infos) - len(modes_rows))),
                 comparison=comp, sections=static_sections(ctx), overview=ctx.overview, key_images=list(ctx.key_images),
                 images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
+                stresses=list(ctx.stresses), modal_stresses=list(ctx.modal_stresses),
                 files=files, notes=notes)
 
 
@@ -604,7 +607,7 @@ def _stress_image(ctx: RunContext, images, b: str, st, label: str, tag: str, a) 
                f"{_share_text(a)}" + _band_text(ctx, a.mode))
     images.render(ctx.model.bodies[b], st, ctx.add_file(rel, f"{b} von Mises, {label}{what} (PNG)"), title)
     ctx.timings_detail[rel] = images.timings[-1]
-    ctx.plots.append((rel, cap))
+    (ctx.stresses if a is None else ctx.modal_stresses).append((rel, cap))
 
 
 def _write_recovery_files(ctx: RunContext, rows: list, mrows: list, collection: list) -> None:
