@@ -373,24 +373,31 @@ def on_q(T, A):
     return ((A + A.T) * 0.5).tocsr()
 
 
-def _absolute_model(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, sp.csr_matrix | None]:
-    """Body mass and stiffness blocks plus every element (its stiffness, and its mass if it
-    carries any), on the absolute coordinates z, as fields of an :class:`AssembledModel`;
-    and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
+def _layout(sc: Scene, order: list, bodies: dict) -> dict:
+    """The fields of an :class:`AssembledModel` that place the bodies on z: ``scene``,
+    ``bodies`` in frame order, their ``offsets``, the ``elements`` and ``abs_dof_names``."""
     offsets, n = {}, 0
     for b in order:
         offsets[b.name] = n
         n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies, component_masters(sc))
-    ordered = {b.name: bodies[b.name] for b in order}
-    abs_names = [name for b in order for name in bodies[b.name].dof_names()]
+    return dict(scene=sc, bodies={b.name: bodies[b.name] for b in order}, offsets=offsets,
+                elements=build_elements(sc, bodies, component_masters(sc)),
+                abs_dof_names=[name for b in order for name in bodies[b.name].dof_names()])
+
+
+def _absolute_model(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, sp.csr_matrix | None]:
+    """Body mass and stiffness blocks plus every element (its stiffness, and its mass if it
+    carries any), on the absolute coordinates z, as fields of an :class:`AssembledModel`;
+    and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
+    fields = _layout(sc, order, bodies)
+    ordered, offsets, elements = fields["bodies"], fields["offsets"], fields["elements"]
+    n = sum(bm.ndof for bm in ordered.values())
     import scipy.sparse as sp
     M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
     parts = [element_matrix(ordered, offsets, n, el, el.stiffness()) for el in elements]
     masses = [element_matrix(ordered, offsets, n, el, el.mass) for el in elements if el.mass is not None]
-    fields = dict(scene=sc, bodies=ordered, offsets=offsets, elements=elements, K_abs=sum(parts, K_abs).tocsr(),
-                  M_abs=sum(masses, M_abs).tocsr(), abs_dof_names=abs_names)
+    fields.update(K_abs=sum(parts, K_abs).tocsr(), M_abs=sum(masses, M_abs).tocsr())
     if not judged:
         return fields, None
     return fields, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()
@@ -399,24 +406,19 @@ def _absolute_model(sc: Scene, order: list, bodies: dict, judged=frozenset()) ->
 def _absolute_dense(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, np.ndarray | None]:
     """:func:`_absolute_model` of a small rigid model in dense arrays: each element's
     ``L' A L`` formed on the columns it touches and added in place."""
-    offsets, n = {}, 0
-    for b in order:
-        offsets[b.name] = n
-        n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies, component_masters(sc))
-    ordered = {b.name: bodies[b.name] for b in order}
-    abs_names = [name for b in order for name in bodies[b.name].dof_names()]
+    fields = _layout(sc, order, bodies)
+    ordered, offsets = fields["bodies"], fields["offsets"]
     M_abs = block_diagonal([np.asarray(bodies[b.name].mass_matrix(), float) for b in order])
     K_abs = block_diagonal([np.asarray(bodies[b.name].stiffness_matrix(), float) for b in order])
     K_judged = K_abs.copy() if judged else None
-    for el in elements:
+    for el in fields["elements"]:
         add_element(K_abs, ordered, offsets, el, el.stiffness())
         if judged and el.item not in judged:
             add_element(K_judged, ordered, offsets, el, el.stiffness())
         if el.mass is not None:
             add_element(M_abs, ordered, offsets, el, el.mass)
-    return dict(scene=sc, bodies=ordered, offsets=offsets, elements=elements, K_abs=K_abs, M_abs=M_abs,
-                abs_dof_names=abs_names), K_judged
+    fields.update(K_abs=K_abs, M_abs=M_abs)
+    return fields, K_judged
 
 
 def _coordinates_dense(sc: Scene, order: list, bodies: dict):
