@@ -27,8 +27,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
+from ..mechanics.dense import dense
 from ..mechanics.kinematics import block_rotation
 from ..mechanics.nullity import DROP_RTOL, STRUCT_RTOL, spring_rows, zero_motion_basis
 from ..model.probes import axial_rotation, load_point
@@ -114,7 +114,7 @@ def _rows(model, body: str, interface, dofs, support, where: str) -> list[Held]:
     round-off of the product's scale dropped, zero rows (already held) left out."""
     bm = model.bodies[body]
     p = load_point(model, body, interface)
-    L = block_rotation(bm.axes).T @ sp.csr_matrix(bm.motion_at(p, interface)).toarray()
+    L = block_rotation(bm.axes).T @ dense(bm.motion_at(p, interface))
     Tb = model.T[model.body_slice(body)]
     out = []
     for d in dofs:

@@ -7,7 +7,11 @@ and groups repeated frequencies. The number of rigid-body modes comes from the m
 structure (:mod:`assembly.mechanics.nullity`); :mod:`assembly.analysis.resolution` checks that the solve
 resolves them and every elastic mode to FREQ_RTOL, and names the offending scene field
 otherwise. The same rules hold for the dense (all modes) and the sparse (lowest modes)
-path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii.
+path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii. A dense problem
+of at most :data:`SMALL_DENSE` DOFs is solved with NumPy alone (Cholesky factor of the
+mass, ``eigh`` of the symmetric standard form: :func:`numpy_eigh`), a larger one with
+``scipy.linalg.eigh``: SciPy is imported only when a model needs it (0.2-0.3 s of a small
+model's 0.5 s command, issue 31).
 """
 from __future__ import annotations
 
@@ -17,12 +21,11 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
 from .. import arguments
 from ..errors import SceneError, SolverError
+from ..mechanics.dense import dense, entries
 from ..mechanics.nullity import rigid_body_count
 from ..model.assemble import model_argument
 from . import resolution
@@ -86,8 +89,8 @@ def group_repeated(freqs: np.ndarray, rtol: float = REPEAT_RTOL, n_zero: int = 0
 
 def residuals(K, M, lam, Phi) -> np.ndarray:
     """Norm-wise relative backward error of each eigenpair (dense or sparse K, M)."""
-    nK = sla.norm(K.toarray() if hasattr(K, "toarray") else K, 2) if K.shape[0] < DENSE_MAX else _norm1(K)
-    nM = sla.norm(M.toarray() if hasattr(M, "toarray") else M, 2) if M.shape[0] < DENSE_MAX else _norm1(M)
+    nK = np.linalg.norm(dense(K), 2) if K.shape[0] < DENSE_MAX else _norm1(K)
+    nM = np.linalg.norm(dense(M), 2) if M.shape[0] < DENSE_MAX else _norm1(M)
     R = K @ Phi - (M @ Phi) * lam
     scale = (nK + np.abs(lam) * nM) * np.linalg.norm(Phi, axis=0)
     r = np.linalg.norm(R, axis=0)
@@ -102,7 +105,9 @@ def _norm1(A) -> float:
 #: Models up to this many DOFs are solved densely (all modes); larger ones by a sparse
 #: shift-invert block solve of the lowest modes (cms.eigen, one sparse factorization).
 DENSE_MAX = 3000
-#: Dense problems up to this size are solved on one BLAS thread.
+#: Dense problems up to this size are solved on one BLAS thread, with NumPy alone
+#: (:func:`numpy_eigh`; the Cholesky reduction costs n^3 / 3 more than LAPACK's sygvd
+#: at most, ~0.04 s at this size).
 SMALL_DENSE = 500
 #: Default number of modes of a sparse (large) solve.
 SPARSE_DEFAULT_MODES = 30
@@ -128,8 +133,7 @@ def solve_modes(model, n_modes: int | None = None, check: bool = True) -> ModalR
         raise SceneError("n_modes", n_modes, "must be an integer >= 1 (or None: all modes)")
     t0 = time.perf_counter()
     K, M = model.K, model.M
-    data = [getattr(A, "data", A) for A in (K, M)]
-    if not all(np.all(np.isfinite(d)) for d in data):
+    if not all(np.all(np.isfinite(entries(A))) for A in (K, M)):
         raise _overflow(model)
     n = K.shape[0]
     # one BLAS thread below SMALL_DENSE: waking OpenBLAS threads for a 100-DOF model cost
@@ -167,8 +171,8 @@ def _dense(model, n_modes):
     of 4e7 kg m^2 and a generator of 534 kg m^2 behind 97:1 then share one scale) and the
     largest K_ii / M_ii at 1, formed without overflow for any finite K, M. Returns the
     spectrum (scaled), mass-normalised shapes, the highest mode and the backward errors."""
-    Kd = model.K.toarray()
-    Md = model.M.toarray()
+    Kd = dense(model.K)
+    Md = dense(model.M)
     d, kd = np.diag(Md), np.diag(Kd)
     if np.any(d <= 0):
         raise SolverError("M", "diagonal <= 0", "mass matrix is not positive definite")
@@ -185,9 +189,16 @@ def _dense(model, n_modes):
     n = len(d)
     subset = None if n_modes is None or n_modes >= n else (0, n_modes - 1)
     try:
-        lam, Phi = sla.eigh(A, B, subset_by_index=subset)
-        lam_top, top = (lam[-1], Phi[:, -1]) if subset is None else \
-            sla.eigh(A, B, subset_by_index=(n - 1, n - 1))
+        if n <= SMALL_DENSE:
+            lam, Phi = numpy_eigh(A, B)
+            lam_top, top = lam[-1], Phi[:, -1]
+            if subset is not None:
+                lam, Phi = lam[:n_modes], Phi[:, :n_modes]
+        else:
+            import scipy.linalg as sla
+            lam, Phi = sla.eigh(A, B, subset_by_index=subset)
+            lam_top, top = (lam[-1], Phi[:, -1]) if subset is None else \
+                sla.eigh(A, B, subset_by_index=(n - 1, n - 1))
     except np.linalg.LinAlgError:
         # numerically singular mass: its near-null direction has an unbounded frequency
         w, V = np.linalg.eigh(B)
@@ -197,6 +208,19 @@ def _dense(model, n_modes):
     lam_max = float(np.max(lam_top))
     spec = resolution.Spectrum(lam, lam_max, resolution.mode_weights(lam, lam_max, Phi, _norm1(B)), p4)
     return spec, u[:, None] * Phi, u * np.ravel(top), res
+
+
+def numpy_eigh(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every eigenpair of the symmetric pencil ``A x = lam B x`` (``B`` positive definite),
+    ascending, ``X' B X = I``, with NumPy alone: ``B = L L'`` (Cholesky), the standard
+    symmetric problem ``C = L^-1 A L^-T`` (symmetrised) by ``numpy.linalg.eigh`` and
+    ``X = L^-T Y``, the reduction LAPACK's sygvd makes (``scipy.linalg.eigh(A, B)``).
+    LinAlgError if ``B`` is not positive definite."""
+    L = np.linalg.cholesky(B)
+    W = np.linalg.solve(L, A)                   # L^-1 A
+    C = np.linalg.solve(L, W.T)                 # L^-1 (L^-1 A)' = L^-1 A L^-T (A symmetric)
+    lam, Y = np.linalg.eigh(0.5 * (C + C.T))
+    return lam, np.linalg.solve(L.T, Y)
 
 
 def _sparse(K, M, k):
@@ -209,6 +233,7 @@ def _sparse(K, M, k):
     rho = K.diagonal() / d
     top = np.zeros(K.shape[0])
     top[int(np.argmax(rho))] = 1.0
+    import scipy.sparse as sp
     u = sp.diags(1.0 / np.sqrt(d))
     X = np.sqrt(d)[:, None] * Phi            # the modes of the unit-diagonal problem
     weights = resolution.mode_weights(lam, float(rho.max()), X, _norm1(u @ M @ u))
@@ -218,7 +243,7 @@ def _sparse(K, M, k):
 def _overflow(model):
     """SceneError for a K or M that overflowed while assembling, naming the largest
     spring stiffness (or, if K is finite, the largest body mass field)."""
-    K_bad = not np.all(np.isfinite(model.K.data))
+    K_bad = not np.all(np.isfinite(entries(model.K)))
     still = np.zeros(model.K.shape[0])
     cands = (resolution.spring_energies if K_bad else resolution.kinetic_energies)(model, still)
     c = max(cands, key=lambda c: c.magnitude, default=None)

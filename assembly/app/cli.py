@@ -68,7 +68,7 @@ def cmd_modes(args) -> int:
     from .report.tables import modes_json, modes_table
 
     scene = load_scene(scene_file(args))
-    res = solve_modes(assemble(scene))
+    res = solve_modes(assemble(scene, dense=True))     # a small rigid model: no SciPy import
     if args.json:
         _print_json(modes_json(res))
     else:

@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from .damping import damping_in_modes
 from .modal_ratios import mode_ratios
@@ -94,6 +93,7 @@ def state_form(K: np.ndarray, C: np.ndarray):
     lam = np.diag(K)
     d = np.where(lam > 0, np.sqrt(np.maximum(lam, 0.0)), 1.0)
     A = np.block([[np.zeros((m, m)), np.diag(d)], [-K / d[None, :], -C]])
+    import scipy.linalg as sla  # a damped scene only: an undamped one's modes import no SciPy
     s, V = sla.eig(A, check_finite=False)
     return s, V[:m] / d[:, None]
 

@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import SceneError
+from ..mechanics.dense import dense
 from ..model.damping import damping_matrix
 from .modal_ratios import mode_ratios
 
@@ -109,14 +110,14 @@ def damping_on_q(model, result=None) -> np.ndarray:
     """Dense damping on q (N s/m, N m s/rad entries): element dampers, Rayleigh with the
     rigid-body modes projected out, modal ratios as ``M Phi diag(2 zeta omega) Phi' M``
     (``result``: every mode, needed for the last two)."""
-    C = damping_matrix(model).toarray()
+    C = dense(damping_matrix(model))
     d = model.scene.damping
     if d is None:
         return C
     if d.rayleigh_beta:
-        C += d.rayleigh_beta * model.K.toarray()
+        C += d.rayleigh_beta * dense(model.K)
     if needs_modes(model):
-        MP = model.M.toarray() @ result.shapes
+        MP = dense(model.M) @ result.shapes
         lam = _elastic_eigenvalues(result)
         diag = 2.0 * mode_ratios(result) * np.sqrt(lam) + d.rayleigh_alpha * (lam > 0)
         diag[:result.n_rigid] = 0.0
@@ -136,6 +137,6 @@ def section_share(model, result=None):
         return float(d.rayleigh_beta)
     Phi = result.shapes
     g = section_factors(result) - (d.rayleigh_beta if d.rayleigh_beta else 0.0) * (_elastic_eigenvalues(result) > 0)
-    G = (Phi * g) @ (Phi.T @ model.M.toarray())
+    G = (Phi * g) @ (Phi.T @ dense(model.M))
     G[np.diag_indices_from(G)] += d.rayleigh_beta
     return G

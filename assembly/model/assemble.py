@@ -6,7 +6,11 @@ matrices are written in them. Independent coordinates ``q`` (``z = T q``) expres
 rigid body's motion relative to its reference frame, minus the constrained directions
 (fixed DOFs, rigid bearing directions, and the five non-spin DOFs of a torsional body).
 So ``K = T' K_abs T`` and ``M = T' M_abs T``: a torsional model is literally the rigid
-model with five DOFs per body constrained. Matrices are sparse (CSR) throughout.
+model with five DOFs per body constrained. Matrices are sparse (CSR), or dense numpy arrays
+for a small rigid model assembled with ``dense=True`` (no SciPy import: ``flexgear modes``).
+A small rigid model (at most :data:`DENSE_DOFS` absolute DOFs, no flexible body) is
+assembled in dense arithmetic either way, and its sparse matrices are the dense ones
+stored sparsely: both forms hold the very same numbers.
 """
 from __future__ import annotations
 
@@ -14,9 +18,9 @@ import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 
 from .. import arguments
 from ..mechanics.elements import Element, gear_mesh, relative_spring
@@ -30,7 +34,14 @@ from .constraints import candidates, constrained_dofs, rigidify
 from .flexible import flexible_body
 from .shaft_elements import beam_elements
 
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+
 log = logging.getLogger(__name__)
+
+#: Rigid models with at most this many absolute DOFs (6 per body: 100 bodies) are assembled
+#: in dense arithmetic: a few MB, faster than sparse products at this size, and no SciPy.
+DENSE_DOFS = 600
 
 
 @dataclass(frozen=True, eq=False)
@@ -42,7 +53,8 @@ class AssembledModel:
     ``bodies`` {name: body model} in frame order (:class:`~assembly.model.bodies.RigidBodyModel`
     or :class:`~assembly.model.flexible.FlexibleBodyModel`), ``offsets`` {name: first index in
     z}, ``elements`` the springs (:class:`~assembly.mechanics.elements.Element`).
-    On the absolute coordinates z: ``K_abs``, ``M_abs`` (sparse CSR), ``abs_dof_names``.
+    On the absolute coordinates z: ``K_abs``, ``M_abs`` (sparse CSR; dense arrays for a
+    small rigid model assembled with ``dense=True``, module notes), ``abs_dof_names``.
     On the independent coordinates q (``z = T q``): ``T``, ``K = T' K_abs T``, ``M``,
     ``dof_names`` and ``q_slices`` {body: its columns of q}. ``rigidified``: the near-rigid
     bearing directions made constraints, (bearing, field, stiffness). ``timings`` (s) and
@@ -70,48 +82,78 @@ class AssembledModel:
     def n_abs(self) -> int:
         return self.K_abs.shape[0]
 
+    @property
+    def dense(self) -> bool:
+        """Whether the matrices are dense arrays (``assemble(scene, dense=True)``)."""
+        return isinstance(self.K, np.ndarray)
+
     def body_slice(self, name: str) -> slice:
         o = self.offsets[name]
         return slice(o, o + self.bodies[name].ndof)
 
     def element_stiffness_abs(self, el: Element) -> sp.csr_matrix:
-        """Element stiffness scattered into absolute coordinates."""
-        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.stiffness())
+        """Element stiffness scattered into absolute coordinates (dense for a dense model)."""
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.stiffness(), self.dense)
 
     def element_damping_abs(self, el: Element) -> sp.csr_matrix:
         """Element damping (its dampers ``c``) scattered into absolute coordinates."""
-        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.damping())
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.damping(), self.dense)
 
     def element_mass_abs(self, el: Element) -> sp.csr_matrix:
         """Element mass (a beam shaft's end masses) scattered into absolute coordinates."""
-        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.mass)
+        return element_matrix(self.bodies, self.offsets, self.n_abs, el, el.mass, self.dense)
 
     def attachment_operator(self, el: Element, points: dict | None = None) -> sp.csr_matrix:
-        """Sparse map from ``z`` to the element's stacked attachment motions ``w``
+        """Sparse (a dense model: dense) map from ``z`` to the element's stacked attachment motions ``w``
         (``points``: body name -> the point to take that body's motion at instead of the
         element's, e.g. to see it with a body's axis moved, :mod:`assembly.analysis.lever_arms`)."""
-        return attachment_operator(self.bodies, self.offsets, self.n_abs, el, points)
+        return attachment_operator(self.bodies, self.offsets, self.n_abs, el, points, self.dense)
 
     def rigid_coordinates(self, Z: np.ndarray) -> np.ndarray:
         """Rigid-equivalent motion (6 per body, global axes, at each COM) of columns of Z."""
         return np.vstack([self.bodies[b].rigid_projection() @ Z[self.body_slice(b)] for b in self.bodies])
 
-    def rigid_mass_matrix(self) -> np.ndarray:
-        """Block-diagonal 6x6 rigid mass matrices of all bodies (for mass-weighted MAC)."""
+    def rigid_mass_matrix(self):
+        """Block-diagonal 6x6 rigid mass matrices of all bodies (for mass-weighted MAC):
+        sparse CSR, a dense array for a dense model."""
         blocks = []
         for bm in self.bodies.values():
             B = np.zeros((6, 6))
             B[:3, :3] = bm.mass * np.eye(3)
             B[3:, 3:] = bm.inertia
             blocks.append(B)
+        if self.dense:
+            return block_diagonal(blocks)
+        import scipy.sparse as sp
         return sp.block_diag(blocks, format="csr")
 
 
+def block_diagonal(blocks: list) -> np.ndarray:
+    """Dense block-diagonal matrix of square ``blocks``."""
+    n = sum(b.shape[0] for b in blocks)
+    out = np.zeros((n, n))
+    i = 0
+    for b in blocks:
+        k = b.shape[0]
+        out[i:i + k, i:i + k] = b
+        i += k
+    return out
+
+
 def attachment_operator(bodies: dict, offsets: dict, n_abs: int, el: Element,
-                        points: dict | None = None) -> sp.csr_matrix:
-    """Sparse map from the absolute coordinates z (``n_abs`` of them; ``bodies`` and their
-    ``offsets`` in z) to the element's stacked attachment motions (6 per attached body, the
-    housing none): each body's motion at the element's point (or at ``points[body]``)."""
+                        points: dict | None = None, dense: bool = False):
+    """Sparse (``dense``: a dense array) map from the absolute coordinates z (``n_abs`` of
+    them; ``bodies`` and their ``offsets`` in z) to the element's stacked attachment motions
+    (6 per attached body, the housing none): each body's motion at the element's point (or
+    at ``points[body]``)."""
+    if dense:
+        L = np.zeros((6 * len(el.bodies), n_abs))
+        for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
+            if b is not None:
+                P = np.asarray(bodies[b].motion_at((points or {}).get(b, el.point), iface), float)
+                L[6 * j:6 * j + 6, offsets[b]:offsets[b] + P.shape[1]] += P
+        return L
+    import scipy.sparse as sp
     rows, cols, vals = [], [], []
     for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
         if b is None:
@@ -126,11 +168,36 @@ def attachment_operator(bodies: dict, offsets: dict, n_abs: int, el: Element,
                          shape=(6 * len(el.bodies), n_abs))
 
 
-def element_matrix(bodies: dict, offsets: dict, n_abs: int, el: Element, A: np.ndarray) -> sp.csr_matrix:
+def element_matrix(bodies: dict, offsets: dict, n_abs: int, el: Element, A: np.ndarray, dense: bool = False):
     """``L' A L``: a matrix ``A`` on the element's attachment motions, on z
-    (:func:`attachment_operator` ``L``)."""
+    (:func:`attachment_operator` ``L``): sparse CSR, or (``dense``) a dense array."""
+    if dense:
+        out = np.zeros((n_abs, n_abs))
+        add_element(out, bodies, offsets, el, A)
+        return out
+    import scipy.sparse as sp
     L = attachment_operator(bodies, offsets, n_abs, el)
     return (L.T @ sp.csr_matrix(A) @ L).tocsr()
+
+
+def add_element(out: np.ndarray, bodies: dict, offsets: dict, el: Element, A: np.ndarray) -> None:
+    """Add ``L' A L`` (:func:`element_matrix`) into the dense matrix ``out`` on z, formed on
+    the columns of z the element touches only."""
+    cols, blocks = [], []
+    for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
+        if b is not None:
+            P = np.asarray(bodies[b].motion_at(el.point, iface), float)
+            cols.append(np.arange(offsets[b], offsets[b] + P.shape[1]))
+            blocks.append((j, P))
+    if not cols:
+        return
+    idx = np.concatenate(cols)
+    L = np.zeros((6 * len(el.bodies), len(idx)))
+    c = 0
+    for j, P in blocks:
+        L[6 * j:6 * j + 6, c:c + P.shape[1]] = P
+        c += P.shape[1]
+    np.add.at(out, np.ix_(idx, idx), L.T @ (np.asarray(A, float) @ L))
 
 
 def _frame_order(scene: Scene) -> list:
@@ -194,13 +261,13 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
     ``paths``: body name -> the scene table that made it, for error messages (default:
     the body's name)."""
     paths = paths or {}
-    caches = caches or CacheDirs()
     band = scene.band
     out = {}
     for b in _frame_order(scene):
         if b.component is None:
             out[b.name] = RigidBodyModel.from_body(b)
             continue
+        caches = caches or CacheDirs()       # made when a body needs it: the default reads the meshing module
         path = paths.get(b.name, b.name)
         opts = b.flex or FlexOptions()
         if b.fidelity == "flexible":
@@ -215,8 +282,14 @@ def build_body_models(scene: Scene, full_fe: bool = False, progress=None, caches
 
 
 def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
-             caches: CacheDirs | None = None, source: Scene | None = None) -> AssembledModel:
+             caches: CacheDirs | None = None, source: Scene | None = None, dense: bool = False) -> AssembledModel:
     """Assemble ``scene`` (stages expanded) into sparse K, M on independent coordinates.
+
+    ``dense=True``: a small rigid model (at most :data:`DENSE_DOFS` absolute DOFs, no
+    flexible body) keeps its matrices as dense arrays, the same numbers as the sparse ones
+    (module notes), and nothing imports SciPy: for the modal solve and its tables
+    (:func:`assembly.analysis.modal.solve_modes`, ``flexgear modes``); the other analyses
+    take the sparse model. A larger model is sparse either way.
 
     ``full_fe=True`` keeps flexible bodies unreduced (every FE DOF): the reference model.
     ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants);
@@ -235,6 +308,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     arguments.optional(arguments.table, "bodies", bodies)
     arguments.optional(arguments.instance, "caches", caches, CacheDirs, "a CacheDirs (or None)")
     arguments.optional(scene_argument, "source", source)
+    arguments.flag("dense", dense)
     t0 = time.perf_counter()
     sc = scene.expanded()
     order = _frame_order(sc)
@@ -245,12 +319,16 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     # 0 or inf, which make no spring): leaving out the whole element leaves out exactly them
     judged = {("bearings", i) for i, _ in candidates(sc)}
     src = source if source is not None else scene
-    parts, diagonal = _model_on(sc, order, bodies, judged)
+    small = sum(bodies[b.name].ndof for b in order) <= DENSE_DOFS and not any(bm.flexible for bm in bodies.values())
+    parts, diagonal = _model_on(sc, order, bodies, judged, small)
     rigidified = []
     if judged:
         held, rigidified = rigidify(sc, diagonal, sc.band)
         if rigidified:
-            parts, _ = _model_on(held, order, bodies)
+            parts, _ = _model_on(held, order, bodies, small=small)
+    if small and not dense:
+        import scipy.sparse as sp
+        parts.update({k: sp.csr_matrix(parts[k]) for k in ("K_abs", "M_abs", "T", "K", "M")})
     model = AssembledModel(**parts, source=src, rigidified=rigidified,
                            timings={"bodies_s": t_bodies, "assembly_s": time.perf_counter() - t0 - t_bodies})
     _report_replaced(model, warn=source is None)
@@ -269,51 +347,107 @@ def _report_replaced(model: AssembledModel, warn: bool) -> None:
         log.warning("%s", replaced_note(r))
 
 
-def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, dict]:
+def _model_on(sc: Scene, order: list, bodies: dict, judged=frozenset(), small: bool = False) -> tuple[dict, dict]:
     """The fields of the :class:`AssembledModel` of the expanded scene ``sc`` (its matrices on
-    z and on its independent coordinates), and the diagonal that
+    z and on its independent coordinates; ``small``: dense arrays), and the diagonal that
     :func:`assembly.model.constraints.rigidify` judges on: DOF name -> (K'_xx, M_xx), K'
     being K without the elements whose ``item`` is in ``judged`` (empty without any)."""
-    parts, K_judged = _absolute_model(sc, order, bodies, judged)
-    T, names, slices = _independent_coordinates(sc, order, bodies)
+    if small:
+        parts, K_judged = _absolute_dense(sc, order, bodies, judged)
+    else:
+        parts, K_judged = _absolute_model(sc, order, bodies, judged)
+    T, names, slices = (_coordinates_dense if small else _independent_coordinates)(sc, order, bodies)
     parts.update(T=T, dof_names=names, q_slices=slices, K=on_q(T, parts["K_abs"]), M=on_q(T, parts["M_abs"]))
     if not judged:
         return parts, {}
     return parts, dict(zip(names, zip(on_q(T, K_judged).diagonal(), parts["M"].diagonal())))
 
 
-def on_q(T: sp.csr_matrix, A: sp.csr_matrix) -> sp.csr_matrix:
-    """``T' A T`` symmetrised: a matrix of absolute coordinates on the independent ones."""
+def on_q(T, A):
+    """``T' A T`` symmetrised: a matrix of absolute coordinates on the independent ones
+    (sparse CSR; dense arrays stay dense)."""
+    if isinstance(T, np.ndarray) and isinstance(A, np.ndarray):
+        A = T.T @ (A @ T)
+        return (A + A.T) * 0.5
     A = (T.T @ A @ T).tocsr()
     return ((A + A.T) * 0.5).tocsr()
+
+
+def _layout(sc: Scene, order: list, bodies: dict) -> dict:
+    """The fields of an :class:`AssembledModel` that place the bodies on z: ``scene``,
+    ``bodies`` in frame order, their ``offsets``, the ``elements`` and ``abs_dof_names``."""
+    offsets, n = {}, 0
+    for b in order:
+        offsets[b.name] = n
+        n += bodies[b.name].ndof
+    return dict(scene=sc, bodies={b.name: bodies[b.name] for b in order}, offsets=offsets,
+                elements=build_elements(sc, bodies, component_masters(sc)),
+                abs_dof_names=[name for b in order for name in bodies[b.name].dof_names()])
 
 
 def _absolute_model(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, sp.csr_matrix | None]:
     """Body mass and stiffness blocks plus every element (its stiffness, and its mass if it
     carries any), on the absolute coordinates z, as fields of an :class:`AssembledModel`;
     and K_abs without the elements whose ``item`` is in ``judged`` (None without any)."""
-    offsets, n = {}, 0
-    for b in order:
-        offsets[b.name] = n
-        n += bodies[b.name].ndof
-    elements = build_elements(sc, bodies, component_masters(sc))
-    ordered = {b.name: bodies[b.name] for b in order}
-    abs_names = [name for b in order for name in bodies[b.name].dof_names()]
+    fields = _layout(sc, order, bodies)
+    ordered, offsets, elements = fields["bodies"], fields["offsets"], fields["elements"]
+    n = sum(bm.ndof for bm in ordered.values())
+    import scipy.sparse as sp
     M_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].mass_matrix()) for b in order], format="csr")
     K_abs = sp.block_diag([sp.csr_matrix(bodies[b.name].stiffness_matrix()) for b in order], format="csr")
     parts = [element_matrix(ordered, offsets, n, el, el.stiffness()) for el in elements]
     masses = [element_matrix(ordered, offsets, n, el, el.mass) for el in elements if el.mass is not None]
-    fields = dict(scene=sc, bodies=ordered, offsets=offsets, elements=elements, K_abs=sum(parts, K_abs).tocsr(),
-                  M_abs=sum(masses, M_abs).tocsr(), abs_dof_names=abs_names)
+    fields.update(K_abs=sum(parts, K_abs).tocsr(), M_abs=sum(masses, M_abs).tocsr())
     if not judged:
         return fields, None
     return fields, sum((p for p, el in zip(parts, elements) if el.item not in judged), K_abs).tocsr()
+
+
+def _absolute_dense(sc: Scene, order: list, bodies: dict, judged=frozenset()) -> tuple[dict, np.ndarray | None]:
+    """:func:`_absolute_model` of a small rigid model in dense arrays: each element's
+    ``L' A L`` formed on the columns it touches and added in place."""
+    fields = _layout(sc, order, bodies)
+    ordered, offsets = fields["bodies"], fields["offsets"]
+    M_abs = block_diagonal([np.asarray(bodies[b.name].mass_matrix(), float) for b in order])
+    K_abs = block_diagonal([np.asarray(bodies[b.name].stiffness_matrix(), float) for b in order])
+    K_judged = K_abs.copy() if judged else None
+    for el in fields["elements"]:
+        add_element(K_abs, ordered, offsets, el, el.stiffness())
+        if judged and el.item not in judged:
+            add_element(K_judged, ordered, offsets, el, el.stiffness())
+        if el.mass is not None:
+            add_element(M_abs, ordered, offsets, el, el.mass)
+    fields.update(K_abs=K_abs, M_abs=M_abs)
+    return fields, K_judged
+
+
+def _coordinates_dense(sc: Scene, order: list, bodies: dict):
+    """:func:`_independent_coordinates` of a small rigid model, T a dense array."""
+    held = constrained_dofs(sc)
+    free = {b.name: [i for i, d in enumerate(DOF_NAMES) if d not in held[b.name]] for b in order}
+    col0, m = {}, 0
+    for b in order:
+        col0[b.name] = m
+        m += len(free[b.name])
+    rows, names = {}, []
+    for b in order:
+        bm = bodies[b.name]
+        blk = np.zeros((bm.ndof, m))
+        blk[:, col0[b.name]:col0[b.name] + len(free[b.name])] = \
+            rigid_transfer(bm.position, bm.axis_point) @ block_rotation(bm.axes)[:, free[b.name]]
+        names += [f"{b.name}.{DOF_NAMES[i]}" for i in free[b.name]]
+        if b.frame != HOUSING:
+            blk = blk + np.asarray(bodies[b.frame].motion_at(bm.position, _frame_interface(sc, b)), float) @ rows[b.frame]
+        rows[b.name] = blk
+    slices = {b.name: slice(col0[b.name], col0[b.name] + len(free[b.name])) for b in order}
+    return np.vstack([rows[b.name] for b in order]) if order else np.zeros((0, 0)), names, slices
 
 
 def _independent_coordinates(sc: Scene, order: list, bodies: dict):
     """(T, names, body -> slice of q) with z = T q: rigid bodies move with their frame plus their free relative
     DOFs (local axes, at the body's axis point); flexible bodies (housing frame only) keep
     all their DOFs."""
+    import scipy.sparse as sp
     held = constrained_dofs(sc)
     ncols, col0 = {}, {}
     m = 0

@@ -8,19 +8,23 @@ and is added on the dynamics floor (:mod:`assembly.dynamics.damping`).
 """
 from __future__ import annotations
 
-import scipy.sparse as sp
+import numpy as np
 
 from .assemble import on_q
 
 
-def damping_matrix(model) -> sp.csr_matrix:
+def damping_matrix(model):
     """Sparse symmetric damping of every element damper of ``model`` on q (zero when the
-    scene has no ``c_*`` field set)."""
-    C_abs = sp.csr_matrix((model.n_abs, model.n_abs))
+    scene has no ``c_*`` field set); a dense array for a dense model."""
+    if model.dense:
+        C_abs = np.zeros((model.n_abs, model.n_abs))
+    else:
+        import scipy.sparse as sp
+        C_abs = sp.csr_matrix((model.n_abs, model.n_abs))
     for el in model.elements:
         if el.c is not None:
             C_abs = C_abs + model.element_damping_abs(el)
-    return on_q(model.T, C_abs.tocsr())
+    return on_q(model.T, C_abs if model.dense else C_abs.tocsr())
 
 
 def has_damping(scene) -> bool:

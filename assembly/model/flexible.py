@@ -24,7 +24,6 @@ from pathlib import Path
 from typing import Optional
 
 import numpy as np
-import scipy.sparse as sp
 
 from cms.errors import CacheError, ModeLimitError
 
@@ -167,6 +166,7 @@ class FlexibleBodyModel:
             raise SceneError(self.name, name, f"no such interface; have {sorted(self.masters)}")
         pos, idx = self.masters[name]
         G = rigid_transfer(point, pos) @ block_rotation(self.axes)
+        import scipy.sparse as sp  # a flexible model only: a rigid one's path imports no SciPy
         S = sp.csr_matrix((np.ones(6), (np.arange(6), idx)), shape=(6, self.ndof))
         return sp.csr_matrix(G) @ S
 

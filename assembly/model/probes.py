@@ -19,6 +19,7 @@ import numpy as np
 
 from ..arguments import nearest
 from ..errors import SceneError
+from ..mechanics.dense import dense
 from ..scene.attach import global_masters
 from ..scene.tables import DOF_NAMES
 
@@ -98,4 +99,4 @@ def spin_row(model, body: str) -> np.ndarray:
 def strain_rows(model, el) -> np.ndarray:
     """The element's strains on q, ``B A T`` (one row per spring direction; a mesh: its
     deflection along the line of action)."""
-    return el.B @ (model.attachment_operator(el) @ model.T).toarray()
+    return el.B @ dense(model.attachment_operator(el) @ model.T)
