@@ -43,9 +43,10 @@ run: setup
 	$(VENV)/bin/flexgear run $(DEMO) --out results
 	@echo "flexgear: results written; open $(CURDIR)/results/index.html"
 
-# On every core (pytest-xdist; TEST_WORKERS=0 for one process), a test file per worker at a time
-# so that a file's module fixtures are built once (tests/conftest.py: one BLAS thread each).
-TEST_WORKERS ?= auto
+# On every core this process may use (pytest-xdist; TEST_WORKERS=0 for one process; not `-n auto`,
+# which counts physical cores), a test file per worker at a time so that a file's module
+# fixtures are built once (tests/conftest.py: one BLAS thread per worker).
+TEST_WORKERS ?= $(shell $(PY) -c 'import os; print(len(os.sched_getaffinity(0)))')
 TEST_PARALLEL = -n $(TEST_WORKERS) --dist loadfile
 test: setup
 	$(PY) -m pytest -q $(TEST_PARALLEL)
