@@ -46,12 +46,17 @@ run: setup
 	$(VENV)/bin/flexgear run $(DEMO) --out results
 	@echo "flexgear: results written; open $(CURDIR)/results/index.html"
 
+# On every core this process may use (pytest-xdist; TEST_WORKERS=0 for one process; not `-n auto`,
+# which counts physical cores), a test file per worker at a time so that a file's module
+# fixtures are built once (tests/conftest.py: one BLAS thread per worker).
+TEST_WORKERS ?= $(shell $(PY) -c 'import os; print(len(os.sched_getaffinity(0)))')
+TEST_PARALLEL = -n $(TEST_WORKERS) --dist loadfile
 test: setup
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(TEST_PARALLEL)
 
 # Everything but the tests marked slow (over 5 s each): a quick check while developing.
 test-fast: setup
-	$(PY) -m pytest -q -m "not slow"
+	$(PY) -m pytest -q $(TEST_PARALLEL) -m "not slow"
 
 # The fuzz tests with 20x their CI examples, freshly random (CI draws a fixed set).
 fuzz: setup

@@ -24,6 +24,19 @@ if not os.environ.get("FLEXGEAR_CACHE_DIR", "").strip():
     os.environ["FLEXGEAR_CACHE_DIR"] = _SESSION_CACHE
 
 
+# Run in parallel (pytest-xdist, ``-n``; ``make test`` does), every worker's BLAS and OpenMP
+# pools take one thread: two workers on two cores with two BLAS threads each would run four
+# threads on two cores. Set in the controller before it starts its workers (they and the
+# subprocesses the tests start inherit it), where the environment does not already say.
+BLAS_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def pytest_configure(config):
+    if getattr(config.option, "numprocesses", None) and not os.environ.get("PYTEST_XDIST_WORKER"):
+        for name in BLAS_THREAD_VARS:
+            os.environ.setdefault(name, "1")
+
+
 def pytest_unconfigure(config):
     if _SESSION_CACHE is not None:
         shutil.rmtree(_SESSION_CACHE, ignore_errors=True)

@@ -80,10 +80,20 @@ def scheduler(tmp_path):
             p.kill()
 
 
-def test_serial_local_and_scheduler_give_the_same_table_bytes(tmp_path, scheduler):
-    study = _study(tmp_path)
-    outs = {}
-    for name, how in (("serial", ["--serial"]), ("local", ["--workers", "2"]), ("scheduler", ["--scheduler", scheduler])):
+@pytest.fixture(scope="module")
+def alone(tmp_path_factory):
+    """(study file, output folder) of FLEX_STUDY run once serially in this process, in the
+    session's cache: the serial run of the first test below and the "one alone" of the second."""
+    tmp = tmp_path_factory.mktemp("alone")
+    study = _study(tmp)
+    assert main(["study", study, "--out", str(tmp / "serial"), "-q", "--serial"]) == 0
+    return study, tmp / "serial"
+
+
+def test_serial_local_and_scheduler_give_the_same_table_bytes(tmp_path, scheduler, alone):
+    study, serial = alone
+    outs = {"serial": serial}
+    for name, how in (("local", ["--workers", "2"]), ("scheduler", ["--scheduler", scheduler])):
         outs[name] = tmp_path / name
         assert main(["study", study, "--out", str(outs[name]), "-q", *how]) == 0
     files = {k: _files(v) for k, v in outs.items()}
@@ -130,19 +140,18 @@ log_range = [1.0e8, 4.0e8, 6]
     assert results == [{k: v for k, v in r.items() if k.startswith(("peak", "mean"))} for r in serial]
 
 
-def test_two_studies_sharing_a_cache_at_once_match_one_alone(tmp_path):
-    study = _study(tmp_path)
+def test_two_studies_sharing_a_cache_at_once_match_one_alone(tmp_path, alone):
+    study, alone_out = alone
     cmd = [sys.executable, "-m", "assembly.app.cli"]
 
     def start(name, cache):
         env = {**os.environ, "FLEXGEAR_CACHE_DIR": str(tmp_path / cache)}
         return subprocess.Popen([*cmd, "study", study, "--out", str(tmp_path / name), "-q", "--workers", "2"],
                                 env=env, stderr=subprocess.PIPE, text=True)
-    # one alone: in this process, serially (the same table bytes as on 2 workers:
-    # test_serial_local_and_scheduler_give_the_same_table_bytes), in the session's cache (after
-    # that test, whose serial run is this one, it finds the carrier's mesh and both reductions)
+    # one alone: the `alone` fixture's, in this process, serially (the same table bytes as on
+    # 2 workers: test_serial_local_and_scheduler_give_the_same_table_bytes), in the session's
+    # cache, which therefore holds the carrier's mesh and both reductions
     from fe_components.meshing import default_cache_dir
-    assert main(["study", study, "--out", str(tmp_path / "alone"), "-q", "--serial"]) == 0
     # gmsh does not mesh bit-for-bit alike in two processes (a 1-ulp change in 2 of the carrier's
     # 60 000 coordinates, measured), so the shared cache starts with the alone run's mesh: the two
     # studies then race to build the same two reductions, which must come out as the alone run's
@@ -152,7 +161,7 @@ def test_two_studies_sharing_a_cache_at_once_match_one_alone(tmp_path):
     both = [start("a", "cache_shared"), start("b", "cache_shared")]
     for p in both:
         assert p.wait(timeout=600) == 0, p.stderr.read()
-    assert _files(tmp_path / "a") == _files(tmp_path / "alone") == _files(tmp_path / "b")
+    assert _files(tmp_path / "a") == _files(alone_out) == _files(tmp_path / "b")
     # the build lock: across both studies each of the two carrier reductions was built once
     built = sum(int(r["reductions_built"] or 0) for name in "ab"
                 for r in csv.DictReader(open(tmp_path / name / "runs.csv")))

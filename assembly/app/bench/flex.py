@@ -59,8 +59,28 @@ def _variants(scene, n: int):
     return [scale_bearings(scene, float(f)) for f in np.logspace(np.log10(0.25), np.log10(4.0), n)]
 
 
+@dataclasses.dataclass(frozen=True)
+class FullFE:
+    """A scene's full-FE reference: its modes (``n_cmp + 12`` of them), DOFs, and the times
+    [s] to build the model (FE assembly included) and to build and solve it."""
+    modes: object
+    dofs: int
+    build_s: float
+    total_s: float
+
+
+def full_fe_reference(scene, n_cmp: int = 20) -> FullFE:
+    """The full-FE reference :func:`run` compares against, from FE models assembled afresh."""
+    forget_fe_models()
+    t0 = time.perf_counter()
+    full_model = assemble(scene, full_fe=True)
+    t_build = time.perf_counter() - t0
+    ref = solve_modes(full_model, n_modes=n_cmp + 12)
+    return FullFE(ref, int(full_model.K.shape[0]), t_build, time.perf_counter() - t0)
+
+
 def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, out=sys.stdout,
-        plain_modes=(), plain_factors=()) -> list:
+        plain_modes=(), plain_factors=(), reference: FullFE | None = None) -> list:
     """Benchmark one scene; prints a table and returns its rows (dicts, times in s).
 
     Every time includes the component FE assembly from the on-disk mesh cache (the FE
@@ -70,20 +90,18 @@ def run(scene_name: str, modes, factors, n_cmp: int = 20, n_variants: int = 10, 
     - ``study``: ``n_variants`` bearing-stiffness variants at the default cutoff: full FE
       assembles its FE models once and re-solves every variant; the reduced model reduces
       once (cold) and solves every variant from the cache.
+    ``reference``: the scene's :func:`full_fe_reference` with this ``n_cmp`` when already
+    solved (a test's); else it is solved here.
     """
 
     scene = load_scene(scene_name)
     band = scene.band
-    forget_fe_models()
-    t0 = time.perf_counter()
-    full_model = assemble(scene, full_fe=True)
-    t_build = time.perf_counter() - t0
-    ref = solve_modes(full_model, n_modes=n_cmp + 12)
-    t_full = time.perf_counter() - t0
+    full = reference if reference is not None else full_fe_reference(scene, n_cmp)
+    ref, t_build, t_full = full.modes, full.build_s, full.total_s
     f_ref = ref.frequencies_hz[ref.n_rigid:ref.n_rigid + n_cmp]
     in_band = f_ref < band
     rows = []
-    print(f"\n{scene.name}: full FE {full_model.K.shape[0]} DOFs, build {t_build:.1f} s (FE assembly "
+    print(f"\n{scene.name}: full FE {full.dofs} DOFs, build {t_build:.1f} s (FE assembly "
           f"included), solve {t_full - t_build:.1f} s, total {t_full:.1f} s, max residual "
           f"{ref.max_residual:.1e}; band {band:.0f} Hz ({int(in_band.sum())} of the first {n_cmp} "
           f"elastic modes inside)", file=out)
