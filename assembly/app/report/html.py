@@ -62,8 +62,8 @@ def render_index(report: dict) -> str:
     optional), referred (the same keys: inertia referred to each shaft; optional), comparison (header, rows, row_classes,
     note) or None, sections [{title, note, tables: [(title, header, rows, left columns)]}]
     (optional), key_images [(path, caption)] shown first (optional), overview
-    (path, caption) or None, images [(path, caption)], plots [(path, caption)],
-    files [(path, description)], notes [str]."""
+    (path, caption) or None, images [(path, caption)], animations [(path, caption)] (optional),
+    plots [(path, caption)], files [(path, description)], notes [str]."""
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>{_e(report['title'])}</title>", f"<style>{CSS}</style></head><body>",
              f"<h1>{_e(report['title'])}</h1>"]
@@ -130,6 +130,10 @@ def render_index(report: dict) -> str:
             figs.append(figure(*report["overview"]))
         figs += [figure(p, c) for p, c in report.get("images", [])]
         parts.append('<div class="grid">' + "".join(figs) + "</div>")
+
+    if report.get("animations"):   # animated GIFs of the first drawn modes in the band
+        parts.append("<h2>Mode animations</h2>")
+        parts.append('<div class="grid">' + "".join(figure(p, c) for p, c in report["animations"]) + "</div>")
 
     if report.get("files"):
         parts.append("<h2>Files</h2><ul>")
