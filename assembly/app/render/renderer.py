@@ -468,12 +468,14 @@ class AssemblyRenderer:
         still image; -1: its mirror): {"bodies": [...], "tubes": [...], "springs": [...],
         "marks": [...]}, each a list of (pyvista mesh, add_mesh keyword arguments). Bodies and
         tubes are coloured by the displacement at that phase over the largest drawn
-        (``|phase|`` x the still's colour)."""
+        (``|phase|`` x the still's colour). Phase 0 is the undeformed drawing, made from the
+        reference surfaces without evaluating the shape (a flexible body's back-expansion)."""
         pv = load_pyvista()
         scale, norm, hidden = phase * drawing.scale, drawing.dmax if drawing.dmax > 0 else 1.0, drawing.hidden
+        rest = phase == 0
 
         def shape_of(b):
-            return drawing.sign * result.abs_shapes[self.model.body_slice(b), drawing.mode]
+            return None if rest else drawing.sign * result.abs_shapes[self.model.body_slice(b), drawing.mode]
 
         out = {"bodies": [], "tubes": [], "springs": [], "marks": []}
         clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
@@ -482,13 +484,17 @@ class AssemblyRenderer:
         for n in self.model.bodies:
             if n in hidden:
                 continue
-            m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
-            m["normalised displacement"] = abs(phase) * np.asarray(m["displacement_m"]) / norm
+            if rest:
+                m = reference_surface(self.model, n, self.shapes, self._cache).copy()
+                m["normalised displacement"] = np.zeros(m.n_points)
+            else:
+                m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
+                m["normalised displacement"] = abs(phase) * np.asarray(m["displacement_m"]) / norm
             out["bodies"].append((m, dict(scalars="normalised displacement", cmap=CMAP, clim=clim,
                                           show_scalar_bar=not out["bodies"], scalar_bar_args=bar,
                                           opacity=self._opacity(n, drawing.focus, hidden),
                                           smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)))
-        for tube in self._tubes(shape_of, scale, hidden):
+        for tube in self._tubes(None if rest else shape_of, scale, hidden):
             tube["normalised displacement"] = abs(phase) * np.asarray(tube["displacement_m"]) / norm
             out["tubes"].append((tube, dict(scalars="normalised displacement", cmap=CMAP, clim=clim,
                                             show_scalar_bar=False, smooth_shading=True)))
@@ -498,7 +504,8 @@ class AssemblyRenderer:
             if bm.flexible or name in hidden:
                 continue
             P = index_mark(sh)
-            P = P + scale * rigid_displacement(rigid_part(bm, shape_of(name)), bm.position, P)
+            if not rest:
+                P = P + scale * rigid_displacement(rigid_part(bm, shape_of(name)), bm.position, P)
             out["marks"].append((pv.Line(*P), dict(color="black", line_width=4, render_lines_as_tubes=True)))
         return out
 
