@@ -79,6 +79,7 @@ def test_gif_has_the_frames_and_they_move(stage, tmp_path):
 
     m, r, rnd = stage
     modes = [r.n_rigid]
+    before = np.asarray(Image.open(rnd.render_mode(r, r.n_rigid + 1, tmp_path / "before.png", title="t")))
     out = animate_modes(rnd, r, [(i, tmp_path / f"m{i}.gif", f"mode {i + 1}") for i in modes])
     assert [a.mode for a in out] == modes
     for a in out:
@@ -94,8 +95,9 @@ def test_gif_has_the_frames_and_they_move(stage, tmp_path):
             assert np.abs(frames[k] - frames[k - 1]).max() > 0, k
         for k in range(1, FRAMES // 2):          # ... and comes back the way it went
             assert np.array_equal(frames[k], frames[FRAMES - k])
-    # the renderer is back at its size, anti-aliased: stills after the animations are unchanged
-    assert tuple(rnd.plotter().window_size) == SIZE
+    # the renderer is back at its size, anti-aliased: a still after the animations is unchanged
+    after = np.asarray(Image.open(rnd.render_mode(r, r.n_rigid + 1, tmp_path / "after.png", title="t")))
+    assert tuple(rnd.plotter().window_size) == SIZE and np.array_equal(before, after)
 
 
 def test_no_mode_in_the_band_no_animation(tmp_path):

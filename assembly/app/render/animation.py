@@ -146,29 +146,30 @@ def animate_modes(rnd, result, jobs, n_frames: int = FRAMES, period_s: float = P
     jobs = list(jobs)
     if not jobs:
         return []
-    size = animation_size(rnd.window_size)
     pl = rnd.plotter()
-    pl.close()
+    samples = pl.ren_win.GetMultiSamples()
     pl.disable_anti_aliasing()
-    pl.window_size = list(size)
+    pl.window_size = list(animation_size(rnd.window_size))
     try:
-        return [_animate(rnd, pl, result, mode, path, title, n_frames, period_s) for mode, path, title in jobs]
+        return [_animate(rnd, result, mode, path, title, n_frames, period_s) for mode, path, title in jobs]
     finally:
         pl.close()
         pl.window_size = list(rnd.window_size)
-        pl.enable_anti_aliasing("msaa", multi_samples=4)
+        if samples:
+            pl.enable_anti_aliasing("msaa", multi_samples=samples)
 
 
-def _animate(rnd, pl, result, mode: int, path, title: str, n_frames: int, period_s: float) -> ModeAnimation:
+def _animate(rnd, result, mode: int, path, title: str, n_frames: int, period_s: float) -> ModeAnimation:
+    """One job of :func:`animate_modes`, the renderer's plotter already at the frame size."""
     from PIL import Image
 
     t0 = time.perf_counter()
     phases = frame_phases(n_frames)
     drawing = rnd.mode_drawing(result, mode)
     moving = movers(rnd.mode_meshes(result, drawing, 1.0), rnd.mode_meshes(result, drawing, 0.0))
-    size = tuple(pl.window_size)
     shots: dict = {}
     pl = rnd.plotter()
+    size = tuple(pl.window_size)
     try:
         _show(moving, float(phases[0]))
         rnd.draw_mode(pl, drawing, {k: [(mv.mesh, kw) for mv, kw in v] for k, v in moving.items()},
