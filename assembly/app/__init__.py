@@ -17,8 +17,9 @@ def run_report(scene, out, *, progress: bool = False, **options):
     ``comparison``, ``files``, ``timings``; ``out_dir``).
 
     ``options`` are those of :class:`~assembly.app.report.pipeline.RunOptions`: ``n_modes``
-    (elastic modes drawn, default 12), ``compare`` (torsional vs rigid vs flexible table),
-    ``images`` (mode-shape PNGs), ``window_size`` (pixels). ``progress``: progress bars on
+    (elastic modes drawn, default 12), ``animated_modes`` (how many of those in the band are
+    also animated GIFs, default 3), ``compare`` (torsional vs rigid vs flexible table),
+    ``images`` (mode-shape PNGs and GIFs), ``window_size`` (pixels). ``progress``: progress bars on
     stderr."""
     import dataclasses
 
@@ -35,8 +36,8 @@ def run_report(scene, out, *, progress: bool = False, **options):
     unknown = sorted(set(options) - set(known))
     if unknown:
         raise arguments.unknown(unknown[0], options[unknown[0]], known, "option")
-    if "n_modes" in options:
-        arguments.integer("n_modes", options["n_modes"], 0)
+    for name in set(options) & {"n_modes", "animated_modes"}:
+        arguments.integer(name, options[name], 0)
     for i, n in enumerate(arguments.optional(arguments.instance, "mode_numbers", options.get("mode_numbers"),
                                              (list, tuple), "a list of mode numbers") or ()):
         arguments.integer(f"mode_numbers[{i}]", n, 1)

@@ -127,7 +127,8 @@ def cmd_run(args) -> int:
         print(f"flexgear: {skipped_text(ctx)}", file=sys.stderr)
     if not args.quiet:
         n_img = sum(1 for p, _ in ctx.files if p.endswith(".png"))
-        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images -> "
+        anims = f", {len(ctx.animations)} animations" if ctx.animations else ""
+        print(f"{ctx.scene.name}: {len(ctx.result.frequencies_hz)} modes, {n_img} images{anims} -> "
               f"{ctx.out_dir / 'index.html'} ({ctx.timings['total']:.1f} s)")
     return 0
 

@@ -93,7 +93,8 @@ def test_no_images_says_what_it_skipped(tmp_path, capsys):
     assert main(["run", str(SHIPPED), "--out", str(out), "--modes", "2", "--no-images", "--no-compare"]) == 0
     err = [ln for ln in capsys.readouterr().err.splitlines() if "--no-images" in ln]
     assert len(err) == 1 and "2 mode-shape images" in err[0]
-    assert "--no-images: skipped the overview and 2 mode-shape images;" in (out / "index.html").read_text()
+    assert ("--no-images: skipped the overview, 2 mode-shape images and 2 mode animations;"
+            in (out / "index.html").read_text())
 
 
 def test_colour_bar_maximum_is_the_title_maximum():

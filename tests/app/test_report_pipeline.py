@@ -97,7 +97,9 @@ def test_index_references_exist(run_dir):
     assert "images/overview.png" in refs and "fidelity_comparison.csv" in refs
     assert missing_references(out / "index.html") == []
     assert all(not os.path.isabs(r) and ".." not in r for r in refs)
-    assert len(re.findall(r"<img ", text)) == N_IMAGES + 3  # modes, overview, stage-local mode, fidelity plot
+    # modes, overview, stage-local mode, fidelity plot and the animations (RunOptions.animated_modes of the
+    # N_IMAGES drawn modes, all in the band)
+    assert len(re.findall(r"<img ", text)) == N_IMAGES + 3 + min(N_IMAGES, RunOptions.animated_modes)
     assert "Fidelity comparison" in text and "Hz" in text
     # In-page links from the mode table land on figures that exist; the navigation's on sections.
     anchors = re.findall(r'href="#([^"]+)"', text)
@@ -149,7 +151,8 @@ def test_index_loads_in_headless_chromium(run_dir, tmp_path):
     dom = subprocess.run(cmd, capture_output=True, text=True, timeout=120).stdout
     m = re.search(r'data-decoded="(\d+)/(\d+)"', dom)
     assert m, dom[-2000:]
-    assert int(m.group(2)) == N_IMAGES + 3  # modes, overview, stage-local mode, fidelity plot
+    # modes, overview, stage-local mode, fidelity plot, animations (GIFs decode as images)
+    assert int(m.group(2)) == N_IMAGES + 3 + min(N_IMAGES, RunOptions.animated_modes)
     assert m.group(1) == m.group(2), f"only {m.group(1)} of {m.group(2)} images decoded"
 
 
@@ -230,3 +233,24 @@ def test_the_run_writes_its_gear_table(run_dir):
     assert len(rows) == 2 and {int(r["count"]) for r in rows} == {st.planets.count}
     sun = next(r for r in rows if r["gear1"].endswith("sun"))
     assert float(sun["base_radius1"]) == pytest.approx(st.sun.base_radius, rel=1e-15)
+
+
+def test_the_run_animates_its_first_modes_in_the_band(run_dir):
+    # lin_parker_n4: one rigid-body mode, every elastic mode in the band; the first
+    # RunOptions.animated_modes drawn modes get a GIF, shown under "Mode animations" and listed
+    # in the manifest
+    from PIL import Image
+
+    from assembly.app.render.animation import FRAMES
+    out, ctx = run_dir
+    rels = [f"animations/mode_{k:03d}_anim.gif" for k in range(2, 2 + min(N_IMAGES, RunOptions.animated_modes))]
+    assert [rel for rel, _, _ in ctx.animations] == rels
+    text = (out / "index.html").read_text()
+    section = text[text.index(">Mode animations</h2>"):]
+    manifest = json.loads((out / MANIFEST).read_text())
+    for rel in rels:
+        assert f'<img src="{rel}"' in section and rel in manifest["files"]
+        with Image.open(out / rel) as im:
+            assert im.n_frames == FRAMES
+    assert sorted(p.relative_to(out).as_posix() for p in (out / "animations").iterdir()) == rels
+    assert manifest["options"]["animated_modes"] == RunOptions.animated_modes

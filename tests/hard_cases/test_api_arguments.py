@@ -184,7 +184,8 @@ TABLE_OF_CALLS = [
      {"model": MODEL_OR_SCENE, "shaft": NAME + ["g3"]}),
     ("run_report", lambda o, **a: run_report(**a), {"scene": "<scene>", "out": "<folder>/never"},
      {"scene": [None, 5, "M", OTHER], "out": [None, 5, "", OTHER], "progress": FLAG,
-      "n_modes": ["3", -1, 1.5, None, OTHER], "compare": FLAG, "images": FLAG,
+      "n_modes": ["3", -1, 1.5, None, OTHER], "animated_modes": ["3", -1, 1.5, None, OTHER],
+      "compare": FLAG, "images": FLAG,
       "window_size": [5, "x", [0, 0], [1200.0, NAN], OTHER], "n_mode": [3]}),
 ]
 

@@ -25,6 +25,7 @@ pyvista/VTK are imported lazily inside the functions (never at import of this mo
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -130,7 +131,7 @@ class AssemblyRenderer:
             self._pl = None
 
     # -- helpers -------------------------------------------------------------------
-    def _plotter(self):
+    def plotter(self):
         """The renderer's one off-screen plotter, cleared: a new plotter per image costs a new
         OpenGL context and shader compilation. Actors are added with rendering suppressed;
         :meth:`_finish` renders once. Its ``close()`` only clears (see :meth:`close`)."""
@@ -145,34 +146,27 @@ class AssemblyRenderer:
         pl.suppress_rendering = True
         return pl
 
-    def _ghost(self, pl, hidden=()):
-        """Undeformed outline (feature edges) of every body but ``hidden``, thin grey lines."""
-        for name in self.model.bodies:
-            if name in hidden:
-                continue
-            key = ("ghost", name)
-            if key not in self._cache:
-                ref = reference_surface(self.model, name, self.shapes, self._cache)
-                self._cache[key] = ref.extract_feature_edges(feature_angle=40, boundary_edges=True,
-                                                             non_manifold_edges=False, manifold_edges=False)
-            pl.add_mesh(self._cache[key], color=GHOST_COLOR, line_width=1, lighting=False)
-        pv = load_pyvista()
-        for name, sh in self.shapes.items():
-            if not self.model.bodies[name].flexible and name not in hidden:
-                pl.add_mesh(pv.Line(*index_mark(sh)), color=GHOST_COLOR, line_width=3)
-
-    def _marks(self, pl, shape_of, scale, hidden=()):
-        """Index lines moved with their bodies (black), but ``hidden``'s."""
-        pv = load_pyvista()
-        for name, sh in self.shapes.items():
-            bm = self.model.bodies[name]
-            if bm.flexible or name in hidden:
-                continue
-            P = index_mark(sh)
-            z = shape_of(name)
-            if z is not None:
-                P = P + scale * rigid_displacement(rigid_part(bm, z), bm.position, P)
-            pl.add_mesh(pv.Line(*P), color="black", line_width=4, render_lines_as_tubes=True)
+    def ghost(self, pl, hidden=()):
+        """Undeformed outline (feature edges) of every body but ``hidden``, thin grey lines,
+        and their index marks; made once per ``hidden`` set, as one mesh each (one actor to add
+        and draw, not one per body)."""
+        key = ("ghost", tuple(hidden))
+        if key not in self._cache:
+            pv = load_pyvista()
+            edges = []
+            for name in self.model.bodies:
+                if name not in hidden:
+                    ref = reference_surface(self.model, name, self.shapes, self._cache)
+                    edges.append(ref.extract_feature_edges(feature_angle=40, boundary_edges=True,
+                                                           non_manifold_edges=False, manifold_edges=False))
+            marks = [pv.Line(*index_mark(sh)) for name, sh in self.shapes.items()
+                     if not self.model.bodies[name].flexible and name not in hidden]
+            self._cache[key] = [pv.merge(group, merge_points=False) if group else None for group in (edges, marks)]
+        edges, marks = self._cache[key]
+        if edges is not None:
+            pl.add_mesh(edges, color=GHOST_COLOR, line_width=1, lighting=False)
+        if marks is not None:
+            pl.add_mesh(marks, color=GHOST_COLOR, line_width=3)
 
     def _motion(self, shape_of):
         """``motion(body, point)`` -> [u, theta] (m, rad; global) at ``point`` of ``body``
@@ -225,24 +219,31 @@ class AssemblyRenderer:
         save_png(pl, path)
 
     def _springs(self, pl, shape_of, scale, view=None, hidden=()):
+        for m, kw in self._spring_lines(shape_of, scale, view or self.view, hidden):
+            pl.add_mesh(m, **kw)
+        self._ground(pl, hidden)
+
+    def _spring_lines(self, shape_of, scale, view, hidden=()) -> list:
+        """(zig-zag line, add_mesh keyword arguments) of every spring not ending on a ``hidden``
+        body, its ends moved by ``scale`` x the mode ``shape_of``, coloured by kind."""
         pv = load_pyvista()
-        view = view or self.view
         colors = {"bearing": BEARING_COLOR, "mesh": MESH_COLOR, "shaft": SHAFT_COLOR}
-        ground_pts = []
-        for g in self.glyphs:
-            if g.body_a in hidden or g.body_b in hidden:
-                continue
-            pts, _, _ = spring_points(self.model, g, shape_of, scale, view)
-            pl.add_mesh(pv.lines_from_points(pts), color=colors.get(g.kind, BEARING_COLOR), line_width=4,
-                        render_lines_as_tubes=True)
-            if g.ground:
-                ground_pts.append(g.b)
-        if ground_pts:
-            # Ground: a small flat square at each fixed end (sized on the assembly).
-            v = self.view
-            for q in ground_pts:
-                pl.add_mesh(pv.Cube(center=q, x_length=0.025 * v.size, y_length=0.025 * v.size,
-                                    z_length=0.025 * v.size), color="#606060")
+        return [(pv.lines_from_points(spring_points(self.model, g, shape_of, scale, view)[0]),
+                 dict(color=colors.get(g.kind, BEARING_COLOR), line_width=4, render_lines_as_tubes=True))
+                for g in self.glyphs if g.body_a not in hidden and g.body_b not in hidden]
+
+    def _ground(self, pl, hidden=()):
+        """Ground: a small cube (sized on the assembly) at the housing end of each spring not
+        ending on a ``hidden`` body; made once per ``hidden`` set, as one mesh."""
+        key = ("ground", tuple(hidden))
+        if key not in self._cache:
+            pv = load_pyvista()
+            e = 0.025 * self.view.size
+            cubes = [pv.Cube(center=g.b, x_length=e, y_length=e, z_length=e) for g in self.glyphs
+                     if g.ground and g.body_a not in hidden and g.body_b not in hidden]
+            self._cache[key] = pv.merge(cubes, merge_points=False) if cubes else None
+        if self._cache[key] is not None:
+            pl.add_mesh(self._cache[key], color="#606060")
 
     # -- public ----------------------------------------------------------------------
     def _label_layout(self, groups: dict, view, font: int) -> dict:
@@ -287,7 +288,7 @@ class AssemblyRenderer:
         bodies drawn smaller than their equivalent radius (a lumped rotor drawn as a hub).
         ``self.labels_drawn`` lists the label texts drawn."""
         pv = load_pyvista()
-        pl = self._plotter()
+        pl = self.plotter()
         try:
             groups = stage_groups(self.model.scene, set(pitch_radii(self.model.scene)))
             # one colour per stage; a scene of one stage gets one colour per body
@@ -451,6 +452,89 @@ class AssemblyRenderer:
             return (zoom if len(focus) < len(shown) else whole), hidden
         return whole, hidden
 
+    def mode_drawing(self, result, mode: int, focus=None, twist: bool = False) -> ModeDrawing:
+        """What every drawing of ``mode`` shares (:class:`ModeDrawing`): its sign, the dominant
+        bodies ``focus`` (default :meth:`focus_bodies`), the camera and the bodies left out
+        (:meth:`mode_frame`), the deformation scale (0 with ``twist``: drawn rotations would
+        swell the fast discs over their arrows) and the largest displacement."""
+        sign = _sign(result.abs_shapes[:, mode])
+        focus = tuple(focus) if focus else self.focus_bodies(result, mode)
+        view, hidden = self.mode_frame(focus)
+        scale, dmax = self.mode_scale(result, mode, view.size, hidden)
+        return ModeDrawing(mode, sign, focus, view, tuple(hidden), 0.0 if twist else scale, dmax)
+
+    def mode_meshes(self, result, drawing: ModeDrawing, phase: float = 1.0) -> dict:
+        """The moving parts of a mode drawing at ``phase`` x the drawn deformation (1: the
+        still image; -1: its mirror): {"bodies": [...], "tubes": [...], "springs": [...],
+        "marks": [...]}, each a list of (pyvista mesh, add_mesh keyword arguments). Bodies and
+        tubes are coloured by the displacement at that phase over the largest drawn
+        (``|phase|`` x the still's colour). Phase 0 is the undeformed drawing, made from the
+        reference surfaces without evaluating the shape (a flexible body's back-expansion)."""
+        pv = load_pyvista()
+        scale, norm, hidden = phase * drawing.scale, drawing.dmax if drawing.dmax > 0 else 1.0, drawing.hidden
+        rest = phase == 0
+
+        def shape_of(b):
+            return None if rest else drawing.sign * result.abs_shapes[self.model.body_slice(b), drawing.mode]
+
+        out = {"bodies": [], "tubes": [], "springs": [], "marks": []}
+        clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
+        bar = dict(title="", vertical=False, position_x=0.55, position_y=0.06, width=0.4, height=0.05,
+                   n_labels=0, color="black")
+        for n in self.model.bodies:
+            if n in hidden:
+                continue
+            if rest:
+                m = reference_surface(self.model, n, self.shapes, self._cache).copy()
+                m["normalised displacement"] = np.zeros(m.n_points)
+            else:
+                m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
+                m["normalised displacement"] = abs(phase) * np.asarray(m["displacement_m"]) / norm
+            out["bodies"].append((m, dict(scalars="normalised displacement", cmap=CMAP, clim=clim,
+                                          show_scalar_bar=not out["bodies"], scalar_bar_args=bar,
+                                          opacity=self._opacity(n, drawing.focus, hidden),
+                                          smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)))
+        for tube in self._tubes(None if rest else shape_of, scale, hidden):
+            tube["normalised displacement"] = abs(phase) * np.asarray(tube["displacement_m"]) / norm
+            out["tubes"].append((tube, dict(scalars="normalised displacement", cmap=CMAP, clim=clim,
+                                            show_scalar_bar=False, smooth_shading=True)))
+        out["springs"] = self._spring_lines(shape_of, scale, drawing.view, hidden)
+        for name, sh in self.shapes.items():
+            bm = self.model.bodies[name]
+            if bm.flexible or name in hidden:
+                continue
+            P = index_mark(sh)
+            if not rest:
+                P = P + scale * rigid_displacement(rigid_part(bm, shape_of(name)), bm.position, P)
+            out["marks"].append((pv.Line(*P), dict(color="black", line_width=4, render_lines_as_tubes=True)))
+        return out
+
+    def draw_mode(self, pl, drawing: ModeDrawing, meshes: dict, text_scale: float = 1.0) -> None:
+        """Add the moving meshes of a mode drawing (:meth:`mode_meshes`: {kind: [(mesh,
+        add_mesh keyword arguments)]}) to plotter ``pl`` over the ghost, with the beam shafts'
+        centre lines, the housing cubes and the colour bar's labels (placed for ``pl``'s
+        window, fonts ``text_scale`` x the still's)."""
+        self.ghost(pl, drawing.hidden)
+        for m, kw in meshes["bodies"]:
+            pl.add_mesh(m, **kw)
+        W, H = pl.window_size
+        for frac, label in ((0.0, "0"), (0.5, "0.5"), (1.0, "1")):   # the bar's labels, below it
+            x = (0.55 + 0.4 * frac) * W - 0.3 * 16 * text_scale * len(label)
+            pl.add_text(label, position=(int(x), int(0.028 * H)), font_size=round(12 * text_scale), color="black")
+        _backed(pl.add_text("displacement / largest", position=(int(0.55 * W), int(0.115 * H)),
+                            font_size=round(11 * text_scale), color="black"))
+        for m, kw in meshes["tubes"]:
+            pl.add_mesh(m, **kw)
+        pv = load_pyvista()
+        for sg in self.segments:
+            if sg.body_a not in drawing.hidden and sg.body_b not in drawing.hidden:
+                pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
+        for m, kw in meshes["springs"]:
+            pl.add_mesh(m, **kw)
+        self._ground(pl, drawing.hidden)
+        for m, kw in meshes["marks"]:
+            pl.add_mesh(m, **kw)
+
     def render_mode(self, result, mode: int, path, title: str = "", subtitle: str = "",
                     focus=None, twist: bool = False) -> Path:
         """Mode ``mode`` (0-based index into ``result``) drawn deformed over a ghost (PNG),
@@ -460,54 +544,15 @@ class AssemblyRenderer:
         runs from 0 to 1: the displacement over the largest drawn (a mass-normalised shape has
         no physical size; the caption states the length that largest is drawn as). ``twist``: arrows of each body's rotation
         about its axis referred to the rotor (:mod:`assembly.app.render.twist`)."""
-        sign = _sign(result.abs_shapes[:, mode])
-        focus = tuple(focus) if focus else self.focus_bodies(result, mode)
-        view, hidden = self.mode_frame(focus)
-        scale, dmax = self.mode_scale(result, mode, view.size, hidden)
-        if twist:   # drawn rotations would swell the fast discs over their arrows: the arrows show it
-            scale = 0.0
-
-        def shape_of(b):
-            return sign * result.abs_shapes[self.model.body_slice(b), mode]
-
-        pl = self._plotter()
+        drawing = self.mode_drawing(result, mode, focus, twist)
+        focus, view, hidden = drawing.focus, drawing.view, drawing.hidden
+        pl = self.plotter()
         try:
-            self._ghost(pl, hidden)
-            clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
-            norm = dmax if dmax > 0 else 1.0
-            bar = dict(title="", vertical=False, position_x=0.55, position_y=0.06, width=0.4, height=0.05,
-                       n_labels=0, color="black")
-            first = True
-            for n in self.model.bodies:
-                if n in hidden:
-                    continue
-                m = body_actor(self.model, n, shape_of(n), scale, self.shapes, self._cache)
-                m["normalised displacement"] = np.asarray(m["displacement_m"]) / norm
-                pl.add_mesh(m, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=first,
-                            scalar_bar_args=bar, opacity=self._opacity(n, focus, hidden),
-                            smooth_shading=True, split_sharp_edges=True, feature_angle=40.0)
-                first = False
-            W, H = self.window_size
-            for frac, label in ((0.0, "0"), (0.5, "0.5"), (1.0, "1")):   # the bar's labels, below it
-                x = (0.55 + 0.4 * frac) * W - 0.3 * 16 * len(label)
-                pl.add_text(label, position=(int(x), int(0.028 * H)), font_size=12, color="black")
-            _backed(pl.add_text("displacement / largest",
-                        position=(int(0.55 * self.window_size[0]), int(0.115 * self.window_size[1])),
-                        font_size=11, color="black"))
-            for tube in self._tubes(shape_of, scale, hidden):
-                tube["normalised displacement"] = np.asarray(tube["displacement_m"]) / norm
-                pl.add_mesh(tube, scalars="normalised displacement", cmap=CMAP, clim=clim, show_scalar_bar=False,
-                            smooth_shading=True)
-            pv = load_pyvista()
-            for sg in self.segments:
-                if sg.body_a not in hidden and sg.body_b not in hidden:
-                    pl.add_mesh(pv.Line(sg.a, sg.b), color=GHOST_COLOR, line_width=1)
-            self._springs(pl, shape_of, scale, view, hidden)
-            self._marks(pl, shape_of, scale, hidden)
+            self.draw_mode(pl, drawing, self.mode_meshes(result, drawing))
             _backed(pl.add_text(title, position="upper_left", font_size=15, color="black"))
-            text = mode_caption(scale, view.size, focus, len(focus) < len(self.model.bodies), hidden)
+            text = mode_caption(drawing.scale, view.size, focus, len(focus) < len(self.model.bodies), hidden)
             if twist:
-                text += "\n" + self._twist(pl, result, mode, sign, view)
+                text += "\n" + self._twist(pl, result, mode, drawing.sign, view)
             if subtitle:
                 text = subtitle + "\n" + text
             _backed(pl.add_text(text, position=(12, self.window_size[1] - 85 - 24 * text.count("\n")), font_size=10,
@@ -516,6 +561,22 @@ class AssemblyRenderer:
         finally:
             pl.close()
         return Path(path)
+
+
+@dataclass(frozen=True)
+class ModeDrawing:
+    """What every drawing of one mode shares: the mode (0-based), the sign that makes its
+    largest entry positive, its dominant bodies, the camera, the bodies left out
+    (:meth:`AssemblyRenderer.mode_frame`), the deformation scale (m drawn per m) and the
+    largest unscaled displacement (m at modal mass 1 kg; the colour bar's 1)."""
+
+    mode: int
+    sign: float
+    focus: tuple
+    view: View
+    hidden: tuple
+    scale: float
+    dmax: float
 
 
 def mode_caption(scale: float, size: float, focus, faint: bool, hidden=()) -> str:

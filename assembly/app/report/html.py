@@ -22,7 +22,8 @@ def render_index(report: dict) -> str:
     optional), comparison (header, rows, row_classes, note) or None, sections [{title, note,
     tables: [(title, header, rows, left columns)], label (optional: the navigation's name, by
     default the title without its parenthesis)}] (optional), key_images [(path, caption)]
-    shown first (optional), overview (path, caption) or None, images [(path, caption)], plots
+    shown first (optional), overview (path, caption) or None, images [(path, caption)], animations [(path, caption)]
+    (optional), plots
     [(path, caption)], stresses and modal_stresses [(path, caption)]: the von Mises images of
     the load cases and of the drawn modes (optional), files [(path, description)], notes [str] (after the pictures), pages [(file,
     label)]: the folder's pages (optional)."""
@@ -76,6 +77,8 @@ def run_sections(report: dict) -> list:
     if report.get("overview") or report.get("images"):
         figs = ([report["overview"]] if report.get("overview") else []) + list(report.get("images", []))
         out.append(Section("Mode shapes", grid(figs)))
+    if report.get("animations"):   # animated GIFs of the first drawn modes in the band
+        out.append(Section("Mode animations", grid(report["animations"]), "Animations"))
     if report.get("files"):
         out.append(Section("Files", files_list(report["files"])))
     return out

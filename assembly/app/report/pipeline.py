@@ -14,6 +14,7 @@ into one ``--out DIR: writing ...: <reason>`` line.
 Files in DIR: ``modes.csv``, ``modes.json``, ``modes_table.txt``, ``energy_by_mode.csv``,
 ``fidelity_comparison.csv``, ``images/overview.png``, ``images/global_torsional.png`` and
 ``images/stage_local.png`` (modes picked by :mod:`assembly.app.report.key_modes`), ``images/mode_NNN.png``,
+``animations/mode_NNN_anim.gif`` (the first ``RunOptions.animated_modes`` drawn modes in the band),
 ``plots/frequencies_by_fidelity.png``, ``index.html``, ``flexgear_run.json``; with a load case also
 ``static.csv``, ``static.json``, ``static_table.txt`` (:func:`step_static`); with roles "rotor" and
 "generator", planetary stages and damping ``frf.csv`` and ``images/frf_generator.png``
@@ -81,11 +82,14 @@ log = logging.getLogger(__name__)
 class RunOptions:
     """``n_modes``: how many elastic modes in the band are drawn (images, modal stresses,
     VTU); ``mode_numbers``: instead, these modes (1-based, as numbered in the mode table,
-    in or outside the band); ``compare``: torsional vs rigid comparison; ``images``: render
-    PNGs; ``window_size``: image size (pixels)."""
+    in or outside the band); ``animated_modes``: how many of the drawn modes in the band
+    are also written as animated GIFs (``animations/mode_NNN_anim.gif``; 0: none); ``compare``:
+    torsional vs rigid comparison; ``images``: render PNGs (and the animations);
+    ``window_size``: image size (pixels)."""
 
     n_modes: int = 12
     mode_numbers: Optional[tuple] = None
+    animated_modes: int = 3
     compare: bool = True
     images: bool = True
     window_size: tuple = (1200, 900)
@@ -108,6 +112,7 @@ class RunContext:
     overview: Optional[tuple] = None
     key_images: list = field(default_factory=list)    # (relpath, caption): shown first (_render_key_images)
     images: list = field(default_factory=list)        # (relpath, caption, mode index)
+    animations: list = field(default_factory=list)    # (relpath, caption, mode index): animated GIFs
     plots: list = field(default_factory=list)         # (relpath, caption)
     stresses: list = field(default_factory=list)      # (relpath, caption): von Mises under the load cases
     modal_stresses: list = field(default_factory=list)  # (relpath, caption): von Mises of the drawn modes
@@ -139,6 +144,12 @@ class RunContext:
             return [n - 1 for n in self.options.mode_numbers]
         band = in_band(self.result)
         return [i for i in self.elastic_modes() if band[i]][: self.options.n_modes]
+
+    def animated_modes(self) -> list:
+        """0-based indices of the modes animated: the first ``options.animated_modes`` elastic
+        drawn modes in the band (:meth:`drawn_modes`)."""
+        band, r = in_band(self.result), self.result
+        return [i for i in self.drawn_modes() if band[i] and i >= r.n_rigid][: self.options.animated_modes]
 
 
 @dataclass(frozen=True)
@@ -243,7 +254,7 @@ def step_tables(ctx: RunContext, bar) -> None:
 def _render_total(ctx: RunContext) -> int:
     if not ctx.options.images:
         return 1
-    return 3 + len(ctx.drawn_modes())
+    return 3 + len(ctx.drawn_modes()) + len(ctx.animated_modes())
 
 
 def _band_text(ctx, i: int) -> str:
@@ -257,6 +268,8 @@ def step_render(ctx: RunContext, bar) -> None:
         _start_modal_recovery(ctx)
     if not ctx.options.images:
         ctx.skipped += ["the overview", f"{len(ctx.drawn_modes())} mode-shape images"]
+        if ctx.animated_modes():
+            ctx.skipped.append(f"{len(ctx.animated_modes())} mode animations")
         bar.update(1)
         return
     rnd = AssemblyRenderer(ctx.model, window_size=ctx.options.window_size)
@@ -292,6 +305,32 @@ def _render_images(ctx: RunContext, rnd, bar) -> None:
         ctx.images.append((rel, f"mode {i + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}"
                                 + (f" (x{mi.multiplicity})" if mi.multiplicity > 1 else "")
                                 + (f"; kinetic energy: {dom}" if dom else "") + _band_text(ctx, i), i))
+        bar.update(1)
+    _render_animations(ctx, rnd, bar)
+
+
+def _render_animations(ctx: RunContext, rnd, bar) -> None:
+    """``animations/mode_NNN_anim.gif`` of :meth:`RunContext.animated_modes`
+    (:mod:`assembly.app.render.animation`), drawn with the stills' renderer; a run without
+    such a mode (none asked for, or none drawn in the band) says so in a note."""
+    from ..render.animation import FRAMES, PERIOD_S, animate_modes
+    from ..render.renderer import mode_title
+
+    modes = ctx.animated_modes()
+    if not modes:
+        why = ("animated_modes = 0" if ctx.options.animated_modes <= 0 else
+               f"no elastic mode drawn is in the band (up to {ctx.scene.display_limit_hz:.0f} Hz)")
+        ctx.notes.append(f"no mode animations: {why}")
+        return
+    rels = {i: f"animations/mode_{i + 1:03d}_anim.gif" for i in modes}
+    jobs = [(i, ctx.add_file(rels[i], f"mode {i + 1} shape over one period, {FRAMES} frames (animated GIF)"),
+             mode_title(ctx.scene.name, ctx.infos[i])) for i in modes]
+    for a in animate_modes(rnd, ctx.result, jobs):
+        mi = ctx.infos[a.mode]
+        ctx.timings_detail[rels[a.mode]] = a.seconds
+        ctx.animations.append((rels[a.mode], f"mode {a.mode + 1}: {mi.frequency_hz:.2f} Hz, {mi.mode_class}: one "
+                               f"period in {FRAMES} frames ({PERIOD_S:g} s a loop), the still image's deformation "
+                               "times cos(2 pi t); colour: displacement at that instant / largest", a.mode))
         bar.update(1)
 
 
@@ -405,6 +444,7 @@ def build_report(ctx: RunContext) -> dict:
                 comparison=comp, sections=static_sections(ctx), overview=ctx.overview, key_images=list(ctx.key_images),
                 images=[(rel, cap) for rel, cap, _ in ctx.images], plots=list(ctx.plots),
                 stresses=list(ctx.stresses), modal_stresses=list(ctx.modal_stresses),
+                animations=[(rel, cap) for rel, cap, _ in ctx.animations],
                 files=files, notes=notes)
 
 
@@ -715,7 +755,8 @@ def run_pipeline(scene, out_dir, options: RunOptions | None = None, progress=Non
         ctx.timings["total"] = time.perf_counter() - t_all
         manifest = dict(
             tool="flexgear run", scene=ctx.scene.name if ctx.scene is not None else None,
-            scene_source=ctx.scene_source, options=dict(n_modes=options.n_modes, compare=options.compare,
+            scene_source=ctx.scene_source, options=dict(n_modes=options.n_modes, animated_modes=options.animated_modes,
+                                                        compare=options.compare,
                                                         images=options.images,
                                                         window_size=list(options.window_size)),
             files=[p for p, _ in ctx.files] + ["index.html"],
