@@ -77,7 +77,7 @@ from threadpoolctl import threadpool_limits
 from ..analysis.modal import SMALL_DENSE, modes_argument
 from ..errors import SceneError, SolverError
 from ..mechanics.nullity import rigid_body_count, rigid_body_modes
-from ..model.assemble import model_argument
+from ..model.assemble import model_argument, sparse_model
 from .damped_modes import RIGID_RTOL, state_form
 from .damping import damping_in_modes, damping_on_q, needs_modes, section_factors, section_share
 from .frf_channels import Channel, input_channel, output_channels, output_rows, von_mises_peak
@@ -148,7 +148,7 @@ def frequency_response(model, input: str, outputs, frequency_hz, method: str = "
     truncation, to see what the correction buys). SceneError for a cutoff that cannot be
     accurate, for 0 Hz on a free model and for a response that is not finite."""
     from .. import arguments as check  # each argument's kind, one SceneError naming it
-    model_argument("model", model)
+    model = sparse_model(model_argument("model", model))
     check.text("input", input)
     outputs = check.names("outputs", outputs)
     frequency_hz = check.frequencies("frequency_hz", frequency_hz)

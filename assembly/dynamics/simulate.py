@@ -37,7 +37,7 @@ from threadpoolctl import threadpool_limits
 
 from .. import arguments as check
 from ..analysis.modal import SMALL_DENSE
-from ..model.assemble import AssembledModel, assemble, source_scene
+from ..model.assemble import AssembledModel, assemble, source_scene, sparse_model
 from ..scene.tables import with_simulation
 from ..scene.time_domain import Simulation
 from .body_loads import body_loads
@@ -138,7 +138,7 @@ def simulate(model, t_end: float, dt: float, outputs=None, simulation=None, base
     # the life tables count whole histories: kept in memory unless they stream to a file
     streaming = history is not None or not (arrays or sim.life is not None)
     check_history(dt, t_end, 0, streaming=streaming)    # the run's length alone, before assembling
-    model = model if isinstance(model, AssembledModel) else assemble(scene, full_fe=full_fe)
+    model = sparse_model(model) if isinstance(model, AssembledModel) else assemble(scene, full_fe=full_fe)
     base_dir = Path(base_dir or ".")
     n = model.K.shape[0]
     M, K, C, G = model_matrices(model)

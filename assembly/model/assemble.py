@@ -289,7 +289,7 @@ def assemble(scene: Scene, full_fe: bool = False, bodies: dict | None = None,
     flexible body) keeps its matrices as dense arrays, the same numbers as the sparse ones
     (module notes), and nothing imports SciPy: for the modal solve and its tables
     (:func:`assembly.analysis.modal.solve_modes`, ``flexgear modes``); the other analyses
-    take the sparse model. A larger model is sparse either way.
+    given it work on its sparse twin (:func:`sparse_model`). A larger model is sparse either way.
 
     ``full_fe=True`` keeps flexible bodies unreduced (every FE DOF): the reference model.
     ``bodies`` may pass pre-built body models (e.g. to reuse reductions across variants);
@@ -505,6 +505,15 @@ def source_scene(name: str, value) -> Scene:
 
 def model_of(name: str, value) -> AssembledModel:
     """The model an analysis of one model works on: ``value`` itself when it is an
-    :class:`AssembledModel`, a :class:`Scene` assembled as given (:func:`assemble`);
-    SceneError naming the argument ``name`` for anything else."""
-    return value if isinstance(value, AssembledModel) else assemble(source_scene(name, value))
+    :class:`AssembledModel` (:func:`sparse_model`: a dense one assembled sparse), a
+    :class:`Scene` assembled as given (:func:`assemble`); SceneError naming the argument
+    ``name`` for anything else."""
+    return sparse_model(value) if isinstance(value, AssembledModel) else assemble(source_scene(name, value))
+
+
+def sparse_model(model: AssembledModel) -> AssembledModel:
+    """``model`` with sparse matrices: itself, or, for a small rigid model assembled with
+    ``dense=True`` (for the modal solve), its scene assembled sparse -- the very same numbers
+    (module notes) -- for the analyses that work on sparse matrices (statics, FRF, time
+    domain)."""
+    return assemble(model.scene, source=model.source) if model.dense else model
