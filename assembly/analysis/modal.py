@@ -11,7 +11,7 @@ path; the sparse path estimates the highest eigenvalue by max K_ii / M_ii. A den
 of at most :data:`SMALL_DENSE` DOFs is solved with NumPy alone (Cholesky factor of the
 mass, ``eigh`` of the symmetric standard form: :func:`numpy_eigh`), a larger one with
 ``scipy.linalg.eigh``: SciPy is imported only when a model needs it (0.2-0.3 s of a small
-model's 0.5 s command, issue 31).
+model's 0.5 s command).
 """
 from __future__ import annotations
 

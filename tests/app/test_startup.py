@@ -8,7 +8,7 @@ import sys
 #: Libraries a rigid-body `flexgear modes` never uses: meshing, FE, plotting, rendering,
 #: the assignment solver (MAC pairing), iterative sparse eigensolvers; and SciPy at all (its
 #: linear algebra and sparse matrices alone cost 0.2-0.3 s of a 0.3 s goal: a small rigid
-#: model is assembled and solved with NumPy, issue 31).
+#: model is assembled and solved with NumPy).
 HEAVY = ("scipy.optimize", "scipy.sparse.linalg", "matplotlib", "pyvista", "gmsh", "skfem", "meshio",
          "scipy", "scipy.linalg", "scipy.sparse", "numpy.ma", "fe_components.meshing")
 

@@ -1,4 +1,4 @@
-"""Benchmark (not a test): how quickly the two everyday commands answer (issue 31, item 7).
+"""Benchmark (not a test): how quickly the two everyday commands answer.
 
 ``flexgear bench quick [--repeat 9] [--run-repeat 3] [--only modes|run]`` times, each in a
 fresh process with the interpreter running this one (``python -m assembly.app.cli``):
