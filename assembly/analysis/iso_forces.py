@@ -38,10 +38,18 @@ def iso_mesh_forces(force: float, row) -> dict:
             "circle": "working pitch" if a_t is None else "reference"}
 
 
-def load_sharing(scene, forces: dict) -> list:
+#: Planets whose mean mesh force is below this fraction of the case's largest force carry
+#: nothing but round-off: their K_gamma (a ratio of round-off) is not given.
+UNLOADED = 1e-9
+
+
+def load_sharing(scene, forces: dict, scale: float = 0.0) -> list:
     """Per planetary stage of ``scene`` and mesh kind (``sun-planet``, ``planet-ring``): the
     planets' static mesh forces (N, by planet) and K_gamma = max / mean of their magnitudes
-    (None when they carry nothing). ``forces``: expanded mesh name -> force (N)."""
+    (None, with a ``note``, when they carry nothing: a mean below :data:`UNLOADED` x the
+    case's largest force, ``scale`` (N: of its meshes, bearings and applied loads) or the
+    largest of ``forces``). ``forces``: expanded mesh name -> force (N)."""
+    largest = max([abs(float(v)) for v in forces.values()] + [abs(float(scale))])
     out = []
     for st in scene.stages:
         for kind, name in (("sun-planet", "{}.sun-planet{}"), ("planet-ring", "{}.planet{}-ring")):
@@ -50,6 +58,11 @@ def load_sharing(scene, forces: dict) -> list:
                 continue
             f = np.abs(got)
             mean = float(f.mean())
-            out.append({"stage": st.name, "mesh": kind, "forces_N": f.tolist(),
-                        "K_gamma": float(f.max()) / mean if mean > 0.0 else None})
+            loaded = mean > UNLOADED * largest and mean > 0.0
+            row = {"stage": st.name, "mesh": kind, "forces_N": f.tolist(),
+                   "K_gamma": float(f.max()) / mean if loaded else None}
+            if not loaded:
+                row["note"] = (f"the planets carry no load in this case (mean {mean:.3g} N, the case's largest "
+                               f"force {largest:.3g} N): no load-sharing factor")
+            out.append(row)
     return out

@@ -169,7 +169,10 @@ def static_report(st) -> StaticReport:
     for m in meshes:
         if m["mesh"] in rows:
             m.update(iso_mesh_forces(m["force_N"], rows[m["mesh"]]))
-    sharing = load_sharing(src, {m["mesh"]: m["force_N"] for m in meshes})
+    forces = [abs(float(m["force_N"])) for m in meshes] + [
+        float(np.linalg.norm([r.get(k, 0.0) for k in _FORCE[:3]])) for r in bearings] + [
+        float(np.linalg.norm(a.wrench[:3])) for a in applied]
+    sharing = load_sharing(src, {m["mesh"]: m["force_N"] for m in meshes}, max(forces, default=0.0))
     balance = _torque_balance(model, load, applied, housing, out_torque) if load.has_torque else {}
     ratio = _ratio_check(model, load, out_torque) if load.has_torque else {}
     return StaticReport(load.name, st.path, load.input, output, load.torque, out_torque if output else None,

@@ -108,3 +108,21 @@ def test_planets_of_a_stage_share_one_row():
     assert rows["planetary.sun-planet3"] is rows["planetary.sun-planet0"]
     assert rows["planetary.planet2-ring"].count == 4
     assert dataclasses.asdict(rows["pinion-wheel"])["gear1"] == "pinion"
+
+
+def test_unloaded_planets_give_no_load_sharing_factor():
+    """A radial force of 2 kN on the quill drive's pinion, its rotation held: no torque reaches
+    the planetary stage, whose planet mesh forces are round-off (1e-14 N). max/mean of
+    round-off is no K_gamma: none is given, with a note, instead of a plausible 1.5-2
+    (UNLOADED: 1e-9 of the case's largest force, here the 2 kN and its bearing reactions)."""
+    from assembly.analysis.iso_forces import UNLOADED
+    from assembly.scene.tables import PointLoad, Support
+
+    sc = load_scene("two_stage_quill")
+    lc = LoadCase(name="radial only", forces=(PointLoad(body="pinion", force=(0.0, 2000.0, 0.0)),),
+                  supports=(Support(body="pinion", dofs=("rz",)),))
+    rep = static_report(solve_static(sc, lc))
+    assert rep.load_sharing
+    for s in rep.load_sharing:
+        assert max(s["forces_N"]) < UNLOADED * 2000.0          # the planets: round-off of the 2 kN
+        assert s["K_gamma"] is None and "no load" in s["note"]
