@@ -237,8 +237,9 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
         names = order_meshes(o, meshes) if o.kind in ("mesh", "sideband", "planet-pass") else []
         if names:
             share, what = sum((meshes[m] for m in names), np.zeros(len(res.eigenvalues))), "its meshes hold"
-        elif o.kind == "shaft":
-            share, what = body_kinetic_shares(model, res, o.source), f"{o.source} holds"
+        elif o.kind == "shaft":     # an unbalance on any body at this speed: their kinetic shares
+            share = sum(body_kinetic_shares(model, res, b) for b in o.bodies or (o.source,))
+            what = f"{', '.join(o.bodies or (o.source,))} hold"
         else:
             share, what = spin, f"{ref}'s spin holds"
         for j, mi in enumerate(info):

@@ -44,7 +44,8 @@ class Order:
     ``kind``: ``"mesh"`` or ``"rotor"``; ``source``: the mesh or stage name (mesh) or the
     reference body (rotor); ``harmonic``: h of a mesh order, k of a rotor order kP.
     ``teeth``: the tooth count the frequency counts; planetary stages also give
-    ``sun_teeth``, ``n_planets`` and ``equally_spaced`` (Parker's phasing rule)."""
+    ``sun_teeth``, ``n_planets`` and ``equally_spaced`` (Parker's phasing rule); a shaft
+    order, ``bodies``: every body turning at its speed."""
 
     name: str
     kind: str
@@ -56,6 +57,7 @@ class Order:
     sun_teeth: int | None = None
     n_planets: int | None = None
     equally_spaced: bool | None = None
+    bodies: tuple = ()
 
     def frequency_hz(self, rpm):
         """Frequency (Hz) of the order at reference speed ``rpm``."""
@@ -114,15 +116,17 @@ def rotor_orders(reference: str, multiples=ROTOR_ORDERS) -> list[Order]:
 
 def shaft_orders(ratios: dict) -> list[Order]:
     """The 1x of every turning body (``ratios``: body -> speed over the reference's): f =
-    |ratio| n / 60; bodies turning at the same speed (to 1e-9) share one line, named by the first."""
-    out, seen = [], []
+    |ratio| n / 60; bodies turning at the same speed (to 1e-9) share one line, named by the
+    first, every one of them in its ``bodies`` (an unbalance on any of them drives it)."""
+    lines: dict = {}
     for body, r in ratios.items():
         a = abs(r)
-        if a == 0.0 or any(abs(a - b) <= 1e-9 * a for b in seen):
+        if a == 0.0:
             continue
-        seen.append(a)
-        out.append(Order(f"{body} 1x", "shaft", body, 1, a / 60.0))
-    return out
+        key = next((b for b in lines if abs(a - b) <= 1e-9 * a), a)
+        lines.setdefault(key, []).append(body)
+    return [Order(f"{names[0]} 1x", "shaft", names[0], 1, a / 60.0, bodies=tuple(names))
+            for a, names in lines.items()]
 
 
 def planet_pass_orders(scene, ratios: dict) -> list[Order]:

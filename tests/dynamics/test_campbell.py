@@ -266,3 +266,36 @@ def test_no_rotor_orders_without_a_rotor_as_reference():
     # the quill drive has no rotor: its pinion as the reference draws no 1P/3P/6P lines
     c = campbell(load_scene("two_stage_quill"), (0.0, 3000.0), reference="pinion")
     assert not any(o.kind == "rotor" for o in c.orders) and any(o.kind == "shaft" for o in c.orders)
+
+
+def test_a_shaft_line_takes_the_share_of_every_body_turning_at_its_speed():
+    """g2 and g3 turn at one speed (a shaft joins them): one 1x line. A mode held by g3 (a
+    heavy disc on soft bearings, its kinetic energy ~all in g3) is driven by an unbalance of
+    g3: its crossing with the line has g3's share, not g2's alone (which is ~0 there)."""
+    from assembly import GearMesh, Shaft
+    from assembly.dynamics.participation import body_kinetic_shares
+
+    r1, r2, a = 0.05, 0.1, math.radians(20)
+    x2 = (r1 + r2) / math.cos(a)
+    sc = Scene(name="trio",
+               bodies=(Body(name="g1", mass=2.0, polar_inertia=3e-3),
+                       Body(name="g2", mass=5.0, polar_inertia=4e-2, position=(x2, 0, 0)),
+                       Body(name="g3", mass=50.0, polar_inertia=1.0, position=(x2, 0, 0.5))),
+               bearings=(Bearing(body="g1", k_radial=3.5e8, k_axial=1e8, k_tilt=2.8e5),
+                         Bearing(body="g2", k_radial=3.5e8, k_axial=1e8, k_tilt=2.8e5),
+                         Bearing(body="g3", k_radial=1e6, k_axial=1e8, k_tilt=1e4)),
+               shafts=(Shaft(body1="g2", body2="g3", k_torsion=1e6, k_bending=1e3, k_axial=1e8, k_shear=1e5),),
+               meshes=(GearMesh(gear1="g1", gear2="g2", stiffness=2e8, base_radius1=r1, base_radius2=r2,
+                                pressure_angle=a),))
+    m = assemble(sc)
+    c = campbell(m, (0.0, 30000.0), reference="g1")
+    line = next(o for o in c.orders if o.kind == "shaft" and "g3" in o.bodies)
+    assert set(line.bodies) == {"g2", "g3"}
+    res = solve_modes(m)
+    both = body_kinetic_shares(m, res, "g2") + body_kinetic_shares(m, res, "g3")
+    on = [x for x in c.crossings if x.order == line.name]
+    assert on
+    for x in on:
+        assert x.share == pytest.approx(both[x.mode - 1], rel=1e-12)
+    g3_modes = [x for x in on if body_kinetic_shares(m, res, "g3")[x.mode - 1] > 0.9]
+    assert g3_modes and all(x.excitable is not False for x in g3_modes)
