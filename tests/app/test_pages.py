@@ -5,6 +5,7 @@ campbell, simulate, runup, study and coupling: in their own tests).
 The checker is shown to find each fault it is for, so a clean folder means something."""
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -33,9 +34,15 @@ def test_a_folder_of_one_page_lists_no_pages():
     assert read_page(_page([Section("Files", "")], pages=[("index.html", "The run")])).nav == ["#s-files"]
 
 
-def test_two_sections_with_one_anchor_are_refused():
-    with pytest.raises(ValueError, match="same anchor"):
-        _page([Section("Plots", ""), Section("More plots", "", "Plots")])
+def test_sections_with_one_anchor_get_their_own():
+    # two load cases named "Rated torque" and "rated-torque" (valid: names are only unique)
+    # make one slug: the second and third get -2, -3, each navigation link finds its section
+    text = _page([Section("Static load case 'Rated torque'", "a", "Rated torque"),
+                  Section("Static load case 'rated-torque'", "b", "rated-torque"),
+                  Section("Static load case 'rated torque'", "c", "rated torque")])
+    ids = re.findall(r'<h2 id="([^"]+)"', text)
+    assert ids == ["s-rated-torque", "s-rated-torque-2", "s-rated-torque-3"]
+    assert read_page(text).nav == [f"#{i}" for i in ids]
 
 
 def test_text_columns_left_numbers_right():

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import html
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from numbers import Number
 from pathlib import Path
 
@@ -152,6 +152,20 @@ class Section:
         return self.id or "s-" + slug(self.nav)
 
 
+def unique_anchors(sections) -> list:
+    """``sections`` with anchors made unique: a second section whose anchor repeats an earlier
+    one's (two load cases named "Rated torque" and "rated-torque") gets ``-2``, ``-3`` ..."""
+    seen, out = set(), []
+    for s in sections:
+        a, k = s.anchor, 1
+        while a in seen:
+            k += 1
+            a = f"{s.anchor}-{k}"
+        seen.add(a)
+        out.append(s if a == s.anchor else replace(s, id=a))
+    return out
+
+
 def nav_bar(sections, pages=(), here: str = "index.html") -> str:
     """The navigation: the folder's pages ([(file, label)], this one ``here`` unlinked; left out
     when the folder has one page) and this page's sections."""
@@ -171,10 +185,7 @@ def page(title: str, sections, *, command: str, scene: str, meta=(), lead: str =
     """The whole page: head with the CSS, a header (``title``; ``command`` and ``scene``; ``meta``
     lines), the navigation (:func:`nav_bar`), ``lead`` (HTML: what must be read first) and the
     :class:`Section` list ``sections``."""
-    sections = [s for s in sections if s is not None]
-    ids = [s.anchor for s in sections]
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"sections with the same anchor: {ids}")
+    sections = unique_anchors([s for s in sections if s is not None])
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            '<meta name="viewport" content="width=device-width, initial-scale=1">',
            f"<title>{esc(title)}</title>", f"<style>{CSS}</style></head><body>",
