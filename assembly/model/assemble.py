@@ -512,8 +512,11 @@ def model_of(name: str, value) -> AssembledModel:
 
 
 def sparse_model(model: AssembledModel) -> AssembledModel:
-    """``model`` with sparse matrices: itself, or, for a small rigid model assembled with
-    ``dense=True`` (for the modal solve), its scene assembled sparse -- the very same numbers
-    (module notes) -- for the analyses that work on sparse matrices (statics, FRF, time
-    domain)."""
-    return assemble(model.scene, source=model.source) if model.dense else model
+    """``model`` with sparse matrices, for the analyses that work on sparse matrices (statics,
+    FRF, time domain): itself, or, for a small rigid model assembled with ``dense=True`` (for
+    the modal solve), the same model with its dense arrays stored sparse: the very same
+    numbers, its bodies, elements and options untouched."""
+    if not model.dense:
+        return model
+    import scipy.sparse as sp
+    return dataclasses.replace(model, **{k: sp.csr_matrix(getattr(model, k)) for k in ("K_abs", "M_abs", "T", "K", "M")})

@@ -81,3 +81,26 @@ def test_every_analysis_takes_a_dense_model_with_the_sparse_models_numbers():
     a = fg.simulate(md, 2e-3, 1e-4, outputs=["torque:quill"])
     b = fg.simulate(ms, 2e-3, 1e-4, outputs=["torque:quill"])
     assert np.array_equal(a.outputs["torque:quill"], b.outputs["torque:quill"]) and len(a.time_s) == 21
+
+
+def test_a_dense_model_keeps_its_own_bodies_when_made_sparse():
+    """sparse_model stores the dense model's own arrays sparse: a model built with its own
+    body models (here the carrier 10x heavier, passed as ``bodies``) keeps them; the scene's
+    re-assembly would have silently given the scene's masses."""
+    import dataclasses
+
+    import assembly as fg
+    from assembly.model.assemble import model_of, sparse_model
+
+    sc = fg.load_scene("lin_parker_n4.toml")
+    plain = fg.assemble(sc, dense=True)
+    bodies = dict(plain.bodies)
+    name = next(n for n in bodies if n.endswith("carrier"))
+    bodies[name] = dataclasses.replace(bodies[name], mass=10.0 * bodies[name].mass)
+    md = fg.assemble(sc, dense=True, bodies=bodies)
+    ms = fg.assemble(sc, bodies=bodies)
+    for m in (sparse_model(md), model_of("model", md)):
+        assert not m.dense and m.bodies is md.bodies
+        for k in ("K_abs", "M_abs", "T", "K", "M"):
+            assert np.array_equal(getattr(m, k).toarray(), getattr(ms, k).toarray())
+    assert np.trace(md.M) != pytest.approx(np.trace(plain.M), rel=1e-3)
