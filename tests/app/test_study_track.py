@@ -133,3 +133,41 @@ values = [1.5e4, 2.5e4]                 # b: 435.9, 562.7 Hz; not repeated with 
     assert any(n.startswith("mode1_hz") and n.endswith("_map.png") for n in names), names
     assert any(n.startswith("tracked_modes_vs_") for n in names)
     assert not any("_mac" in n for n in names)                  # MACs are in the table, not drawn
+
+
+def test_a_partner_below_the_mac_threshold_is_no_longer_that_mode(tmp_path):
+    """Lin & Parker's planet bearings swept over five decades reshape the modes: where the
+    base mode's best partner has MAC below MAC_THRESHOLD the frequency cell stays empty (the
+    MAC cell says why); above it the frequency is given."""
+    from assembly.analysis.tracking import MAC_THRESHOLD
+
+    (tmp_path / "s.toml").write_text('name = "wide"\nscene = "lin_parker_n4.toml"\nanalysis = "modes"\n'
+                                     "[keep]\nmodes = 6\n[[parameters]]\n"
+                                     'path = "stages[0].planets.bearing.k_radial"\nlog_range = [1.0e6, 1.0e11, 6]\n',
+                                     encoding="utf-8")
+    rows = run_study(read_study(str(tmp_path / "s.toml")), "serial")
+    macs = [(r, k) for r in rows for k in r if "_mac[" in k]
+    assert any(r[k] < MAC_THRESHOLD for r, k in macs)        # the sweep does lose modes
+    for r, k in macs:
+        assert 0.0 <= r[k] <= 1.0
+        hz = k.replace("_mac[", "_hz[")
+        assert (r.get(hz) is not None) == (r[k] >= MAC_THRESHOLD)
+
+
+def test_collinear_parameters_and_mac_columns_have_no_sensitivity():
+    """f = k^(1/2): with m = 2 k (or m = k^2) beside k, any split of the slope between them
+    fits (rank-deficient): no elasticity is given; with m independent, f = k^(1/2) m^(-1/2)
+    gives 1/2 and -1/2 (exact power law, to 1e-9); a MAC column gets no row."""
+    from assembly.app.study.sensitivity import sensitivities
+
+    ks = [1.0, 2.0, 4.0, 8.0, 16.0]
+    for m_of in (lambda k: 2.0 * k, lambda k: k * k):
+        rows = [{"status": "ok", "k": k, "m": m_of(k), "f": k ** 0.5} for k in ks]
+        (row,) = sensitivities(rows, ["k", "m"], ["f"])
+        assert row["elasticity"] == {"k": None, "m": None}
+    rows = [{"status": "ok", "k": k, "m": m, "f": (k / m) ** 0.5, "mode1_mac[rotational]": 0.9 + 0.01 * k}
+            for k in ks for m in (1.0, 3.0)]
+    table = sensitivities(rows, ["k", "m"], ["f", "mode1_mac[rotational]", "n_rigid"])
+    assert [t["result"] for t in table] == ["f"]
+    assert table[0]["elasticity"]["k"] == pytest.approx(0.5, abs=1e-9)
+    assert table[0]["elasticity"]["m"] == pytest.approx(-0.5, abs=1e-9)

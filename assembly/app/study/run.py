@@ -187,8 +187,10 @@ def tracked_columns(reference, res) -> dict:
     """Each followed base mode's partner in this variant (:func:`assembly.analysis.tracking.follow`):
     ``mode{N}_hz[CLASS]`` and ``mode{N}_mac[CLASS]``, N the base mode's elastic number; none for
     a variant whose bodies differ from the base's (a planet count changed: no shape to follow,
-    its cells stay empty; its sorted frequencies are kept)."""
-    from ...analysis.tracking import follow
+    its cells stay empty; its sorted frequencies are kept). A partner whose MAC is below
+    :data:`assembly.analysis.tracking.MAC_THRESHOLD` is not the base mode any more: its
+    frequency cell stays empty, its MAC says why."""
+    from ...analysis.tracking import MAC_THRESHOLD, follow
     pairs = follow(reference, res)
     if pairs is None:
         return {}
@@ -196,8 +198,9 @@ def tracked_columns(reference, res) -> dict:
     out = {}
     for i, j, mac in sorted(pairs):
         tag = f"mode{reference.numbers[i]}"
-        out[f"{tag}_hz[{reference.labels[i]}]"] = float(f[j])
-        out[f"{tag}_mac[{reference.labels[i]}]"] = float(mac)
+        if mac >= MAC_THRESHOLD:   # below it the partner is no longer that mode: the cell stays empty
+            out[f"{tag}_hz[{reference.labels[i]}]"] = float(f[j])
+        out[f"{tag}_mac[{reference.labels[i]}]"] = min(float(mac), 1.0)
     return out
 
 

@@ -4,8 +4,11 @@ parameter together over the variants that ran (a local-linear design's elasticit
 for an LHS or a grid: exact for a power law, f ~ k^(1/2) gives 1/2), and the fit's R^2.
 
 A result or parameter that is not positive in every row that ran has no logarithm: its cells
-stay empty; so does every cell of a study with fewer rows than parameters + 2. R^2 is empty
-where the result does not vary (its elasticities are then 0).
+stay empty; so does every cell of a study with fewer rows than parameters + 2, and of one whose
+parameters' logarithms are not independent over the rows that ran (collinear: m = 2 k, or
+m = k^2 -- any split of the slope between them would fit; the rank of the fit is checked).
+R^2 is empty where the result does not vary (its elasticities are then 0). What is not a
+physical result has no sensitivity: a tracked mode's MAC, the rigid-body mode count.
 """
 from __future__ import annotations
 
@@ -27,6 +30,12 @@ def _logs(values) -> np.ndarray | None:
     return np.log(a) if a.size and np.all(np.isfinite(a)) and np.all(a > 0) else None
 
 
+def physical_result(column: str) -> bool:
+    """Whether a study column is a physical result with a sensitivity (not a tracked mode's MAC,
+    not the rigid-body mode count)."""
+    return not (column.endswith("n_rigid") or "_mac[" in column)
+
+
 def sensitivities(rows: list, parameters: list, results: list) -> list:
     """[{"result", "r2", "elasticity": {parameter: value or None}}] (module notes)."""
     ok = [r for r in rows if r.get("status") == "ok"]
@@ -37,11 +46,12 @@ def sensitivities(rows: list, parameters: list, results: list) -> list:
             X.append(x)
             names.append(p)
     out = []
-    for c in results:
+    A = np.column_stack([np.ones(len(ok)), *X]) if names else None
+    independent = A is not None and np.linalg.matrix_rank(A) == A.shape[1]
+    for c in (c for c in results if physical_result(c)):
         y = _logs([r.get(c) for r in ok]) if all(r.get(c) is not None for r in ok) else None
         row = {"result": c, "r2": None, "elasticity": {p: None for p in parameters}}
-        if y is not None and names and len(ok) >= len(names) + 2:
-            A = np.column_stack([np.ones(len(y)), *X])
+        if y is not None and independent and len(ok) >= len(names) + 2:
             coef, *_ = np.linalg.lstsq(A, y, rcond=None)
             row["elasticity"].update({p: float(b) for p, b in zip(names, coef[1:])})
             tot = float(np.sum((y - y.mean()) ** 2))
