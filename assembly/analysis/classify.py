@@ -45,6 +45,10 @@ CENTRAL = ("sun", "ring", "carrier")
 ELASTIC_SHARE = 0.5
 
 
+#: Every class an elastic mode can be given (:func:`classify_modes`), for the checks of
+#: what a user names (a study's ``keep.classes``).
+MODE_CLASSES = ("rotational", "translational", "planet", "out-of-plane", "mixed", "elastic")
+
 @dataclass(frozen=True)
 class ModeInfo:
     index: int

@@ -84,7 +84,9 @@ def test_modes_kept_by_band(tmp_path):
 
 @pytest.mark.parametrize("keep,field", [("band_hz = [600.0, 400.0]", "keep.band_hz"),
                                         ("band_hz = [1.0e5, 2.0e5]", "keep.band_hz"),
-                                        ('classes = ["no such class"]', "keep.classes"),
+                                        ('classes = ["no such class"]', "keep.classes[0]"),
+                                        ('classes = ["planet", "rotatonal"]', "keep.classes[1]"),
+                                        ("classes = []", "keep.classes"),
                                         ("track = false\nband_hz = [1.0, 2.0]", "keep.track"),
                                         ('track = "yes"', "keep.track")])
 def test_what_cannot_be_followed_is_refused_before_it_runs(tmp_path, keep, field):

@@ -213,6 +213,14 @@ def _keep(analysis: str, keep, scene) -> dict:
                                                          and math.isfinite(v) and v >= 0 for v in band)
                                  and band[0] < band[1]):
         raise SceneError("keep.band_hz", band, "must be two frequencies [lo, hi] in Hz, 0 <= lo < hi")
+    if "classes" in out:
+        from ...analysis.classify import MODE_CLASSES
+        cl = out["classes"]
+        if not isinstance(cl, list) or not cl:
+            raise SceneError("keep.classes", cl, f"must be a non-empty list of mode classes {list(MODE_CLASSES)}")
+        for j, c in enumerate(cl):
+            if c not in MODE_CLASSES:
+                raise SceneError(f"keep.classes[{j}]", c, f"not a mode class (classes: {list(MODE_CLASSES)})")
     if ("classes" in out or band is not None) and not out["track"]:
         raise SceneError("keep.track", False, "modes kept by class or band are followed by shape: track = true")
     if any(s not in STATS for s in out["stats"]):
