@@ -268,13 +268,18 @@ bands = [[300.0, 500.0], [500.0, 800.0]]
 
 
 @pytest.mark.parametrize("bands,field", [("[[500.0, 300.0]]", "frf.bands[0]"), ("[[100.0, 400.0]]", "frf.bands[0]"),
-                                         ('[[300.0, 400.0], "x"]', "frf.bands[1]")])
+                                         ('[[300.0, 400.0], "x"]', "frf.bands[1]"),
+                                         # between two samples of the 11-point grid (50 Hz apart): no peak
+                                         ("[[342.0, 343.0]]", "frf.bands[0]"),
+                                         # one column name [500-800 Hz] for two bands
+                                         ("[[500.0, 800.0], [500.0000001, 800.0]]", "frf.bands[1]")])
 def test_a_bad_frf_band_is_refused_naming_it(pair, bands, field):
     extra = f"""[frf]
 input = "torque:rotor"
 outputs = ["force:m"]
 fmin = 300.0
 fmax = 800.0
+points = 11
 bands = {bands}
 """
     from assembly.errors import SceneError

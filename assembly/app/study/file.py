@@ -52,6 +52,8 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ...errors import SceneError
 from .keys import check_study
 from .spec import Variant, variants
@@ -261,6 +263,25 @@ def _bands(bands, fmin, fmax) -> list:
     return out
 
 
+def _bands_sampled(s: dict) -> None:
+    """Each ``[frf] bands`` entry holds a sample of the frequency grid (a band between two
+    samples would have no peak: no column), and no two bands share a column name (their
+    ``lo-hi`` as printed); SceneError at ``frf.bands[i]``."""
+    if not s["bands"] or s["log"] and s["fmin"] <= 0:
+        return
+    from ..report.frf import frequencies
+    f = frequencies(s["fmin"], s["fmax"], s["points"], s["log"])
+    names = {}
+    for i, (lo, hi) in enumerate(s["bands"]):
+        if not np.any((f >= lo) & (f <= hi)):
+            raise SceneError(f"frf.bands[{i}]", [lo, hi], f"holds no frequency of the grid ({s['points']} points "
+                             f"from {s['fmin']:g} to {s['fmax']:g} Hz): widen it or add points")
+        key = f"{lo:g}-{hi:g}"
+        if key in names:
+            raise SceneError(f"frf.bands[{i}]", [lo, hi], f"its column name [{key} Hz] is frf.bands[{names[key]}]'s")
+        names[key] = i
+
+
 def _settings(analysis: str, t: dict) -> dict:
     """The analysis's own settings, checked (Hz, s; keys and types by :func:`check_keys`)."""
     if analysis == "frf":
@@ -276,6 +297,7 @@ def _settings(analysis: str, t: dict) -> dict:
             raise SceneError("frf.points", s["points"], "must be an integer >= 2")
         if not s["fmin"] < s["fmax"]:
             raise SceneError("frf.fmax", s["fmax"], f"must be above fmin = {s['fmin']} Hz")
+        _bands_sampled(s)
         if not s["fmax"] < MAX_FREQUENCY_HZ:
             raise SceneError("frf.fmax", s["fmax"], "its angular frequency squared overflows a double")
         if s["method"] not in METHODS:
