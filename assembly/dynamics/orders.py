@@ -12,8 +12,8 @@ model's rigid-body mode, :func:`assembly.analysis.drivetrain.speed_ratios`: n_i 
   z_ring |n_c| / 60, and the planet-ring meshes have the same frequency.
 * Rotor orders 1P, 3P, 6P: f = k n / 60 of the reference body (k = 1, 3, 6).
 * Shaft orders: each turning body's 1x, f = |n_i| / 60 (bodies at one speed share a line).
-* Planet pass of a stage: its N planets pass a point of the ring (or sun) N |n_c - n_ring| / 60
-  times a second.
+* Planet pass of a stage: its N planets pass a point of the ring N |n_c - n_ring| / 60 times
+  a second (a point of the sun: N |n_s - n_c| / 60).
 * Mesh sidebands: a mesh's first harmonic modulated by its carrier (a stage: f_mesh +- |n_c -
   n_ring| / 60, a planet's once-round against the ring) or by the slower gear of a pair
   (f_mesh +- min|n_g| / 60).

@@ -8,10 +8,16 @@ from assembly.app.report.background import Background
 
 
 def test_results_hold_every_item_by_key_with_its_time():
-    job = Background([(k, (k,)) for k in range(5)], lambda k: k * k, "squares")
+    import time
+
+    def work(k):      # item k takes at least 5 k ms: its time says so
+        time.sleep(0.005 * k)
+        return k * k
+
+    job = Background([(k, (k,)) for k in range(5)], work, "squares")
     done = job.results()
     assert {k: v for k, (v, _) in done.items()} == {k: k * k for k in range(5)}
-    assert all(dt >= 0 for _, dt in done.values())
+    assert all(dt >= 0.005 * k for k, (_, dt) in done.items())
 
 
 def test_the_threads_error_is_raised_in_the_caller_and_later_items_do_not_run():

@@ -228,3 +228,14 @@ def test_unknown_stage_is_named(lp4):
         with pytest.raises(SceneError) as err:
             stage_diagram(c, bad)
         assert err.value.path == "stage"
+
+
+def test_stage_names_that_make_one_file_name_get_their_own_pictures():
+    """'a b' and 'a/b' both make safe_a_b.png: the second gets _2 (one picture each, none
+    overwritten)."""
+    from types import SimpleNamespace
+
+    from assembly.app.report.safe import png_names
+
+    names = png_names([SimpleNamespace(stage=s) for s in ("a b", "a/b", "a_b", "c")])
+    assert names == {"a b": "safe_a_b.png", "a/b": "safe_a_b_2.png", "a_b": "safe_a_b_3.png", "c": "safe_c.png"}

@@ -12,19 +12,30 @@ from pathlib import Path
 import numpy as np
 
 from ...dynamics.safe import SafeDiagram, folded, zigzag
+from .campbell_page import verdict
 
 CSV_HEAD = ("stage", "order", "harmonic", "index_k", "abs_k", "mode", "class", "mode_indices", "frequency_hz",
             "speed_rpm", "share", "safe", "why", "campbell_excitable")
 CLASS_COLOURS = {"rotational": "C0", "translational": "C1", "planet": "C2", "elastic": "C4"}
 
 
+def png_names(diagrams) -> dict:
+    """Stage -> its picture's file name (:func:`png_name`), made unique: stages whose names
+    differ only in what a file name cannot hold ('a b', 'a/b') get _2, _3 ..."""
+    out, used = {}, set()
+    for d in diagrams:
+        name, k = png_name(d.stage), 1
+        while name in used:
+            k += 1
+            name = png_name(d.stage)[:-4] + f"_{k}.png"
+        used.add(name)
+        out[d.stage] = name
+    return out
+
+
 def png_name(stage: str) -> str:
     """``safe_STAGE.png``, the stage name with anything but letters, digits, ``-`` and ``_`` as ``_``."""
     return f"safe_{re.sub(r'[^A-Za-z0-9_-]+', '_', stage)}.png"
-
-
-def _verdict(ok) -> str:
-    return {True: "yes", False: "no", None: "undecided"}[ok]
 
 
 def safe_json(diagrams) -> list:
@@ -52,7 +63,7 @@ def write_csv(diagrams, path) -> Path:
             for r in d.rows:
                 w.writerow([d.stage, r.order, r.harmonic, r.index, int(folded(r.index, d.n_planets)), r.mode,
                             r.mode_class, " ".join(str(k) for k in r.mode_indices), f"{r.frequency_hz:.9g}",
-                            f"{r.speed_rpm:.9g}", f"{r.share:.3g}", r.verdict, r.why, _verdict(r.excitable)])
+                            f"{r.speed_rpm:.9g}", f"{r.share:.3g}", r.verdict, r.why, verdict(r.excitable)])
     return Path(path)
 
 
@@ -106,11 +117,10 @@ def plot_safe(d: SafeDiagram, path, rated_rpm: float | None = None, speed_label:
 
 def write_plots(diagrams, out_dir, rated_rpm: float | None = None, speed_label: str = "reference") -> list:
     """``safe_STAGE.png`` of every diagram in ``out_dir``; their names."""
-    names = []
+    names = png_names(diagrams)
     for d in diagrams:
-        plot_safe(d, Path(out_dir) / png_name(d.stage), rated_rpm, speed_label)
-        names.append(png_name(d.stage))
-    return names
+        plot_safe(d, Path(out_dir) / names[d.stage], rated_rpm, speed_label)
+    return [names[d.stage] for d in diagrams]
 
 
 def safe_section(diagrams):
@@ -124,8 +134,9 @@ def safe_section(diagrams):
                 "where its index (rotational 0, translational ±1, planet the others) matches the harmonic's and "
                 "its frequency lies in the harmonic's band. Every crossing of the stages' mesh harmonics with its "
                 "verdict: safe.csv.")]
+    names = png_names(diagrams)
     for d in diagrams:
-        out.append(figure(png_name(d.stage), f"{d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}"))
+        out.append(figure(names[d.stage], f"{d.stage}: N = {d.n_planets}, Z_s = {d.sun_teeth}"))
         ruled = sum(1 for r in d.rows if r.verdict == "ruled out")
         out.append(para(f"{d.stage}: {len(d.interferences)} interferences, {ruled} crossings ruled out by phasing "
                         "or no modal force."))
