@@ -16,6 +16,15 @@ from ..model.assemble import model_of
 from ..model.probes import axial_rotation
 from .load_cases import single_rigid_mode
 
+#: A rigid-body mode strains no spring: its Rayleigh frequency sqrt(z'Kz / z'Mz) is round-off,
+#: at most sqrt(eps) ~ 1.5e-8 of the model's highest (eigenvalue round-off eps lambda_max),
+#: bounded by sqrt(max K_ii / min M_ii); a shape above RIGID of that bound is refused.
+RIGID = 1e-6
+
+
+def _diagonal(A) -> np.ndarray:
+    return np.asarray(A.diagonal() if hasattr(A, "diagonal") else np.diag(A), float)
+
 
 def referred_inertias(model, shape=None) -> dict[str, float]:
     """Body name -> the drivetrain's inertia referred to that body's shaft (kg m^2), for
@@ -30,7 +39,16 @@ def referred_inertias(model, shape=None) -> dict[str, float]:
             raise MechanismError(f"referred inertias need exactly one rigid-body mode: {why}", phi)
         shape = m.T @ phi[:, 0]
     Z = np.asarray(shape, float).ravel()
+    if Z.size != m.n_abs or not np.all(np.isfinite(Z)):
+        raise arguments.refuse("shape", f"<{Z.size} values>", f"must be {m.n_abs} finite values: the rigid-body "
+                               "mode on the absolute coordinates")
     energy = float(Z @ (m.M_abs @ Z))
+    kd, md = np.abs(_diagonal(m.K_abs)), np.abs(_diagonal(m.M_abs))
+    top = np.sqrt(kd.max() / md[md > 0].min()) if np.any(md > 0) and kd.max() > 0 else 0.0   # rad/s scale
+    w = np.sqrt(max(float(Z @ (m.K_abs @ Z)), 0.0) / energy) if energy > 0 else 0.0
+    if w > RIGID * top:
+        raise arguments.refuse("shape", "<array>", f"is not a rigid-body mode: its springs hold strain energy "
+                               f"(Rayleigh frequency {w / (2 * np.pi):.3g} Hz)")
     w = {b: float(axial_rotation(m, Z, b)) for b in m.bodies}
     scale = max(abs(v) for v in w.values())
     if not scale > 0:

@@ -68,3 +68,26 @@ def test_planetary_referred_to_carrier_counts_orbiting_planets():
     want = (st.carrier.polar_inertia + st.sun.polar_inertia * (1 + rr / rs) ** 2
             + n * (p.polar_inertia * (1 - rr / rp) ** 2 + p.mass * Rc ** 2))
     assert referred_inertia(assemble(sc), "stage.carrier") == pytest.approx(want, rel=1e-9)
+
+
+def test_a_shape_that_is_no_rigid_body_mode_is_refused():
+    """referred_inertias(model, shape): the rigid-body mode of the modal result gives the same
+    numbers as the one found from the springs; an elastic mode (its springs strained), a
+    shape of the wrong length or with a NaN is refused naming ``shape``."""
+    import numpy as np
+
+    from assembly import SceneError, assemble, load_scene, solve_modes
+    from assembly.analysis.referred import referred_inertias
+
+    m = assemble(load_scene("kahraman_beta20"))
+    r = solve_modes(m)
+    assert r.n_rigid == 1
+    found = referred_inertias(m)
+    given = referred_inertias(m, r.abs_shapes[:, 0])
+    assert given.keys() == found.keys()
+    for b in found:
+        assert given[b] == pytest.approx(found[b], rel=1e-9)
+    for bad in (r.abs_shapes[:, 1], r.abs_shapes[:-1, 0], np.full(m.n_abs, np.nan)):
+        with pytest.raises(SceneError) as e:
+            referred_inertias(m, bad)
+        assert e.value.path == "shape"
