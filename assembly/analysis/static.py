@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from .. import arguments
 from ..errors import MechanismError, SceneError
 from ..mechanics.nullity import STRUCT_RTOL
-from ..model.assemble import model_of, source_scene
+from ..model.assemble import model_of, source_scene, sparse_model
 from ..model.frame_motion import scene_gravity
 from ..scene.tables import LoadCase
 from .load_cases import free_motions, held_directions, load_vector
@@ -77,7 +77,7 @@ def solve_static_cases(model, cases=None) -> list:
             if not (isinstance(c, (list, tuple)) and len(c) == 2 and isinstance(c[0], str)):
                 raise arguments.refuse(f"cases[{i}]", c, "must be a (name, LoadCase) pair")
             arguments.instance(f"cases[{i}]", c[1], LoadCase, "a (name, LoadCase) pair")
-    m = model_of("model", model)
+    m = sparse_model(model_of("model", model))
     cases = list(scene.load_cases() if cases is None else cases)
     gravity = scene_gravity(m, scene.turbine)           # every case's body load, when the scene asks
     out, solvers = [], {}

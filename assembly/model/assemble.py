@@ -505,10 +505,10 @@ def source_scene(name: str, value) -> Scene:
 
 def model_of(name: str, value) -> AssembledModel:
     """The model an analysis of one model works on: ``value`` itself when it is an
-    :class:`AssembledModel` (:func:`sparse_model`: a dense one assembled sparse), a
-    :class:`Scene` assembled as given (:func:`assemble`); SceneError naming the argument
-    ``name`` for anything else."""
-    return sparse_model(value) if isinstance(value, AssembledModel) else assemble(source_scene(name, value))
+    :class:`AssembledModel` (dense or sparse: an analysis that needs sparse matrices takes
+    :func:`sparse_model` of it), a :class:`Scene` assembled as given (:func:`assemble`);
+    SceneError naming the argument ``name`` for anything else."""
+    return value if isinstance(value, AssembledModel) else assemble(source_scene(name, value))
 
 
 def sparse_model(model: AssembledModel) -> AssembledModel:

@@ -90,7 +90,7 @@ def test_a_dense_model_keeps_its_own_bodies_when_made_sparse():
     import dataclasses
 
     import assembly as fg
-    from assembly.model.assemble import model_of, sparse_model
+    from assembly.model.assemble import sparse_model
 
     sc = fg.load_scene("lin_parker_n4.toml")
     plain = fg.assemble(sc, dense=True)
@@ -99,7 +99,7 @@ def test_a_dense_model_keeps_its_own_bodies_when_made_sparse():
     bodies[name] = dataclasses.replace(bodies[name], mass=10.0 * bodies[name].mass)
     md = fg.assemble(sc, dense=True, bodies=bodies)
     ms = fg.assemble(sc, bodies=bodies)
-    for m in (sparse_model(md), model_of("model", md)):
+    for m in (sparse_model(md),):
         assert not m.dense and m.bodies is md.bodies
         for k in ("K_abs", "M_abs", "T", "K", "M"):
             assert np.array_equal(getattr(m, k).toarray(), getattr(ms, k).toarray())
