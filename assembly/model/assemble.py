@@ -140,25 +140,31 @@ def block_diagonal(blocks: list) -> np.ndarray:
     return out
 
 
+def attachments(bodies: dict, el: Element, points: dict | None = None):
+    """(slot j of the element, body, P) of each body attached to ``el`` (the housing has no
+    motion: none): P its motion at the element's point (or at ``points[body]``), the 6 rows
+    of the element's stacked attachment motions at slot j on that body's DOFs."""
+    for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
+        if b is not None:
+            yield j, b, bodies[b].motion_at((points or {}).get(b, el.point), iface)
+
+
 def attachment_operator(bodies: dict, offsets: dict, n_abs: int, el: Element,
                         points: dict | None = None, dense: bool = False):
     """Sparse (``dense``: a dense array) map from the absolute coordinates z (``n_abs`` of
     them; ``bodies`` and their ``offsets`` in z) to the element's stacked attachment motions
     (6 per attached body, the housing none): each body's motion at the element's point (or
-    at ``points[body]``)."""
+    at ``points[body]``, :func:`attachments`)."""
     if dense:
         L = np.zeros((6 * len(el.bodies), n_abs))
-        for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
-            if b is not None:
-                P = np.asarray(bodies[b].motion_at((points or {}).get(b, el.point), iface), float)
-                L[6 * j:6 * j + 6, offsets[b]:offsets[b] + P.shape[1]] += P
+        for j, b, P in attachments(bodies, el, points):
+            P = np.asarray(P, float)
+            L[6 * j:6 * j + 6, offsets[b]:offsets[b] + P.shape[1]] += P
         return L
     import scipy.sparse as sp
     rows, cols, vals = [], [], []
-    for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
-        if b is None:
-            continue              # the housing: no motion
-        P = sp.coo_matrix(bodies[b].motion_at((points or {}).get(b, el.point), iface))
+    for j, b, P in attachments(bodies, el, points):
+        P = sp.coo_matrix(P)
         rows.append(P.row + 6 * j)
         cols.append(P.col + offsets[b])
         vals.append(P.data)
@@ -184,11 +190,10 @@ def add_element(out: np.ndarray, bodies: dict, offsets: dict, el: Element, A: np
     """Add ``L' A L`` (:func:`element_matrix`) into the dense matrix ``out`` on z, formed on
     the columns of z the element touches only."""
     cols, blocks = [], []
-    for j, (b, iface) in enumerate(zip(el.bodies, el.interfaces)):
-        if b is not None:
-            P = np.asarray(bodies[b].motion_at(el.point, iface), float)
-            cols.append(np.arange(offsets[b], offsets[b] + P.shape[1]))
-            blocks.append((j, P))
+    for j, b, P in attachments(bodies, el):
+        P = np.asarray(P, float)
+        cols.append(np.arange(offsets[b], offsets[b] + P.shape[1]))
+        blocks.append((j, P))
     if not cols:
         return
     idx = np.concatenate(cols)
