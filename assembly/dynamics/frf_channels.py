@@ -56,6 +56,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..analysis.lever_arms import axis_line
 from ..arguments import nearest
 from ..errors import SceneError
 from ..model.probes import body_point, point_vector, strain_rows, unit_wrench
@@ -154,10 +155,7 @@ def _interface_channel(model, body: str, iface: str, arg: str, name: str) -> Cha
     there, about its own axis -- the sum over the springs attached at that interface of ``(k +
     i omega c) e`` weighted by each row's moment about the axis line, ``b . [a x (p - c); a]`` (a
     the body's axis through c, p the spring's point): a shaft there gives its own section torque."""
-    bm = model.bodies[body]
-    a = np.asarray(bm.axes, float)[:, 2]
-    c = np.asarray(getattr(bm, "axis_point", None) if getattr(bm, "axis_point", None) is not None
-                   else bm.origin, float)
+    c, a = axis_line(model.bodies[body])
     parts = []
     for el in model.elements:
         for i, (b, f) in enumerate(zip(el.bodies, el.interfaces)):
