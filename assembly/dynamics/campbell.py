@@ -224,7 +224,7 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
         F = np.tile(res.frequencies_hz[res.n_rigid:], (len(speeds), 1))
         notes.append("no gyroscopic coupling: natural frequencies do not depend on speed (solved once)")
     orders, skipped = mesh_orders(scene, ratios, int(harmonics))
-    orders += sideband_orders(scene, ratios, orders) + planet_pass_orders(scene, ratios) + shaft_orders(ratios)
+    orders += sideband_orders(ratios, orders) + planet_pass_orders(scene, ratios) + shaft_orders(ratios)
     if any(b.role == "rotor" and b.name == ref for b in scene.bodies):        # rotor orders of a rotor only
         orders += rotor_orders(ref)
     notes += skipped
@@ -238,8 +238,8 @@ def campbell(model, speed_range, reference: str | None = None, points: int = 41,
         if names:
             share, what = sum((meshes[m] for m in names), np.zeros(len(res.eigenvalues))), "its meshes hold"
         elif o.kind == "shaft":     # an unbalance on any body at this speed: their kinetic shares
-            share = sum(body_kinetic_shares(model, res, b) for b in o.bodies or (o.source,))
-            what = f"{', '.join(o.bodies or (o.source,))} hold"
+            share = sum(body_kinetic_shares(model, res, b) for b in o.bodies)
+            what = f"{', '.join(o.bodies)} hold"
         else:
             share, what = spin, f"{ref}'s spin holds"
         for j, mi in enumerate(info):

@@ -44,8 +44,8 @@ class Order:
     ``kind``: ``"mesh"`` or ``"rotor"``; ``source``: the mesh or stage name (mesh) or the
     reference body (rotor); ``harmonic``: h of a mesh order, k of a rotor order kP.
     ``teeth``: the tooth count the frequency counts; planetary stages also give
-    ``sun_teeth``, ``n_planets`` and ``equally_spaced`` (Parker's phasing rule); a shaft
-    order, ``bodies``: every body turning at its speed."""
+    ``sun_teeth``, ``n_planets`` and ``equally_spaced`` (Parker's phasing rule). ``bodies``:
+    a gear pair's mesh order its two gears; a shaft order every body turning at its speed."""
 
     name: str
     kind: str
@@ -103,7 +103,8 @@ def mesh_orders(scene, ratios: dict, harmonics: int) -> tuple[list[Order], list[
         rel = abs(ratios[g.name] - _frame_ratio(ratios, g1, g2))
         stage = g1.stage if g1.stage == g2.stage else None
         for h in range(1, harmonics + 1):
-            orders.append(Order(f"{name} mesh x{h}", "mesh", name, h, h * z * rel / 60.0, z, stage))
+            orders.append(Order(f"{name} mesh x{h}", "mesh", name, h, h * z * rel / 60.0, z, stage,
+                                bodies=(m.gear1, m.gear2)))
     for o in orders:
         log.info("order %s: %.6g Hz/rpm", o.name, o.hz_per_rpm)
     return orders, notes
@@ -140,7 +141,7 @@ def planet_pass_orders(scene, ratios: dict) -> list[Order]:
     return out
 
 
-def sideband_orders(scene, ratios: dict, mesh: list) -> list[Order]:
+def sideband_orders(ratios: dict, mesh: list) -> list[Order]:
     """The first sidebands of each first mesh harmonic in ``mesh`` (:func:`mesh_orders`' orders):
     f_mesh -+ the modulation (module notes); a lower sideband at or below 0 is left out."""
     out = []
@@ -149,9 +150,8 @@ def sideband_orders(scene, ratios: dict, mesh: list) -> list[Order]:
             continue
         if o.n_planets is not None:
             mod = abs(ratios[f"{o.stage}.carrier"] - ratios[f"{o.stage}.ring"]) / 60.0
-        else:
-            m = next(m for m in scene.meshes if (m.name or f"{m.gear1}-{m.gear2}") == o.source)
-            mod = min(abs(ratios[m.gear1]), abs(ratios[m.gear2])) / 60.0
+        else:                                       # a pair: its slower gear
+            mod = min(abs(ratios[g]) for g in o.bodies) / 60.0
         for sign, tag in ((-1, "-"), (1, "+")):
             f = o.hz_per_rpm + sign * mod
             if mod > 0 and f > 0:

@@ -10,8 +10,7 @@ energy is w_j^2 / 2 and its kinetic energy (at unit modal velocity) 1/2:
   carries no strain in a mode cannot excite it, whatever its phasing;
 * a torque on a body about its own axis (a rotor order) enters mode j as ``s phi_j`` (s the
   body's spin row on q); the body's spin holds ``J (s phi_j)^2`` of the mode's kinetic energy, J
-  its polar inertia: the share ranked for rotor and shaft orders.
-
+  its polar inertia: the share ranked for rotor orders;
 * a body's own 1x (an unbalance, a runout) loads it: the body holds ``phi_b' M_b phi_b`` of the
   mode's kinetic energy (its block of the absolute shapes and mass).
 
