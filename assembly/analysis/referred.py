@@ -22,10 +22,6 @@ from .load_cases import single_rigid_mode
 RIGID = 1e-6
 
 
-def _diagonal(A) -> np.ndarray:
-    return np.asarray(A.diagonal() if hasattr(A, "diagonal") else np.diag(A), float)
-
-
 def referred_inertias(model, shape=None) -> dict[str, float]:
     """Body name -> the drivetrain's inertia referred to that body's shaft (kg m^2), for
     every body that turns in the rigid-body mode. ``model``: an :class:`AssembledModel`, or
@@ -43,7 +39,7 @@ def referred_inertias(model, shape=None) -> dict[str, float]:
         raise arguments.refuse("shape", f"<{Z.size} values>", f"must be {m.n_abs} finite values: the rigid-body "
                                "mode on the absolute coordinates")
     energy = float(Z @ (m.M_abs @ Z))
-    kd, md = np.abs(_diagonal(m.K_abs)), np.abs(_diagonal(m.M_abs))
+    kd, md = np.abs(m.K_abs.diagonal()), np.abs(m.M_abs.diagonal())   # sparse or dense alike
     top = np.sqrt(kd.max() / md[md > 0].min()) if np.any(md > 0) and kd.max() > 0 else 0.0   # rad/s scale
     w = np.sqrt(max(float(Z @ (m.K_abs @ Z)), 0.0) / energy) if energy > 0 else 0.0
     if w > RIGID * top:
