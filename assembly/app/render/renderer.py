@@ -67,8 +67,9 @@ SHAFT_COLOR = "#1f4e99"
 CMAP = "viridis"
 #: Opacity of the bodies drawn as context (not among a mode's dominant bodies).
 CONTEXT_OPACITY = 0.25
-#: Number format of the colour-bar labels and of the largest displacement in the caption.
-BAR_FMT = "%.3g"
+#: The colour bar of a mode image (fractions of the window: left edge, bottom, width, height),
+#: its labels 0 / 0.5 / 1 drawn below it and its title above.
+BAR_X, BAR_Y, BAR_W, BAR_H = 0.55, 0.06, 0.4, 0.05
 #: A mode image frames its dominant bodies only when that magnifies them at least this much
 #: over the whole drawing: a smaller zoom gains little and cuts the faint context bodies at
 #: the title and the colour bar.
@@ -377,9 +378,13 @@ class AssemblyRenderer:
         """Camera of a mode image whose dominant bodies are ``focus`` (:meth:`mode_frame`)."""
         return self.mode_frame(focus)[0]
 
-    def _box(self, names):
+    def _box(self, names, frame=None):
+        """(lowest, highest) corner of the undeformed surfaces of ``names``: global axes, or
+        the coordinates along the columns of ``frame``."""
         P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
                        for n in names])
+        if frame is not None:
+            P = P @ frame
         return P.min(axis=0), P.max(axis=0)
 
     def _opacity(self, name, focus, hidden) -> float:
@@ -404,16 +409,10 @@ class AssemblyRenderer:
         """Whether a drawn body other than ``focus`` surrounds the focus across the shaft
         ``axis`` (a ring round its planets): framing the focus would cut it at the edges."""
         R = axis_frame(np.asarray(axis, float))[:, :2]
-
-        def box(names):
-            P = np.vstack([np.asarray(reference_surface(self.model, n, self.shapes, self._cache).points)
-                           for n in names]) @ R
-            return P.min(axis=0), P.max(axis=0)
-
-        lo, hi = box(focus)
+        lo, hi = self._box(focus, R)
         for n in shown:
             if n not in focus:
-                a, b = box([n])
+                a, b = self._box([n], R)
                 if np.all(a <= lo) and np.all(b >= hi):
                     return True
         return False
@@ -440,17 +439,12 @@ class AssemblyRenderer:
             lo, hi = min(z[n] for n in focus) - half, max(z[n] for n in focus) + half
             hidden = tuple(n for n in shapes if n not in focus and not lo <= z[n] <= hi)
             side = False
-        zoom = frame_view(*self._box(focus), axis, self.window_size, side, across)
         shown = [n for n in self.model.bodies if n not in hidden]
-        if hidden:
-            whole = frame_view(*self._box(shown), axis, self.window_size, side, across)
-        else:
-            whole = self.view
-        if self._encloses(focus, shown, axis):
+        whole = frame_view(*self._box(shown), axis, self.window_size, side, across) if hidden else self.view
+        if len(focus) == len(shown) or self._encloses(focus, shown, axis):
             return whole, hidden
-        if whole.parallel_scale >= MIN_ZOOM * zoom.parallel_scale or len(focus) == len(shown):
-            return (zoom if len(focus) < len(shown) else whole), hidden
-        return whole, hidden
+        zoom = frame_view(*self._box(focus), axis, self.window_size, side, across)
+        return (zoom if whole.parallel_scale >= MIN_ZOOM * zoom.parallel_scale else whole), hidden
 
     def mode_drawing(self, result, mode: int, focus=None, twist: bool = False) -> ModeDrawing:
         """What every drawing of ``mode`` shares (:class:`ModeDrawing`): its sign, the dominant
@@ -479,7 +473,7 @@ class AssemblyRenderer:
 
         out = {"bodies": [], "tubes": [], "springs": [], "marks": []}
         clim = (0.0, 1.0)                  # displacement over the largest drawn: a shape has no size
-        bar = dict(title="", vertical=False, position_x=0.55, position_y=0.06, width=0.4, height=0.05,
+        bar = dict(title="", vertical=False, position_x=BAR_X, position_y=BAR_Y, width=BAR_W, height=BAR_H,
                    n_labels=0, color="black")
         for n in self.model.bodies:
             if n in hidden:
@@ -519,9 +513,9 @@ class AssemblyRenderer:
             pl.add_mesh(m, **kw)
         W, H = pl.window_size
         for frac, label in ((0.0, "0"), (0.5, "0.5"), (1.0, "1")):   # the bar's labels, below it
-            x = (0.55 + 0.4 * frac) * W - 0.3 * 16 * text_scale * len(label)
+            x = (BAR_X + BAR_W * frac) * W - 0.3 * 16 * text_scale * len(label)
             pl.add_text(label, position=(int(x), int(0.028 * H)), font_size=round(12 * text_scale), color="black")
-        _backed(pl.add_text("displacement / largest", position=(int(0.55 * W), int(0.115 * H)),
+        _backed(pl.add_text("displacement / largest", position=(int(BAR_X * W), int(0.115 * H)),
                             font_size=round(11 * text_scale), color="black"))
         for m, kw in meshes["tubes"]:
             pl.add_mesh(m, **kw)
