@@ -573,10 +573,9 @@ def step_recovery(ctx: RunContext, bar) -> None:
                 ctx.timings_detail[f"stress+vtu {b} {tag}"] = dt
                 if a is not None and not drawn(a, b):       # too small a share of the mode: no picture
                     undrawn += 1
-                elif images is not None:  # von Mises image for the load case and every drawn mode
-                    _stress_image(ctx, images, b, st, titled.get(label, label) if a is None else label, tag, a)
-                    n_images += 1
-                else:
+                else:                     # von Mises image for the load case and every drawn mode
+                    if images is not None:
+                        _stress_image(ctx, images, b, st, titled.get(label, label) if a is None else label, tag, a)
                     n_images += 1
                 bar.update(1)
     finally:
