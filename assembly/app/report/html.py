@@ -5,10 +5,10 @@ self-contained HTML page in the style of every flexgear page (:mod:`assembly.app
 """
 from __future__ import annotations
 
-import html
-import re
 from pathlib import Path
+from urllib.parse import urlsplit
 
+from .links import read_page
 from .page import Section, esc, figure, files_list, grid, note, page, para, table
 
 __all__ = ["render_index", "run_sections", "figure", "local_references", "missing_references"]
@@ -84,18 +84,10 @@ def run_sections(report: dict) -> list:
     return out
 
 
-_REF = re.compile(r'(?:src|href)="([^"]+)"')
-
-
 def local_references(html_text: str) -> list[str]:
-    """Relative file references (src/href) of a page, unescaped, without anchors/URLs."""
-    out = []
-    for ref in _REF.findall(html_text):
-        ref = html.unescape(ref)
-        if ref.startswith(("#", "http:", "https:", "mailto:", "data:")):
-            continue
-        out.append(ref)
-    return out
+    """Relative file references (src/href) of a page, unescaped, without anchors/URLs: the
+    page read as the folder checker reads it (:func:`assembly.app.report.links.read_page`)."""
+    return [ref for _, _, ref in read_page(html_text).refs if not ref.startswith("#") and not urlsplit(ref).scheme]
 
 
 def missing_references(index_path) -> list[str]:
