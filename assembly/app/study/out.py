@@ -28,7 +28,7 @@ import numpy as np
 
 from ..report.page import Section, esc, files_list, grid, page
 from .run import RUN_COLUMNS
-from .sensitivity import sensitivity_section, write_sensitivity
+from .sensitivity import physical_result, sensitivity_section, write_sensitivity
 
 FIXED = ("variant", "status", "error")
 
@@ -101,10 +101,9 @@ def plot_results(rows: list[dict], parameters: list[str], results: list[str], fo
     bad = [r for r in rows if r["status"] != "ok"]
     freq = [c for c in results if re.fullmatch(r"(\w+_)?f\d+_hz", c)]
     tracked = [c for c in results if re.fullmatch(r"mode\d+_hz\[.*\]", c)]
-    macs = [c for c in results if re.fullmatch(r"mode\d+_mac\[.*\]", c)]        # in the table only
     groups = ([("frequencies", "natural frequency [Hz]", freq)] if freq else []) + \
              ([("tracked modes", "natural frequency [Hz], one mode per line", tracked)] if tracked else []) + \
-             [(c, c, [c]) for c in results if c not in freq + tracked + macs and not c.endswith("n_rigid")]
+             [(c, c, [c]) for c in results if c not in freq + tracked and physical_result(c)]   # MACs: table only
     out = maps(ok, parameters, [c for _, _, cs in groups for c in cs if c not in freq], folder, title)
     for p in parameters:
         xs = [r[p] for r in rows]
