@@ -60,13 +60,21 @@ def write_csv(r: FRF, path) -> Path:
     return Path(path)
 
 
+def peak(frequency_hz, h, band=None) -> tuple[float, float] | None:
+    """(the largest magnitude of the response ``h``, the frequency in Hz it is at) over every
+    sample, or over those of ``band`` (lo, hi in Hz, inclusive); None when the band holds no
+    sample."""
+    f = np.asarray(frequency_hz, float)
+    idx = np.arange(len(f)) if band is None else np.flatnonzero((f >= band[0]) & (f <= band[1]))
+    if not idx.size:
+        return None
+    j = int(idx[np.argmax(np.abs(h[idx]))])
+    return float(abs(h[j])), float(f[j])
+
+
 def peaks(r: FRF) -> list:
     """Per output (name, the largest magnitude, its frequency in Hz)."""
-    out = []
-    for k, h in r.outputs.items():
-        j = int(np.argmax(np.abs(h)))
-        out.append((k, float(abs(h[j])), float(r.frequency_hz[j])))
-    return out
+    return [(k, *peak(r.frequency_hz, h)) for k, h in r.outputs.items()]
 
 
 def summary_text(r: FRF, scene: str) -> str:

@@ -263,6 +263,11 @@ def _bands(bands, fmin, fmax) -> list:
     return out
 
 
+def band_label(lo: float, hi: float) -> str:
+    """An ``[frf] bands`` entry as its result columns name it: ``peak[OUT][LO-HI Hz]``."""
+    return f"{lo:g}-{hi:g} Hz"
+
+
 def _bands_sampled(s: dict) -> None:
     """Each ``[frf] bands`` entry holds a sample of the frequency grid (a band between two
     samples would have no peak: no column), and no two bands share a column name (their
@@ -276,9 +281,9 @@ def _bands_sampled(s: dict) -> None:
         if not np.any((f >= lo) & (f <= hi)):
             raise SceneError(f"frf.bands[{i}]", [lo, hi], f"holds no frequency of the grid ({s['points']} points "
                              f"from {s['fmin']:g} to {s['fmax']:g} Hz): widen it or add points")
-        key = f"{lo:g}-{hi:g}"
+        key = band_label(lo, hi)
         if key in names:
-            raise SceneError(f"frf.bands[{i}]", [lo, hi], f"its column name [{key} Hz] is frf.bands[{names[key]}]'s")
+            raise SceneError(f"frf.bands[{i}]", [lo, hi], f"its column name [{key}] is frf.bands[{names[key]}]'s")
         names[key] = i
 
 

@@ -110,24 +110,19 @@ def _results(scene_source: str, variant: Variant, analysis: str, keep: dict, set
             out.update(_frequencies(res, keep["modes"], f"{fid}_"))
         return out
     if analysis == "frf":
-        import numpy as np
-
         from ...dynamics.frf import frequency_response
-        from ..report.frf import frequencies
+        from ..report.frf import frequencies, peak
+        from .file import band_label
         f = frequencies(settings["fmin"], settings["fmax"], settings["points"], settings["log"])
         r = frequency_response(assemble(scene), settings["input"], settings["outputs"], f,
                                method=settings["method"], modes_hz=settings["modes_hz"])
         out = {}
         for name, h in r.outputs.items():
-            k = int(np.argmax(np.abs(h)))
-            out[f"peak[{name}]"] = float(np.abs(h[k]))
-            out[f"peak_hz[{name}]"] = float(r.frequency_hz[k])
-            for lo, hi in settings.get("bands", ()):       # each band's own peak
-                inside = np.flatnonzero((r.frequency_hz >= lo) & (r.frequency_hz <= hi))
-                if inside.size:
-                    j = int(inside[np.argmax(np.abs(h[inside]))])
-                    out[f"peak[{name}][{lo:g}-{hi:g} Hz]"] = float(np.abs(h[j]))
-                    out[f"peak_hz[{name}][{lo:g}-{hi:g} Hz]"] = float(r.frequency_hz[j])
+            out[f"peak[{name}]"], out[f"peak_hz[{name}]"] = peak(r.frequency_hz, h)
+            for band in settings.get("bands", ()):          # each band's own peak
+                got = peak(r.frequency_hz, h, band)
+                if got is not None:
+                    out[f"peak[{name}][{band_label(*band)}]"], out[f"peak_hz[{name}][{band_label(*band)}]"] = got
         return out
     if analysis == "simulate":
         from ...dynamics.simulate import simulate
